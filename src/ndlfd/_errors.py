@@ -1,0 +1,49 @@
+"""The one small error hierarchy of ndlfd.
+
+Every error that ndlfd raises on purpose subclasses :class:`NdlfdError`, which
+itself subclasses :class:`ValueError`, so ``except ValueError`` keeps working for
+callers that do not know ndlfd.
+"""
+
+__all__ = [
+    "DataFileError",
+    "DecodeError",
+    "MissingExtraError",
+    "ModelFormatError",
+    "NdlfdError",
+    "NotFittedError",
+    "OptionError",
+    "ValidationError",
+]
+
+
+class NdlfdError(ValueError):
+    """Base class of every error raised by ndlfd on purpose."""
+
+
+class ValidationError(NdlfdError):
+    """An argument has the wrong shape, dtype, range or value."""
+
+
+class OptionError(NdlfdError):
+    """An option name is not one of the valid choices (listed in the message)."""
+
+
+class NotFittedError(NdlfdError, AttributeError):
+    """An estimator was used before ``fit``."""
+
+
+class DecodeError(NdlfdError):
+    """A sequence of symbols cannot be decoded by a model."""
+
+
+class DataFileError(NdlfdError):
+    """A data file (CSV, NPZ) cannot be read; the message names file and row."""
+
+
+class ModelFormatError(NdlfdError):
+    """A model file is foreign, truncated, tampered with or of another version."""
+
+
+class MissingExtraError(NdlfdError, ImportError):
+    """An optional dependency is missing; the message says how to install it."""

@@ -1,0 +1,167 @@
+"""The one file format of ndlfd: ``.npz`` arrays plus JSON metadata, never pickle.
+
+A file written by :func:`save_npz` is a plain numpy ``.npz`` archive. Besides the
+caller's arrays it holds one entry, ``__ndlfd__``, a 0-d unicode string with JSON
+metadata: ``{"format": "ndlfd", "kind": KIND, "version": N, ...}``. Loading uses
+``allow_pickle=False`` so nothing in the file can run code; any file that is not
+such an archive of the expected kind and version is refused with
+:class:`~ndlfd.ModelFormatError`. Writes go to a temporary file in the same folder
+and are renamed into place, so a crash never leaves a half-written file.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import tempfile
+import zipfile
+from collections.abc import Iterator, Mapping
+from pathlib import Path
+
+import numpy as np
+
+from ._errors import ModelFormatError
+
+__all__ = ["atomic_path", "load_npz", "save_npz"]
+
+_META_KEY = "__ndlfd__"
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | os.PathLike, suffix: str = "") -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; rename it into place on success.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The final destination.
+    suffix : str, default=""
+        Suffix of the temporary file (some writers, such as matplotlib, choose the
+        format from it).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> with atomic_path(d / "a.txt") as tmp:
+    ...     _ = tmp.write_text("hello")
+    >>> (d / "a.txt").read_text()
+    'hello'
+    """
+    final = Path(path)
+    final.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{final.name}.", suffix=suffix + ".tmp", dir=final.parent
+    )
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        yield tmp_path
+        os.replace(tmp_path, final)
+    finally:
+        if tmp_path.exists():
+            tmp_path.unlink()
+
+
+def save_npz(
+    path: str | os.PathLike,
+    arrays: Mapping[str, np.ndarray],
+    *,
+    kind: str,
+    version: int,
+    metadata: Mapping | None = None,
+) -> Path:
+    """Write ``arrays`` and JSON ``metadata`` atomically to an ``.npz`` file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Destination (written as given; no suffix is added).
+    arrays : mapping of str to ndarray
+        Numeric arrays (object arrays are refused).
+    kind : str
+        What the file holds, checked on load (for example ``"DiscreteHMM"``).
+    version : int
+        The format version of ``kind``, checked on load.
+    metadata : mapping, optional
+        JSON-serialisable values stored beside the arrays.
+
+    Returns
+    -------
+    path : Path
+    """
+    meta = {"format": "ndlfd", "kind": kind, "version": int(version)}
+    meta.update(metadata or {})
+    payload = {}
+    for key, value in arrays.items():
+        a = np.asarray(value)
+        if a.dtype == object:
+            raise TypeError(f"array {key!r} has dtype object, which is not saved")
+        payload[key] = a
+    payload[_META_KEY] = np.array(json.dumps(meta, sort_keys=True))
+    final = Path(path)
+    with atomic_path(final) as tmp, open(tmp, "wb") as fh:
+        np.savez_compressed(fh, **payload)
+    return final
+
+
+def load_npz(
+    path: str | os.PathLike, *, kind: str, version: int
+) -> tuple[dict[str, np.ndarray], dict]:
+    """Read a file written by :func:`save_npz`, refusing anything else.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file to read.
+    kind : str
+        The expected kind.
+    version : int
+        The format version this code reads.
+
+    Returns
+    -------
+    arrays : dict of str to ndarray
+    metadata : dict
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise ModelFormatError(f"{p}: no such file")
+    try:
+        with np.load(p, allow_pickle=False) as z:
+            if not isinstance(z, np.lib.npyio.NpzFile):
+                raise ModelFormatError(
+                    f"{p}: expected an ndlfd {kind} file (.npz archive); got a plain"
+                    " .npy array"
+                )
+            arrays = {k: z[k] for k in z.files}
+    except ModelFormatError:
+        raise
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
+        raise ModelFormatError(
+            f"{p}: expected an ndlfd {kind} file (.npz archive); the file is not"
+            f" readable as one ({type(exc).__name__}: {exc})"
+        ) from None
+    raw = arrays.pop(_META_KEY, None)
+    if raw is None or raw.shape != () or raw.dtype.kind != "U":
+        raise ModelFormatError(
+            f"{p}: expected an ndlfd {kind} file; got an .npz archive without ndlfd"
+            " metadata (a foreign file)"
+        )
+    try:
+        meta = json.loads(str(raw))
+    except json.JSONDecodeError as exc:
+        raise ModelFormatError(f"{p}: the metadata is not valid JSON ({exc})") from None
+    if not isinstance(meta, dict) or meta.get("format") != "ndlfd":
+        raise ModelFormatError(f"{p}: expected ndlfd metadata; got {meta!r:.200}")
+    if meta.get("kind") != kind:
+        raise ModelFormatError(
+            f"{p}: expected an ndlfd {kind} file; got a {meta.get('kind')!r} file"
+        )
+    if meta.get("version") != version:
+        raise ModelFormatError(
+            f"{p}: expected {kind} format version {version}; got version"
+            f" {meta.get('version')!r} (written by another ndlfd release)"
+        )
+    return arrays, meta
