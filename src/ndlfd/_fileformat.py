@@ -129,13 +129,15 @@ def load_npz(
     if not p.is_file():
         raise ModelFormatError(f"{p}: no such file")
     try:
-        with np.load(p, allow_pickle=False) as z:
+        with open(p, "rb") as fh:
+            z = np.load(fh, allow_pickle=False)
             if not isinstance(z, np.lib.npyio.NpzFile):
                 raise ModelFormatError(
                     f"{p}: expected an ndlfd {kind} file (.npz archive); got a plain"
                     " .npy array"
                 )
-            arrays = {k: z[k] for k in z.files}
+            with z:
+                arrays = {k: z[k] for k in z.files}
     except ModelFormatError:
         raise
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:

@@ -1,0 +1,140 @@
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from ndlfd import NdlfdError, OptionError, ValidationError
+from ndlfd._registry import Registry
+from ndlfd._validation import (
+    check_int_sequence,
+    check_nonnegative_scalar,
+    check_points,
+    check_positive_int,
+    check_random_state,
+    check_times,
+    check_weights,
+)
+
+
+def test_error_hierarchy_is_valueerror():
+    assert issubclass(NdlfdError, ValueError)
+    assert issubclass(ValidationError, NdlfdError)
+    assert issubclass(OptionError, NdlfdError)
+
+
+def test_check_points_converts_ints_to_contiguous_float():
+    P = check_points(np.arange(6).reshape(3, 2)[:, ::-1])
+    assert P.dtype == np.float64 and P.flags.c_contiguous
+    np.testing.assert_array_equal(P, [[1, 0], [3, 2], [5, 4]])
+
+
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [
+        ([1.0, 2.0], r"shape \(n_points, n_dims\); got an array of shape \(2,\)"),
+        (np.zeros((2, 2, 2)), r"got an array of shape \(2, 2, 2\)"),
+        (np.zeros((0, 2)), r"at least 1 row"),
+        (np.zeros((3, 0)), r"at least one column"),
+        ([["a", "b"]], r"real numbers .* got .* dtype <U1"),
+        ([[1, 2], [3]], r"rectangular"),
+        ([[True, False]], r"real numbers"),
+        (np.array([[1 + 1j, 0]]), r"real numbers"),
+    ],
+)
+def test_check_points_rejects(bad, match):
+    with pytest.raises(ValidationError, match=match):
+        check_points(bad)
+
+
+def test_check_points_names_first_nonfinite_row():
+    P = np.zeros((5, 3))
+    P[3, 1] = np.nan
+    P[4, 0] = np.inf
+    with pytest.raises(ValidationError, match="at row 3"):
+        check_points(P)
+
+
+def test_check_points_hint_for_1d():
+    with pytest.raises(ValidationError, match=r"np.column_stack\(\[t, y\]\)"):
+        check_points(np.arange(4.0))
+
+
+@given(st.lists(st.floats(-1e6, 1e6), min_size=2, max_size=30, unique=True))
+def test_check_times_accepts_sorted_unique(values):
+    t = check_times(sorted(values))
+    assert np.all(np.diff(t) > 0)
+
+
+@pytest.mark.parametrize(
+    ("bad", "match"),
+    [
+        ([0.0, 1.0, 1.0], r"strictly increasing; got times\[2\] = 1 after"),
+        ([0.0, np.nan], r"finite"),
+        ([[0.0, 1.0]], r"shape \(n_samples,\)"),
+    ],
+)
+def test_check_times_rejects(bad, match):
+    with pytest.raises(ValidationError, match=match):
+        check_times(bad)
+
+
+def test_check_times_length():
+    with pytest.raises(ValidationError, match=r"length 3\); got length 2"):
+        check_times([0, 1], n=3)
+
+
+@pytest.mark.parametrize("bad", [-1, np.nan, np.inf, "1", None, True])
+def test_check_nonnegative_scalar_rejects(bad):
+    with pytest.raises(ValidationError, match="finite number >= 0"):
+        check_nonnegative_scalar(bad, "epsilon")
+
+
+def test_check_positive_int():
+    assert check_positive_int(np.int64(4), "k") == 4
+    for bad in (0, -3, 1.0, "2", True):
+        with pytest.raises(ValidationError, match="integer >= 1"):
+            check_positive_int(bad, "k")
+
+
+def test_check_weights():
+    np.testing.assert_array_equal(check_weights([1, 0], 2), [1.0, 0.0])
+    with pytest.raises(ValidationError, match=r"weights\[1\] = -1"):
+        check_weights([1, -1], 2)
+    with pytest.raises(ValidationError, match=r"weights\[0\] = nan"):
+        check_weights([np.nan, 1], 2)
+
+
+def test_check_int_sequence():
+    np.testing.assert_array_equal(
+        check_int_sequence(np.array([1.0, 2.0]), "s", low=0, high=3), [1, 2]
+    )
+    with pytest.raises(ValidationError, match="whole numbers"):
+        check_int_sequence([0.5], "s", low=0, high=3)
+    with pytest.raises(ValidationError, match="1-D"):
+        check_int_sequence([[0]], "s", low=0, high=3)
+    with pytest.raises(ValidationError, match=r"lie in 0..2; got s\[0\] = -1"):
+        check_int_sequence([-1], "s", low=0, high=3)
+
+
+def test_check_random_state():
+    g = np.random.default_rng(1)
+    assert check_random_state(g) is g
+    a = check_random_state(5).random(3)
+    b = check_random_state(np.random.RandomState(0)).random(3)
+    assert a.shape == b.shape == (3,)
+    with pytest.raises(ValidationError, match="random_state"):
+        check_random_state("seed")
+
+
+def test_registry_lists_choices():
+    r = Registry("distance")
+    r.add("line", 1)
+    r.add("sed", 2)
+    assert r.names == ("line", "sed")
+    assert "line" in r and list(r) == ["line", "sed"]
+    with pytest.raises(OptionError, match=r"unknown distance 'lin'; .*'line', 'sed'"):
+        r.get("lin")
+    with pytest.raises(OptionError):
+        r.get(3)
+    with pytest.raises(KeyError):
+        r.add("line", 3)
