@@ -1,0 +1,205 @@
+"""Unit quaternions for the orientation group.
+
+ndlfd stores orientation as unit quaternions in scalar-first order
+``(w, x, y, z)``. scipy's :class:`~scipy.spatial.transform.Rotation` uses the
+scalar-last order ``(x, y, z, w)``; every function here that reads quaternions
+takes an explicit ``order`` so the two cannot be mixed up silently.
+
+``q`` and ``-q`` are the same rotation. Before orientations are normalized,
+reduced or interpolated, consecutive quaternions are sign-aligned
+(:func:`make_continuous`) so that a stream does not jump across the sphere.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._errors import ValidationError
+from ._registry import Registry
+from ._validation import check_points
+
+__all__ = [
+    "QUATERNION_ORDERS",
+    "check_quaternions",
+    "make_continuous",
+    "normalize_quaternions",
+    "to_order",
+]
+
+QUATERNION_ORDERS: Registry[tuple[int, ...]] = Registry("quaternion_order")
+# column permutation that takes a quaternion of the named order to (w, x, y, z)
+QUATERNION_ORDERS.add("wxyz", (0, 1, 2, 3))
+QUATERNION_ORDERS.add("xyzw", (3, 0, 1, 2))
+
+
+def _as_quaternion_array(Q, name: str) -> np.ndarray:
+    A = check_points(Q, name)
+    if A.shape[1] != 4:
+        raise ValidationError(
+            f"{name} must have shape (n_samples, 4) (one unit quaternion per row);"
+            f" got an array of shape {A.shape}"
+        )
+    return A
+
+
+def check_quaternions(
+    Q, order: str = "wxyz", *, atol: float = 1e-6, name: str = "quaternions"
+) -> np.ndarray:
+    """Check a stream of unit quaternions and return it scalar-first.
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+        One quaternion per row, in the given ``order``.
+    order : {"wxyz", "xyzw"}, default="wxyz"
+        ``"wxyz"`` is scalar-first (ndlfd's order); ``"xyzw"`` is scalar-last
+        (scipy's :class:`~scipy.spatial.transform.Rotation`).
+    atol : float, default=1e-6
+        Largest accepted deviation of a row's norm from 1.
+    name : str, default="quaternions"
+        The argument's name, used in messages.
+
+    Returns
+    -------
+    Q_wxyz : ndarray of shape (n_samples, 4), dtype float64
+        The same quaternions in scalar-first order (not renormalized, not
+        sign-aligned: see :func:`normalize_quaternions`, :func:`make_continuous`).
+
+    Raises
+    ------
+    ValidationError
+        Wrong shape, NaN/inf, or a row whose norm is off by more than ``atol``
+        (the message names the first such row).
+    OptionError
+        An unknown ``order``.
+
+    Examples
+    --------
+    >>> check_quaternions([[0.0, 0.0, 0.0, 1.0]], order="xyzw")
+    array([[1., 0., 0., 0.]])
+    >>> check_quaternions([[1.0, 0.0, 0.0, 0.1]])
+    Traceback (most recent call last):
+    ...
+    ndlfd._errors.ValidationError: quaternions must have unit norm ... at row 0: ...
+    """
+    perm = QUATERNION_ORDERS.get(order)
+    A = _as_quaternion_array(Q, name)
+    norms = np.sqrt(np.einsum("ij,ij->i", A, A))
+    bad = np.flatnonzero(np.abs(norms - 1.0) > atol)
+    if bad.size:
+        i = int(bad[0])
+        raise ValidationError(
+            f"{name} must have unit norm (within atol={atol:g}); got norm"
+            f" {norms[i]:.6g} at row {i}: {A[i].tolist()}"
+        )
+    return np.ascontiguousarray(A[:, list(perm)])
+
+
+def to_order(Q_wxyz, order: str) -> np.ndarray:
+    """Reorder scalar-first quaternions to ``order`` (the inverse of the check).
+
+    Parameters
+    ----------
+    Q_wxyz : array-like of shape (n_samples, 4)
+        Scalar-first quaternions.
+    order : {"wxyz", "xyzw"}
+        The wanted order.
+
+    Returns
+    -------
+    Q : ndarray of shape (n_samples, 4)
+
+    Examples
+    --------
+    >>> to_order([[1.0, 0.0, 0.0, 0.0]], "xyzw")
+    array([[0., 0., 0., 1.]])
+    """
+    perm = QUATERNION_ORDERS.get(order)
+    A = _as_quaternion_array(Q_wxyz, "quaternions")
+    inverse = np.argsort(perm)
+    return np.ascontiguousarray(A[:, inverse])
+
+
+def make_continuous(Q) -> np.ndarray:
+    """Flip signs so that consecutive quaternions have a non-negative dot product.
+
+    The first row is kept as given; each following row is negated when its dot
+    product with the (already aligned) previous row is negative. The rotations
+    are unchanged, since ``q`` and ``-q`` are the same rotation. The order of the
+    four components does not matter.
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+        Quaternions (any order, any norm).
+
+    Returns
+    -------
+    Q_continuous : ndarray of shape (n_samples, 4), dtype float64
+
+    Examples
+    --------
+    >>> Q = [[0.6, 0.8, 0, 0], [-0.6, -0.8, 0, 0], [-0.8, -0.6, 0, 0]]
+    >>> make_continuous(Q)[:, :2]
+    array([[0.6, 0.8],
+           [0.6, 0.8],
+           [0.8, 0.6]])
+    """
+    A = _as_quaternion_array(Q, "quaternions")
+    if A.shape[0] < 2:
+        return A.copy()
+    # Row i is compared with the already aligned row i-1, whose sign is s[i-1]:
+    # dot(q_i, s[i-1] q_{i-1}) = s[i-1] * raw[i], so s[i] = s[i-1] * sign(raw[i]),
+    # and s[i] = +1 when raw[i] == 0 (nothing to align to). Hence s[i] is -1 to
+    # the number of negative raw dots since the last zero dot (or row 0).
+    raw = np.einsum("ij,ij->i", A[1:], A[:-1])
+    negatives = np.concatenate([[0], np.cumsum(raw < 0)])
+    n = A.shape[0]
+    reset = np.concatenate([[True], raw == 0])
+    last_reset = np.maximum.accumulate(np.where(reset, np.arange(n), 0))
+    odd = (negatives - negatives[last_reset]) % 2 == 1
+    sign = np.where(odd, -1.0, 1.0)
+    return A * sign[:, None]
+
+
+def normalize_quaternions(Q, *, zero="error") -> np.ndarray:
+    """Scale quaternions to unit norm (for example after interpolation).
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+        Quaternions of any non-zero norm.
+    zero : {"error", "identity"}, default="error"
+        What to do with a row of (numerically) zero norm, which has no
+        direction: refuse it, naming the row, or replace it by the identity
+        rotation ``(1, 0, 0, 0)`` (scalar-first).
+
+    Returns
+    -------
+    Q_unit : ndarray of shape (n_samples, 4), dtype float64
+
+    Examples
+    --------
+    >>> normalize_quaternions([[2.0, 0.0, 0.0, 0.0], [0.0, 3.0, 4.0, 0.0]])
+    array([[1. , 0. , 0. , 0. ],
+           [0. , 0.6, 0.8, 0. ]])
+    >>> normalize_quaternions([[0.0, 0.0, 0.0, 0.0]], zero="identity")
+    array([[1., 0., 0., 0.]])
+    """
+    if zero not in ("error", "identity"):
+        raise ValidationError(f"zero must be 'error' or 'identity'; got {zero!r}")
+    A = _as_quaternion_array(Q, "quaternions")
+    norms = np.sqrt(np.einsum("ij,ij->i", A, A))
+    tiny = norms <= 1e-12
+    if np.any(tiny):
+        if zero == "error":
+            i = int(np.flatnonzero(tiny)[0])
+            raise ValidationError(
+                "quaternions must have a non-zero norm to be normalized; got norm"
+                f" {norms[i]:.3g} at row {i} (pass zero='identity' to replace such"
+                " rows by the identity rotation)"
+            )
+        A = A.copy()
+        A[tiny] = (1.0, 0.0, 0.0, 0.0)
+        norms = np.where(tiny, 1.0, norms)
+    return A / norms[:, None]

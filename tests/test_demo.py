@@ -1,0 +1,386 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+from ndlfd._errors import OptionError, ValidationError
+from ndlfd.demo import Demonstration, default_columns, with_velocity
+
+
+def _demo(n=5):
+    t = np.linspace(0.0, 1.0, n)
+    return Demonstration.from_arrays(
+        t,
+        position=np.column_stack([t, 2 * t]),
+        velocity=np.column_stack([np.ones(n), 2 * np.ones(n)]),
+        grip=t**2,
+    )
+
+
+# ------------------------------------------------------------------ construction
+def test_constructor_stores_read_only_copies():
+    t = np.array([0.0, 1.0, 2.0])
+    X = np.arange(6.0).reshape(3, 2)
+    d = Demonstration(t, X, ["a", "b"], ["g", "g"])
+    t[0] = -5
+    X[0, 0] = 99
+    assert d.t[0] == 0.0 and d.X[0, 0] == 0.0
+    assert d.columns == ("a", "b") and d.groups == ("g", "g")
+    with pytest.raises(ValueError, match="read-only"):
+        d.X[0, 0] = 1.0
+    with pytest.raises(ValueError, match="read-only"):
+        d.t[0] = 1.0
+    with pytest.raises(AttributeError):
+        d.t = t  # frozen dataclass
+
+
+def test_properties_and_repr():
+    d = _demo()
+    assert d.n_samples == 5 == len(d)
+    assert d.n_dims == 5
+    assert d.group_names == ("position", "velocity", "grip")
+    assert d.columns == ("x", "y", "vx", "vy", "grip0")
+    assert d.duration == 1.0
+    assert repr(d) == (
+        "Demonstration(n_samples=5, duration=1, position=(x, y),"
+        " velocity=(vx, vy), grip=(grip0))"
+    )
+    assert d.has_group("grip") and not d.has_group("force")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        (
+            {"t": [0, 1, 1]},
+            ValidationError,
+            r"t must be strictly increasing; got t\[2\]",
+        ),
+        (
+            {"t": [0, np.nan, 2]},
+            ValidationError,
+            "t must be finite; got nan at index 1",
+        ),
+        ({"t": []}, ValidationError, "at least one sample"),
+        ({"t": [0, 1]}, ValidationError, r"one row per time stamp \(2 rows\); got 3"),
+        ({"X": [1, 2, 3]}, ValidationError, r"X must have shape \(n_samples, n_dims\)"),
+        (
+            {"X": [[1, np.inf]] * 3},
+            ValidationError,
+            r"X must be finite; got \[1.0, inf\]",
+        ),
+        ({"X": [["a", "b"]] * 3}, ValidationError, "X must hold real numbers"),
+        (
+            {"columns": ["a"]},
+            ValidationError,
+            r"one entry per column of X \(2\); got 1",
+        ),
+        ({"columns": ["a", "a"]}, ValidationError, "columns must be unique; got 'a'"),
+        ({"columns": "ab"}, ValidationError, "columns must be a sequence of str"),
+        ({"columns": ["a", "b,c"]}, ValidationError, "must not contain commas"),
+        ({"columns": ["a", ""]}, ValidationError, "non-empty str"),
+        ({"groups": ["g"]}, ValidationError, r"groups must have one entry .* got 1"),
+        ({"groups": ["g", "a.b"]}, ValidationError, "groups must be names made of"),
+        ({"groups": ["g", 3]}, ValidationError, "non-empty str"),
+    ],
+)
+def test_constructor_errors(kwargs, error, match):
+    args = {"t": [0, 1, 2], "X": np.zeros((3, 2)), "columns": ["a", "b"]}
+    args["groups"] = ["g", "g"]
+    args.update(kwargs)
+    with pytest.raises(error, match=match):
+        Demonstration(**args)
+
+
+def test_groups_must_be_adjacent():
+    with pytest.raises(
+        ValidationError, match=r"adjacent; got group 'a' at columns 0 and 2"
+    ):
+        Demonstration([0.0], [[1, 2, 3]], ["p", "q", "r"], ["a", "b", "a"])
+
+
+def test_single_sample_is_allowed():
+    d = Demonstration.from_arrays([3.0], position=[[1.0, 2.0]])
+    assert d.n_samples == 1 and d.duration == 0.0
+
+
+def test_from_arrays_defaults_and_column_mapping():
+    t = [0.0, 1.0]
+    d = Demonstration.from_arrays(
+        t, force=[[0, 0, 1]] * 2, position=[[0, 0, 0, 0]] * 2, custom=[[1, 2]] * 2
+    )
+    assert d.columns == ("p0", "p1", "p2", "p3", "fx", "fy", "fz", "custom0", "custom1")
+    assert d.group_names == ("position", "force", "custom")
+    d2 = Demonstration.from_arrays(
+        t, position=[[0, 0]] * 2, columns={"position": ["u", "w"]}
+    )
+    assert d2.columns == ("u", "w")
+    d3 = Demonstration.from_arrays(
+        t, position=[1, 2], velocity=[3, 4], columns=["p", "v"]
+    )
+    assert d3.columns == ("p", "v") and d3.groups == ("position", "velocity")
+    assert default_columns("velocity", 5) == ("v0", "v1", "v2", "v3", "v4")
+    assert default_columns("force", 2) == ("fx", "fy")
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({}, ValidationError, "at least one group"),
+        ({"position": [[0, 0]] * 3}, ValidationError, "one row per time stamp"),
+        (
+            {"position": [[0]] * 2, "velocity": [[0]] * 3},
+            ValidationError,
+            r"same number of rows; got shapes \{'position': \(2, 1\), 'velocity'",
+        ),
+        (
+            {"position": np.zeros((2, 1, 1))},
+            ValidationError,
+            r"position must have shape",
+        ),
+        (
+            {"orientation": [[1, 0, 0]] * 2},
+            ValidationError,
+            r"orientation must have shape \(n_samples, 4\)",
+        ),
+        (
+            {"position": [1, 2], "columns": {"force": ["f"]}},
+            ValidationError,
+            r"columns names groups that were not given: \['force'\]",
+        ),
+        (
+            {"position": [1, 2], "quaternion_order": "zwxy"},
+            OptionError,
+            "unknown quaternion_order",
+        ),
+    ],
+)
+def test_from_arrays_errors(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        Demonstration.from_arrays([0.0, 1.0], **kwargs)
+
+
+# ------------------------------------------------------------------ orientation
+def test_orientation_is_checked_and_made_continuous_scalar_last():
+    rots = Rotation.from_rotvec(np.outer(np.linspace(0, 3, 30), [0.3, 1.0, -0.2]))
+    xyzw = rots.as_quat()
+    xyzw[1::3] *= -1  # sign flips
+    t = np.arange(30.0)
+    d = Demonstration.from_arrays(
+        t, position=np.zeros((30, 1)), orientation=xyzw, quaternion_order="xyzw"
+    )
+    Q = d.get("orientation")
+    assert d.columns[1:] == ("qw", "qx", "qy", "qz")
+    assert np.all(np.einsum("ij,ij->i", Q[1:], Q[:-1]) >= 0)
+    back = Rotation.from_quat(Q[:, [1, 2, 3, 0]])
+    np.testing.assert_allclose(back.as_matrix(), rots.as_matrix(), atol=1e-12)
+    # the constructor itself keeps the invariant
+    flipped = np.array(d.X)
+    flipped[5, 1:] *= -1
+    d2 = Demonstration(t, flipped, d.columns, d.groups)
+    np.testing.assert_array_equal(d2.X, d.X)
+
+
+def test_orientation_errors():
+    with pytest.raises(
+        ValidationError, match=r"orientation must have unit norm.*at row 1"
+    ):
+        Demonstration.from_arrays([0, 1], orientation=[[1, 0, 0, 0], [2, 0, 0, 0]])
+    with pytest.raises(ValidationError, match="orientation group must have 4 columns"):
+        Demonstration([0.0], [[1.0, 0.0]], ["a", "b"], ["orientation"] * 2)
+
+
+# ------------------------------------------------------------------ access
+def test_columns_of_get_select_take():
+    d = _demo()
+    np.testing.assert_array_equal(d.columns_of("velocity"), [2, 3])
+    v = d.get("velocity")
+    assert v.shape == (5, 2) and np.shares_memory(v, d.X)
+    with pytest.raises(
+        ValidationError,
+        match="unknown group 'force'; this demonstration has groups:"
+        " 'position', 'velocity', 'grip'",
+    ):
+        d.get("force")
+    s = d.select("grip", "position")
+    assert s.columns == ("grip0", "x", "y") and s.groups == (
+        "grip",
+        "position",
+        "position",
+    )
+    np.testing.assert_array_equal(s.X, d.X[:, [4, 0, 1]])
+    with pytest.raises(ValidationError, match="at least one group"):
+        d.select()
+    with pytest.raises(ValidationError, match="select got a group twice"):
+        d.select("grip", "grip")
+    k = d.take([0, 2, 4])
+    np.testing.assert_array_equal(k.t, [0.0, 0.5, 1.0])
+    np.testing.assert_array_equal(k.X, d.X[[0, 2, 4]])
+    assert k.columns == d.columns
+
+
+@pytest.mark.parametrize(
+    ("indices", "match"),
+    [
+        (
+            [0, 2, 2],
+            r"strictly increasing; got indices\[2\] = 2 after indices\[1\] = 2",
+        ),
+        ([3, 1], "strictly increasing"),
+        ([0, 5], r"indices must lie in 0..4; got indices\[1\] = 5"),
+        ([], "at least one row"),
+        ([0.5], "whole numbers"),
+    ],
+)
+def test_take_errors(indices, match):
+    with pytest.raises(ValidationError, match=match):
+        _demo().take(indices)
+
+
+def test_with_group_appends_and_replaces_in_place():
+    d = _demo()
+    e = d.with_group("force", np.ones((5, 3)))
+    assert e.columns[-3:] == ("fx", "fy", "fz") and e.n_dims == 8
+    r = d.with_group("velocity", np.zeros((5, 3)), columns=["a", "b", "c"])
+    assert r.columns == ("x", "y", "a", "b", "c", "grip0")
+    assert r.groups == ("position",) * 2 + ("velocity",) * 3 + ("grip",)
+    np.testing.assert_array_equal(r.get("velocity"), 0.0)
+    np.testing.assert_array_equal(r.get("grip"), d.get("grip"))
+    with pytest.raises(
+        ValidationError, match=r"values must have shape \(5, k\).*\(4, 1\)"
+    ):
+        d.with_group("force", np.ones((4, 1)))
+    with pytest.raises(ValidationError, match="columns must be unique; got 'x'"):
+        d.with_group("force", np.ones(5), columns=["x"])
+
+
+def test_equality():
+    assert _demo() == _demo()
+    assert _demo() != _demo(6)
+    assert _demo() != _demo().select("position", "velocity", "grip").with_group(
+        "grip", np.zeros(5)
+    )
+    assert _demo().__eq__(3) is NotImplemented
+    with pytest.raises(TypeError):
+        hash(_demo())
+
+
+# ------------------------------------------------------------------ velocity
+def _circle(n, seed, R=3.0, omega=2 * np.pi, T=2.0):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.5, 1.5, n))  # non-uniform steps
+    t = (t - t[0]) / (t[-1] - t[0]) * T
+    P = np.column_stack([R * np.cos(omega * t), R * np.sin(omega * t)])
+    V = np.column_stack([-R * omega * np.sin(omega * t), R * omega * np.cos(omega * t)])
+    return t, P, V
+
+
+def test_velocity_of_circle_with_non_uniform_time_stamps():
+    R, omega = 3.0, 2 * np.pi
+    errors = []
+    for n in (200, 400, 800):
+        t, P, V = _circle(n, n, R, omega)
+        d = with_velocity(Demonstration.from_arrays(t, position=P))
+        assert d.columns == ("x", "y", "vx", "vy")
+        err = np.abs(d.get("velocity") - V).max()
+        h = np.diff(t).max()
+        # second-order scheme: error below (omega h)^2 times the speed R omega
+        assert err <= (omega * h) ** 2 * R * omega
+        errors.append(err)
+    # and it converges at second order (halving h divides the error by about 4)
+    assert errors[1] < errors[0] / 2.5 and errors[2] < errors[1] / 2.5
+
+
+def test_velocity_small_n_rules():
+    d2 = Demonstration.from_arrays([0.0, 2.0], position=[[0.0, 1.0], [4.0, 1.0]])
+    np.testing.assert_array_equal(with_velocity(d2).get("velocity"), [[2.0, 0.0]] * 2)
+    d1 = Demonstration.from_arrays([0.0], position=[[0.0, 1.0]])
+    with pytest.raises(ValidationError, match=r"at least 2 samples .* got 1"):
+        with_velocity(d1)
+    # exact on a quadratic with non-uniform steps (edge_order=2 is exact there)
+    t = np.array([0.0, 0.1, 0.4, 0.5, 1.1])
+    d = with_velocity(Demonstration.from_arrays(t, position=t**2))
+    np.testing.assert_allclose(d.get("velocity")[:, 0], 2 * t, atol=1e-12)
+
+
+def test_velocity_keeps_existing_unless_overwrite():
+    d = _demo()
+    assert with_velocity(d) is d
+    o = with_velocity(d, overwrite=True)
+    assert o.columns == d.columns
+    np.testing.assert_allclose(o.get("velocity"), d.get("velocity"), atol=1e-12)
+    with pytest.raises(ValidationError, match="unknown group 'position'"):
+        with_velocity(Demonstration.from_arrays([0, 1], force=[1, 2]))
+
+
+def test_velocity_savgol_smoothing():
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 1.0, 101)
+    P = np.column_stack([np.sin(2 * np.pi * t), t**2])
+    V = np.column_stack([2 * np.pi * np.cos(2 * np.pi * t), 2 * t])
+    noisy = Demonstration.from_arrays(
+        t, position=P + rng.normal(scale=1e-3, size=P.shape)
+    )
+    raw = with_velocity(noisy).get("velocity")
+    smooth = with_velocity(noisy, smoothing="savgol", window_length=11, polyorder=3)
+    err_raw = np.sqrt(np.mean((raw - V) ** 2))
+    err_smooth = np.sqrt(np.mean((smooth.get("velocity") - V) ** 2))
+    assert err_smooth < err_raw / 2
+    # a quadratic is untouched by a polyorder-2 filter
+    q = Demonstration.from_arrays(t, position=t**2)
+    np.testing.assert_allclose(
+        with_velocity(q, smoothing="savgol", window_length=5).get("velocity")[:, 0],
+        2 * t,
+        atol=1e-9,
+    )
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        (
+            {"smoothing": "kalman"},
+            OptionError,
+            r"unknown smoothing 'kalman'; expected one of: 'none', 'savgol'",
+        ),
+        (
+            {"smoothing": "savgol", "window_length": 4},
+            ValidationError,
+            "window_length must be odd.*got 4",
+        ),
+        (
+            {"smoothing": "savgol", "window_length": 3, "polyorder": 3},
+            ValidationError,
+            r"greater than polyorder \(3\)",
+        ),
+        (
+            {"smoothing": "savgol", "window_length": 11},
+            ValidationError,
+            r"at most n_samples \(5\); got 11",
+        ),
+        (
+            {"smoothing": "savgol", "window_length": 2.0},
+            ValidationError,
+            "window_length must be an integer",
+        ),
+    ],
+)
+def test_velocity_option_errors(kwargs, error, match):
+    d = _demo().select("position")
+    with pytest.raises(error, match=match):
+        with_velocity(d, **kwargs)
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    st.lists(st.floats(0.01, 10.0), min_size=2, max_size=30),
+    st.floats(-5, 5),
+    st.floats(-5, 5),
+)
+def test_velocity_of_a_line_is_exact(steps, a, b):
+    t = np.concatenate([[0.0], np.cumsum(steps)])
+    d = with_velocity(Demonstration.from_arrays(t, position=a * t + b))
+    np.testing.assert_allclose(
+        d.get("velocity")[:, 0], a, atol=1e-8 * (1 + abs(a)) * t[-1] / min(steps)
+    )

@@ -1,0 +1,139 @@
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+from scipy.spatial.transform import Rotation
+
+from ndlfd._errors import OptionError, ValidationError
+from ndlfd.orientation import (
+    check_quaternions,
+    make_continuous,
+    normalize_quaternions,
+    to_order,
+)
+
+
+def _reference_continuous(Q):
+    """Loop version: compare each row with the previous *output* row."""
+    out = [np.array(Q[0], dtype=float)]
+    for q in Q[1:]:
+        q = np.array(q, dtype=float)
+        out.append(-q if np.dot(q, out[-1]) < 0 else q)
+    return np.array(out)
+
+
+def _smooth_stream(n, seed):
+    rng = np.random.default_rng(seed)
+    steps = Rotation.from_rotvec(rng.normal(scale=0.2, size=(n, 3)))
+    r = Rotation.identity()
+    rots = []
+    for k in range(n):
+        r = steps[k] * r
+        rots.append(r)
+    return Rotation.concatenate(rots)
+
+
+def test_make_continuous_on_stream_with_sign_flips():
+    rots = _smooth_stream(200, 0)
+    q_xyzw = rots.as_quat()
+    rng = np.random.default_rng(1)
+    flips = rng.random(200) < 0.4
+    noisy = np.where(flips[:, None], -q_xyzw, q_xyzw)
+    Q = check_quaternions(noisy, order="xyzw")
+    C = make_continuous(Q)
+    # consecutive dots are non-negative
+    assert np.all(np.einsum("ij,ij->i", C[1:], C[:-1]) >= 0)
+    # the rotations are unchanged (independent check through scipy)
+    back = Rotation.from_quat(to_order(C, "xyzw"))
+    np.testing.assert_allclose(back.as_matrix(), rots.as_matrix(), atol=1e-12)
+    # and equal to the obvious loop
+    np.testing.assert_array_equal(C, _reference_continuous(Q))
+    # every row is +-its input row
+    assert np.all(np.isin(np.round(C / Q, 12), [-1.0, 1.0]) | (Q == 0))
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    hnp.arrays(
+        np.float64,
+        st.tuples(st.integers(1, 30), st.just(4)),
+        elements=st.sampled_from([-1.0, 0.0, 0.5, 1.0]) | st.floats(-1, 1),
+    )
+)
+def test_make_continuous_matches_reference(Q):
+    np.testing.assert_array_equal(make_continuous(Q), _reference_continuous(Q))
+
+
+def test_scalar_last_round_trip_with_scipy():
+    rots = Rotation.from_rotvec(np.random.default_rng(2).normal(size=(20, 3)))
+    xyzw = rots.as_quat()
+    wxyz = check_quaternions(xyzw, order="xyzw")
+    np.testing.assert_array_equal(wxyz[:, 0], xyzw[:, 3])
+    np.testing.assert_array_equal(wxyz[:, 1:], xyzw[:, :3])
+    np.testing.assert_array_equal(to_order(wxyz, "xyzw"), xyzw)
+    np.testing.assert_array_equal(to_order(wxyz, "wxyz"), wxyz)
+    np.testing.assert_array_equal(check_quaternions(wxyz), wxyz)
+    back = Rotation.from_quat(to_order(wxyz, "xyzw"))
+    np.testing.assert_allclose(back.as_matrix(), rots.as_matrix(), atol=1e-12)
+
+
+def test_check_quaternions_refuses_non_unit_naming_the_row():
+    Q = np.tile([1.0, 0, 0, 0], (5, 1))
+    Q[3] = [0.9, 0, 0, 0]
+    with pytest.raises(
+        ValidationError, match=r"unit norm \(within atol=1e-06\); got norm 0.9 at row 3"
+    ):
+        check_quaternions(Q)
+    Q[3] = [1 + 1e-7, 0, 0, 0]  # within tolerance
+    assert check_quaternions(Q).shape == (5, 4)
+    with pytest.raises(ValidationError, match="at row 3"):
+        check_quaternions(Q, atol=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("Q", "match"),
+    [
+        ([[1.0, 0, 0]], r"shape \(n_samples, 4\).*got an array of shape \(1, 3\)"),
+        ([1.0, 0, 0, 0], r"must have shape \(n_points, n_dims\)"),
+        ([[np.nan, 0, 0, 0]], r"finite.*at row 0"),
+        ([["a", "b", "c", "d"]], "real numbers"),
+    ],
+)
+def test_check_quaternions_shape_errors(Q, match):
+    with pytest.raises(ValidationError, match=match):
+        check_quaternions(Q)
+
+
+def test_unknown_order():
+    with pytest.raises(OptionError, match=r"unknown quaternion_order 'zyxw'.*'wxyz'"):
+        check_quaternions([[1.0, 0, 0, 0]], order="zyxw")
+    with pytest.raises(OptionError, match="expected one of: 'wxyz', 'xyzw'"):
+        to_order([[1.0, 0, 0, 0]], "WXYZ")
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    hnp.arrays(
+        np.float64,
+        st.tuples(st.integers(1, 20), st.just(4)),
+        elements=st.floats(-100, 100, allow_nan=False),
+    ).filter(lambda a: np.all(np.linalg.norm(a, axis=1) > 1e-6))
+)
+def test_normalize_quaternions_property(Q):
+    U = normalize_quaternions(Q)
+    np.testing.assert_allclose(np.linalg.norm(U, axis=1), 1.0, rtol=1e-12)
+    # parallel, same direction: U * |Q| == Q
+    np.testing.assert_allclose(U * np.linalg.norm(Q, axis=1)[:, None], Q, atol=1e-9)
+    check_quaternions(U, atol=1e-12)
+
+
+def test_normalize_quaternions_zero_rows():
+    Q = [[2.0, 0, 0, 0], [0.0, 0, 0, 0]]
+    with pytest.raises(ValidationError, match=r"non-zero norm .* at row 1"):
+        normalize_quaternions(Q)
+    np.testing.assert_array_equal(
+        normalize_quaternions(Q, zero="identity"), [[1, 0, 0, 0], [1, 0, 0, 0]]
+    )
+    with pytest.raises(ValidationError, match="zero must be 'error' or 'identity'"):
+        normalize_quaternions(Q, zero="skip")
