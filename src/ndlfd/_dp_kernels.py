@@ -1,0 +1,401 @@
+"""Numba kernels behind :func:`ndlfd.simplify`: n-D Douglas–Peucker, no recursion.
+
+The kernels trust their input (finite float64, C-contiguous, ``n >= 1``); the
+checked doorway is :mod:`ndlfd._simplify`.
+
+Every distance is evaluated as a pair ``(q, S)`` with ``distance² = q / S``:
+
+- ``q`` is a per-point *key* and ``S`` a per-segment *scale*, so within a
+  segment the farthest point is the first index with the largest ``q`` and it
+  is kept when ``q > epsilon² · S``. No square root and no division per point.
+- For integer-valued data every ``q`` and ``S`` is an exact integer in floating
+  point (while the values stay below 2**53), so ties and distances exactly
+  equal to ``epsilon`` are decided exactly.
+
+The keys, with ``v = P_i - P_a``, ``u = P_b - P_a``, ``U = |u|²``:
+
+- ``"line"``: ``r = U v - (v·u) u`` (the residual of ``v`` after removing its
+  component along ``u``, scaled by ``U``), ``q = |r|²``, ``S = U²``. Computing
+  the residual vector and then its norm avoids the cancellation of
+  ``|v|²|u|² - (v·u)²``: the absolute error of the distance stays at a few
+  ulps of ``|v|``. In 2-D the key is the squared cross product
+  ``(v_x u_y - v_y u_x)²`` with ``S = U`` (the same distance), and in 3-D the
+  squared norm of the cross product ``|v × u|²`` with ``S = U``.
+- ``"segment"``: ``t = v·u``; ``t <= 0`` → distance to ``P_a``, ``t >= U`` →
+  distance to ``P_b``, else the line residual; all scaled by ``S = U²``.
+- ``"sed"``: ``D = t_b - t_a``, ``s = t_i - t_a``, ``q = |D v - s u|²``,
+  ``S = D²``.
+- ``"paper"``: ``q = det(A_d)²``, ``S = U``. Row operations reduce the paper's
+  ``(d+1) × (d+1)`` determinant to a 3 × 3 one over the *last three* columns:
+  ``det = v_a (u_b - u_c) + v_b (u_c - u_a) + v_c (u_a - u_b)`` with
+  ``a, b, c = d-3, d-2, d-1`` (in 2-D it is the cross product, so it equals
+  ``"line"``; in 1-D ``"paper"`` is defined as ``"line"``).
+- Coincident endpoints (``U <= utol2``): distance to ``P_a``, ``q = |v|²``,
+  ``S = 1`` (paper eq. 4). Not used by ``"sed"``, whose chord is defined by
+  time even when its endpoints coincide.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "MODE_LINE",
+    "MODE_PAPER",
+    "MODE_SED",
+    "MODE_SEGMENT",
+    "dp_budget",
+    "dp_generic",
+    "dp_line2",
+    "dp_line3",
+    "scan_generic",
+]
+
+MODE_LINE = 0
+MODE_SEGMENT = 1
+MODE_SED = 2
+MODE_PAPER = 3
+
+
+@njit(cache=True, nogil=True)
+def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
+    """Farthest point of segment ``(a, b)`` among indices ``lo..hi-1``.
+
+    Returns ``(far, q, S)``: the first index with the largest key ``q`` and
+    the segment scale ``S`` (``distance² = q / S``). ``u`` is a workspace of
+    length ``d``. ``far`` is ``-1`` (and ``q`` is ``-1``) when ``lo >= hi``.
+    """
+    d = P.shape[1]
+    best = -1.0
+    far = -1
+    if mode == MODE_SED:
+        ta = t[a]
+        D = t[b] - ta
+        for k in range(d):
+            u[k] = P[b, k] - P[a, k]
+        for i in range(lo, hi):
+            s = t[i] - ta
+            q = 0.0
+            for k in range(d):
+                r = D * (P[i, k] - P[a, k]) - s * u[k]
+                q += r * r
+            if q > best:
+                best = q
+                far = i
+        return far, best, D * D
+    U = 0.0
+    for k in range(d):
+        u[k] = P[b, k] - P[a, k]
+        U += u[k] * u[k]
+    if U <= utol2:
+        for i in range(lo, hi):
+            q = 0.0
+            for k in range(d):
+                r = P[i, k] - P[a, k]
+                q += r * r
+            if q > best:
+                best = q
+                far = i
+        return far, best, 1.0
+    if mode == MODE_PAPER and d >= 2:
+        if d == 2:
+            w0 = u[1]
+            w1 = -u[0]
+            for i in range(lo, hi):
+                c = (P[i, 0] - P[a, 0]) * w0 + (P[i, 1] - P[a, 1]) * w1
+                q = c * c
+                if q > best:
+                    best = q
+                    far = i
+            return far, best, U
+        ka = d - 3
+        wa = u[ka + 1] - u[ka + 2]
+        wb = u[ka + 2] - u[ka]
+        wc = u[ka] - u[ka + 1]
+        for i in range(lo, hi):
+            c = (
+                (P[i, ka] - P[a, ka]) * wa
+                + (P[i, ka + 1] - P[a, ka + 1]) * wb
+                + (P[i, ka + 2] - P[a, ka + 2]) * wc
+            )
+            q = c * c
+            if q > best:
+                best = q
+                far = i
+        return far, best, U
+    UU = U * U
+    segment = mode == MODE_SEGMENT
+    for i in range(lo, hi):
+        vu = 0.0
+        for k in range(d):
+            vu += (P[i, k] - P[a, k]) * u[k]
+        if segment and vu <= 0.0:
+            q = 0.0
+            for k in range(d):
+                r = P[i, k] - P[a, k]
+                q += r * r
+            q *= UU
+        elif segment and vu >= U:
+            q = 0.0
+            for k in range(d):
+                r = P[i, k] - P[b, k]
+                q += r * r
+            q *= UU
+        else:
+            q = 0.0
+            for k in range(d):
+                r = U * (P[i, k] - P[a, k]) - vu * u[k]
+                q += r * r
+        if q > best:
+            best = q
+            far = i
+    return far, best, UU
+
+
+@njit(cache=True, nogil=True)
+def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode Douglas–Peucker on ``P[a0..b0]`` for any mode and ``d``.
+
+    Marks kept interior indices in ``keep`` (uint8, length ``n``); the
+    endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
+    Returns the number of distance evaluations.
+    """
+    keep[a0] = 1
+    keep[b0] = 1
+    if b0 - a0 < 2:
+        return 0
+    u = np.empty(P.shape[1])
+    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    stack[0] = a0
+    stack[1] = b0
+    sp = 1
+    work = 0
+    while sp > 0:
+        sp -= 1
+        a = stack[2 * sp]
+        b = stack[2 * sp + 1]
+        far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
+        work += b - a - 1
+        if q > eps2 * S:
+            keep[far] = 1
+            if far - a > 1:
+                stack[2 * sp] = a
+                stack[2 * sp + 1] = far
+                sp += 1
+            if b - far > 1:
+                stack[2 * sp] = far
+                stack[2 * sp + 1] = b
+                sp += 1
+    return work
+
+
+@njit(cache=True, nogil=True)
+def scan_line2(x, y, a, b, utol2, lo, hi):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1`` in 2-D line mode."""
+    xa = x[a]
+    ya = y[a]
+    ux = x[b] - xa
+    uy = y[b] - ya
+    U = ux * ux + uy * uy
+    best = -1.0
+    far = -1
+    if U <= utol2:
+        for i in range(lo, hi):
+            dx = x[i] - xa
+            dy = y[i] - ya
+            q = dx * dx + dy * dy
+            if q > best:
+                best = q
+                far = i
+        return far, best, 1.0
+    for i in range(lo, hi):
+        c = (x[i] - xa) * uy - (y[i] - ya) * ux
+        q = c * c
+        if q > best:
+            best = q
+            far = i
+    return far, best, U
+
+
+@njit(cache=True, nogil=True)
+def dp_line2(x, y, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode line Douglas–Peucker in 2-D on ``[a0, b0]`` (SoA input)."""
+    keep[a0] = 1
+    keep[b0] = 1
+    if b0 - a0 < 2:
+        return 0
+    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    stack[0] = a0
+    stack[1] = b0
+    sp = 1
+    work = 0
+    while sp > 0:
+        sp -= 1
+        a = stack[2 * sp]
+        b = stack[2 * sp + 1]
+        far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b)
+        work += b - a - 1
+        if q > eps2 * S:
+            keep[far] = 1
+            if far - a > 1:
+                stack[2 * sp] = a
+                stack[2 * sp + 1] = far
+                sp += 1
+            if b - far > 1:
+                stack[2 * sp] = far
+                stack[2 * sp + 1] = b
+                sp += 1
+    return work
+
+
+@njit(cache=True, nogil=True)
+def scan_line3(x, y, z, a, b, utol2, lo, hi):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1`` in 3-D line mode."""
+    xa = x[a]
+    ya = y[a]
+    za = z[a]
+    ux = x[b] - xa
+    uy = y[b] - ya
+    uz = z[b] - za
+    U = ux * ux + uy * uy + uz * uz
+    best = -1.0
+    far = -1
+    if U <= utol2:
+        for i in range(lo, hi):
+            dx = x[i] - xa
+            dy = y[i] - ya
+            dz = z[i] - za
+            q = dx * dx + dy * dy + dz * dz
+            if q > best:
+                best = q
+                far = i
+        return far, best, 1.0
+    for i in range(lo, hi):
+        dx = x[i] - xa
+        dy = y[i] - ya
+        dz = z[i] - za
+        cx = dy * uz - dz * uy
+        cy = dz * ux - dx * uz
+        cz = dx * uy - dy * ux
+        q = cx * cx + cy * cy + cz * cz
+        if q > best:
+            best = q
+            far = i
+    return far, best, U
+
+
+@njit(cache=True, nogil=True)
+def dp_line3(x, y, z, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode line Douglas–Peucker in 3-D on ``[a0, b0]`` (SoA input)."""
+    keep[a0] = 1
+    keep[b0] = 1
+    if b0 - a0 < 2:
+        return 0
+    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    stack[0] = a0
+    stack[1] = b0
+    sp = 1
+    work = 0
+    while sp > 0:
+        sp -= 1
+        a = stack[2 * sp]
+        b = stack[2 * sp + 1]
+        far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b)
+        work += b - a - 1
+        if q > eps2 * S:
+            keep[far] = 1
+            if far - a > 1:
+                stack[2 * sp] = a
+                stack[2 * sp + 1] = far
+                sp += 1
+            if b - far > 1:
+                stack[2 * sp] = far
+                stack[2 * sp + 1] = b
+                sp += 1
+    return work
+
+
+@njit(cache=True, nogil=True)
+def _heap_better(key, far, i, j):
+    # larger distance first; equal distances: smaller index first
+    return key[i] > key[j] or (key[i] == key[j] and far[i] < far[j])
+
+
+@njit(cache=True, nogil=True)
+def _heap_swap(key, far, sa, sb, i, j):
+    key[i], key[j] = key[j], key[i]
+    far[i], far[j] = far[j], far[i]
+    sa[i], sa[j] = sa[j], sa[i]
+    sb[i], sb[j] = sb[j], sb[i]
+
+
+@njit(cache=True, nogil=True)
+def dp_budget(P, t, mode, k, utol2, keep):
+    """Budget-mode Douglas–Peucker: greedy global-farthest splitting.
+
+    Keeps ``min(max(k, 2), n)`` points: the endpoints, then repeatedly the
+    farthest point (``distance² = q / S``) of the segment whose farthest point
+    is farthest; equal distances go to the smaller index. A binary max-heap of
+    segments, no recursion. Returns the number of kept points.
+    """
+    n = P.shape[0]
+    keep[0] = 1
+    keep[n - 1] = 1
+    count = 1 if n == 1 else 2
+    if n < 3 or count >= k:
+        return count
+    u = np.empty(P.shape[1])
+    cap = n // 2 + 2
+    key = np.empty(cap)
+    far = np.empty(cap, np.int64)
+    sa = np.empty(cap, np.int64)
+    sb = np.empty(cap, np.int64)
+    f, q, S = scan_generic(P, t, 0, n - 1, mode, utol2, 1, n - 1, u)
+    key[0] = q / S
+    far[0] = f
+    sa[0] = 0
+    sb[0] = n - 1
+    size = 1
+    while count < k and size > 0:
+        a = sa[0]
+        b = sb[0]
+        m = far[0]
+        keep[m] = 1
+        count += 1
+        # pop the root
+        size -= 1
+        _heap_swap(key, far, sa, sb, 0, size)
+        i = 0
+        while True:
+            c = 2 * i + 1
+            if c >= size:
+                break
+            if c + 1 < size and _heap_better(key, far, c + 1, c):
+                c += 1
+            if _heap_better(key, far, c, i):
+                _heap_swap(key, far, sa, sb, c, i)
+                i = c
+            else:
+                break
+        # push the children that have interior points
+        for side in range(2):
+            lo = a if side == 0 else m
+            hi = m if side == 0 else b
+            if hi - lo < 2:
+                continue
+            f, q, S = scan_generic(P, t, lo, hi, mode, utol2, lo + 1, hi, u)
+            j = size
+            key[j] = q / S
+            far[j] = f
+            sa[j] = lo
+            sb[j] = hi
+            size += 1
+            while j > 0:
+                p = (j - 1) // 2
+                if _heap_better(key, far, j, p):
+                    _heap_swap(key, far, sa, sb, j, p)
+                    j = p
+                else:
+                    break
+    return count

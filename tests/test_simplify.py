@@ -1,0 +1,384 @@
+"""Tests of ndlfd._simplify against the slow references of reference_simplify."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from ndlfd._errors import OptionError, ValidationError
+from ndlfd._simplify import DISTANCES, simplify, simplify_many
+from reference_simplify import (
+    budget_reference,
+    dp_reference,
+    greedy_order,
+    line_distances,
+    paper_matrix,
+    zigzag,
+)
+
+MODES = ["line", "segment", "sed", "paper"]
+# dyadic tolerances: eps² is exact, so "distance == eps" is decided exactly
+EPSILONS = [0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0]
+SETTINGS = settings(max_examples=60, deadline=None)
+
+
+@st.composite
+def integer_paths(draw, max_n=40, max_d=8, min_n=1):
+    """Small integer-valued paths: duplicates, collinear runs, closed loops."""
+    n = draw(st.integers(min_n, max_n))
+    d = draw(st.integers(1, max_d))
+    r = draw(st.sampled_from([1, 3, 10]))
+    P = draw(arrays(np.float64, (n, d), elements=st.integers(-r, r).map(float)))
+    if n > 1 and draw(st.booleans()):
+        P[-1] = P[0]  # coincident endpoints
+    if draw(st.booleans()):  # repeated rows
+        reps = draw(arrays(np.int64, (n,), elements=st.integers(1, 3)))
+        P = np.repeat(P, reps, axis=0)[:max_n]
+    return P
+
+
+def integer_times(draw, n):
+    steps = draw(arrays(np.float64, (n,), elements=st.integers(1, 3).map(float)))
+    return np.cumsum(steps)
+
+
+@st.composite
+def cases(draw, modes=MODES):
+    P = draw(integer_paths())
+    mode = draw(st.sampled_from(modes))
+    times = integer_times(draw, P.shape[0]) if mode == "sed" else None
+    return P, mode, times
+
+
+# ---------------------------------------------------------------- known answers
+
+
+def test_segment_example_from_the_spec():
+    P = [[0, 0], [5, 0], [10, 0], [5, 0.01], [1, 0]]
+    assert simplify(P, 1).tolist() == [0, 4]
+    assert simplify(P, 1, distance="segment").tolist() == [0, 2, 4]
+
+
+def test_hand_worked_2d_example():
+    # chord 0-4 is y = 0: distances 2, 1, 3 -> point 3 is kept at eps = 1.
+    # chord 0-3 is y = x: points 1 and 2 both at 1/sqrt(2) (a tie).
+    P = [[0, 0], [1, 2], [2, 1], [3, 3], [4, 0]]
+    assert simplify(P, 1).tolist() == [0, 3, 4]
+    assert simplify(P, 0.8).tolist() == [0, 3, 4]
+    # eps = 0.7 < 1/sqrt(2): the tie goes to the first index, 1; then the
+    # chord 1-3 has point 2 at 3/sqrt(5) = 1.34 > 0.7.
+    assert simplify(P, 0.7).tolist() == [0, 1, 2, 3, 4]
+    # budget: 3 first (distance 3), then the first of the tie, 1
+    assert simplify(P, n_points=3).tolist() == [0, 3, 4]
+    assert simplify(P, n_points=4).tolist() == [0, 1, 3, 4]
+
+
+def test_strictly_greater_than_epsilon():
+    P = [[0, 0], [1, 1], [2, 0]]
+    assert simplify(P, 1.0).tolist() == [0, 2]
+    assert simplify(P, 0.999).tolist() == [0, 1, 2]
+
+
+def test_one_and_two_points():
+    for mode in MODES:
+        times = [0.0, 1.0] if mode == "sed" else None
+        t1 = [0.0] if mode == "sed" else None
+        assert simplify([[3.0, 4.0]], 0.1, distance=mode, times=t1).tolist() == [0]
+        assert simplify([[3.0], [4.0]], 0, distance=mode, times=times).tolist() == [
+            0,
+            1,
+        ]
+    assert simplify([[1.0, 2.0]], n_points=5).tolist() == [0]
+    assert simplify([[1.0], [2.0]], n_points=1).tolist() == [0, 1]
+    out = simplify([[3.0, 4.0]], 0.1)
+    assert out.dtype == np.int64
+
+
+def test_coincident_endpoints_use_distance_to_first_point():
+    P = [[0, 0], [1, 0], [3, 0], [0, 2], [0, 0]]
+    # distances to P_0: 1, 3, 2
+    assert simplify(P, 2.5).tolist() == [0, 2, 4]
+    assert simplify(P, 3.0).tolist() == [0, 4]
+
+
+def test_one_dimensional_line_keeps_only_turning_structure():
+    # in 1-D the "line" through two distinct values is the whole axis
+    P = np.array([[0.0], [5.0], [-3.0], [2.0]])
+    assert simplify(P, 0).tolist() == [0, 3]
+    assert simplify(P, 0, distance="paper").tolist() == [0, 3]
+    # coincident endpoints: distances to P_0 are 5, 3
+    Q = np.array([[0.0], [5.0], [-3.0], [0.0]])
+    assert simplify(Q, 4).tolist() == [0, 1, 3]
+
+
+def test_paper_formula_is_not_a_distance_in_3d():
+    p1, pi, pn = np.zeros(3), np.array([0.0, 1.0, 1.0]), np.array([1.0, 0.0, 0.0])
+    det = abs(np.linalg.det(paper_matrix(p1, pi, pn)))
+    assert det == pytest.approx(0.0)  # but the true distance is sqrt(2)
+    P = np.array([p1, pi, pn])
+    assert simplify(P, 0.5, distance="paper").tolist() == [0, 2]
+    assert simplify(P, 0.5, distance="line").tolist() == [0, 1, 2]
+
+
+def test_sed_compares_with_the_chord_at_the_same_time():
+    # the middle point lies on the line but far from where the chord is at t=1
+    P = [[0.0, 0.0], [9.0, 0.0], [10.0, 0.0]]
+    assert simplify(P, 1, distance="line").tolist() == [0, 2]
+    assert simplify(P, 1, distance="sed", times=[0, 1, 2]).tolist() == [0, 1, 2]
+    assert simplify(P, 1, distance="sed", times=[0, 9, 10]).tolist() == [0, 2]
+
+
+def test_registry_lists_the_modes():
+    assert DISTANCES.names == tuple(MODES)
+
+
+# ------------------------------------------------------------ property tests
+
+
+@SETTINGS
+@given(cases(), st.sampled_from(EPSILONS))
+def test_matches_reference(case, eps):
+    P, mode, times = case
+    got = simplify(P, eps, distance=mode, times=times)
+    want = dp_reference(P, eps, mode, times)
+    assert got.dtype == np.int64
+    assert got.tolist() == want.tolist()
+    n = P.shape[0]
+    assert got[0] == 0 and got[-1] == n - 1
+    mask = simplify(P, eps, distance=mode, times=times, return_mask=True)
+    assert mask.dtype == np.bool_ and mask.shape == (n,)
+    assert np.flatnonzero(mask).tolist() == got.tolist()
+
+
+@SETTINGS
+@given(cases(), st.integers(1, 45))
+def test_budget_matches_reference(case, k):
+    P, mode, times = case
+    got = simplify(P, n_points=k, distance=mode, times=times)
+    want = budget_reference(P, k, mode, times)
+    assert got.tolist() == want.tolist()
+    assert len(got) == min(max(k, 2), P.shape[0])
+    mask = simplify(P, n_points=k, distance=mode, times=times, return_mask=True)
+    assert np.flatnonzero(mask).tolist() == got.tolist()
+
+
+@SETTINGS
+@given(cases(), st.sampled_from(EPSILONS))
+def test_epsilon_result_is_a_prefix_of_the_budget_order(case, eps):
+    P, mode, times = case
+    by_eps = simplify(P, eps, distance=mode, times=times)
+    by_budget = simplify(P, n_points=len(by_eps), distance=mode, times=times)
+    assert by_eps.tolist() == by_budget.tolist()
+
+
+def test_a_budget_can_match_no_epsilon():
+    # chord 0-3 is y = 0: point 1 at distance 2 is farthest (point 2 at 1.5).
+    # After the split, chord 1-3 shows point 2 at about 2.55 > 2. A budget of
+    # 3 points stops between the two; no epsilon can (any eps < 2 keeps both).
+    P = np.array([[0.0, 0.0], [1.0, 2.0], [5.0, -1.5], [10.0, 0.0]])
+    assert line_distances(P, 0, 3).tolist() == [2.0, 1.5]
+    assert line_distances(P, 1, 3)[0] > 2.5
+    assert greedy_order(P) == [1, 2]
+    budget3 = simplify(P, n_points=3).tolist()
+    assert budget3 == [0, 1, 3]
+    eps_results = {tuple(simplify(P, e).tolist()) for e in np.linspace(0, 5, 2001)}
+    assert eps_results == {(0, 1, 2, 3), (0, 3)}
+
+
+@SETTINGS
+@given(cases(), st.sampled_from(EPSILONS), st.sampled_from(EPSILONS))
+def test_monotone_in_epsilon(case, e1, e2):
+    P, mode, times = case
+    lo, hi = min(e1, e2), max(e1, e2)
+    small = set(simplify(P, lo, distance=mode, times=times).tolist())
+    large = set(simplify(P, hi, distance=mode, times=times).tolist())
+    assert large <= small
+
+
+@SETTINGS
+@given(integer_paths(), st.sampled_from(EPSILONS))
+def test_line_dropped_points_are_within_epsilon(P, eps):
+    kept = simplify(P, eps)
+    for a, b in itertools.pairwise(kept):
+        if b - a > 1:
+            assert line_distances(P, a, b).max() <= eps + 1e-9
+
+
+@SETTINGS
+@given(integer_paths(max_d=2), st.sampled_from(EPSILONS))
+def test_paper_equals_line_in_2d(P, eps):
+    assume(P.shape[1] == 2)
+    assert simplify(P, eps, distance="paper").tolist() == simplify(P, eps).tolist()
+    assert (
+        simplify(P, n_points=7, distance="paper").tolist()
+        == simplify(P, n_points=7).tolist()
+    )
+
+
+@SETTINGS
+@given(
+    st.integers(2, 40),
+    st.integers(1, 8),
+    st.integers(0, 2**32 - 1),
+    st.floats(0.05, 0.95),
+)
+def test_line_invariant_to_rotation_and_translation(n, d, seed, frac):
+    rng = np.random.default_rng(seed)
+    P = rng.normal(size=(n, d))
+    Q, _ = np.linalg.qr(rng.normal(size=(d, d)))
+    shift = rng.normal(size=d) * 10
+    splits = []
+    dp_reference(P, -1.0, splits=splits)  # every node distance of the tree
+    node_d = [line_distances(P, a, b)[i - a - 1] for _, a, b, i in splits if b - a > 1]
+    eps = frac * (max(node_d) if node_d else 1.0)
+    assume(all(abs(x - eps) > 1e-6 for x in node_d))
+    base = simplify(P, eps)
+    assert base.tolist() == dp_reference(P, eps).tolist()
+    assert simplify(P @ Q.T + shift, eps).tolist() == base.tolist()
+
+
+@SETTINGS
+@given(cases(modes=["line", "segment", "paper"]), st.sampled_from(EPSILONS))
+def test_weights_scale_columns(case, eps):
+    P, mode, _ = case
+    w = np.linspace(0.0, 2.0, P.shape[1])
+    got = simplify(P, eps, distance=mode, weights=w)
+    assert got.tolist() == simplify(P * w, eps, distance=mode).tolist()
+
+
+# -------------------------------------------------------------- worst case
+
+
+def test_zigzag_reference_splits_at_depth_n():
+    n = 40
+    splits = []
+    kept = dp_reference(zigzag(n), 0.5, splits=splits)
+    assert len(kept) == n
+    assert max(depth for depth, *_ in splits) == n - 3
+    assert simplify(zigzag(n), 0.5).tolist() == kept.tolist()
+    assert simplify(zigzag(n), 0.5, distance="segment").tolist() == kept.tolist()
+
+
+@pytest.mark.parametrize("d", [2, 3, 5])
+def test_zigzag_deep_split_without_recursion(d):
+    n = 100_000 if d == 2 else 20_000
+    P = np.zeros((n, d))
+    P[:, :2] = zigzag(n)
+    kept = simplify(P, 0.5)
+    assert len(kept) == n
+
+
+# ------------------------------------------------------------- many / threads
+
+
+def test_simplify_many_equals_a_loop():
+    rng = np.random.default_rng(1)
+    demos = [np.cumsum(rng.normal(size=(m, 3)), axis=0) for m in (1, 2, 50, 300, 7)]
+    for kw in ({"epsilon": 0.5}, {"n_points": 6}, {"epsilon": 1.0, "n_jobs": 1}):
+        want = [
+            simplify(p, **{k: v for k, v in kw.items() if k != "n_jobs"}) for p in demos
+        ]
+        got = simplify_many(demos, **kw)
+        assert [g.tolist() for g in got] == [w.tolist() for w in want]
+    times = [np.arange(len(p), dtype=float) for p in demos]
+    got = simplify_many(demos, 0.5, distance="sed", times=times, return_mask=True)
+    for g, p, t in zip(got, demos, times, strict=True):
+        want = simplify(p, 0.5, distance="sed", times=t, return_mask=True)
+        assert g.tolist() == want.tolist()
+
+
+def test_simplify_many_errors_name_the_trajectory():
+    with pytest.raises(ValidationError, match=r"trajectories\[1\] must be finite"):
+        simplify_many([[[0, 0], [1, 1]], [[0, 0], [np.nan, 1]]], 0.1)
+    with pytest.raises(ValidationError, match="one time vector per trajectory"):
+        simplify_many([[[0, 0], [1, 1]]], 0.1, distance="sed", times=[])
+    with pytest.raises(ValidationError, match=r"sequence of .* got one array"):
+        simplify_many(np.zeros((3, 2)), 0.1)
+    with pytest.raises(ValidationError, match="n_jobs must be an integer >= 1"):
+        simplify_many([[[0, 0]]], 0.1, n_jobs=0)
+
+
+# ------------------------------------------------------------------ errors
+
+
+@pytest.mark.parametrize(
+    ("points", "match"),
+    [
+        ([[0, 0], [np.nan, 1], [2, 2]], r"must be finite; got \[nan, 1.0\].* row 1"),
+        ([[0, 0], [1, 1], [np.inf, 2]], r"must be finite.*row 2"),
+        ([1.0, 2.0, 3.0], r"np.column_stack\(\[t, y\]\)"),
+        (np.zeros((2, 2, 2)), r"shape \(n_points, n_dims\); got .* \(2, 2, 2\)"),
+        ([["a", "b"]], r"real numbers .* got .*dtype <U1"),
+        (np.zeros((0, 2)), r"at least 1 row"),
+        (np.zeros((3, 0)), r"at least one column"),
+    ],
+)
+def test_bad_points(points, match):
+    with pytest.raises(ValidationError, match=match):
+        simplify(points, 0.1)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"epsilon": -1}, ValidationError, "epsilon must be a finite number >= 0"),
+        ({"epsilon": np.nan}, ValidationError, "epsilon must be a finite number"),
+        ({"epsilon": "1"}, ValidationError, "epsilon must be .* got '1'"),
+        ({}, ValidationError, "exactly one of epsilon .* got neither"),
+        ({"epsilon": 1, "n_points": 3}, ValidationError, "exactly one .* got both"),
+        ({"n_points": 0}, ValidationError, "n_points must be an integer >= 1"),
+        ({"n_points": 2.5}, ValidationError, "n_points must be an integer"),
+        (
+            {"epsilon": 1, "weights": [1.0]},
+            ValidationError,
+            r"weights must have one entry per column \(length 2\); got shape",
+        ),
+        (
+            {"epsilon": 1, "weights": [1.0, -1.0]},
+            ValidationError,
+            r"weights must be finite and >= 0; got weights\[1\] = -1",
+        ),
+        (
+            {"epsilon": 1, "distance": "sed"},
+            ValidationError,
+            "distance='sed' needs times .* got times=None",
+        ),
+        (
+            {"epsilon": 1, "distance": "sed", "times": [0, 2, 1]},
+            ValidationError,
+            "times must be strictly increasing",
+        ),
+        (
+            {"epsilon": 1, "distance": "sed", "times": [0, 1]},
+            ValidationError,
+            r"times must have one entry per point \(length 3\); got length 2",
+        ),
+        (
+            {"epsilon": 1, "times": [0, 1, 2]},
+            ValidationError,
+            "times are only used by distance='sed'; got times with distance='line'",
+        ),
+        (
+            {"epsilon": 1, "distance": "hausdorff"},
+            OptionError,
+            "unknown distance 'hausdorff'; expected one of: 'line', 'segment'",
+        ),
+    ],
+)
+def test_bad_options(kwargs, error, match):
+    with pytest.raises(error, match=match):
+        simplify([[0, 0], [1, 1], [2, 0]], **kwargs)
+
+
+def test_extreme_scales_are_exact():
+    P = np.array([[0, 0], [1, 2], [2, 1], [3, 3], [4, 0]], dtype=float)
+    for s in (2.0**-300, 2.0**300):
+        assert simplify(P * s, 0.7 * s).tolist() == [0, 1, 2, 3, 4]
+        assert simplify(P * s, 1 * s).tolist() == [0, 3, 4]
+        for mode in ("segment", "paper"):
+            assert simplify(P * s, 1 * s, distance=mode).tolist() == [0, 3, 4]
