@@ -1,0 +1,395 @@
+"""Group normalization (paper §2.2): one range per physical group.
+
+:class:`GroupScaler` maps every column of a group with the *same* minimum and
+maximum, taken over all the group's columns and all training demonstrations:
+``u = (x - min_g) / (max_g - min_g)``. A path twice as long in X as in Y stays
+so after normalization, which per-column scaling would destroy (the paper's
+Fig. 2b counter-example, available here as ``mode="per-dimension"``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ._errors import NotFittedError, ValidationError
+from ._registry import Registry
+from ._validation import check_points
+from .demo import Demonstration
+
+__all__ = ["SCALING_MODES", "GroupScaler"]
+
+
+def _group_ranges(mins, maxs, groups):
+    """Per column, the min and max over all columns of the same group."""
+    lo, hi = mins.copy(), maxs.copy()
+    for g in dict.fromkeys(groups):
+        idx = [j for j, h in enumerate(groups) if h == g]
+        lo[idx] = mins[idx].min()
+        hi[idx] = maxs[idx].max()
+    return lo, hi
+
+
+def _per_column(mins, maxs, groups):
+    return mins.copy(), maxs.copy()
+
+
+def _identity(mins, maxs, groups):
+    return np.zeros_like(mins), np.ones_like(maxs)
+
+
+#: ``mode`` → function (column mins, column maxs, column groups) → the
+#: (min, max) actually used for each column.
+SCALING_MODES = Registry("mode")
+SCALING_MODES.add("group", _group_ranges)
+SCALING_MODES.add("per-dimension", _per_column)
+SCALING_MODES.add("none", _identity)
+
+
+class GroupScaler:
+    """Scale each physical group to [0, 1] with one range per group.
+
+    Parameters
+    ----------
+    groups : sequence of str of length n_dims, optional
+        The group of each column. ``None`` (default) takes the groups from the
+        :class:`~ndlfd.demo.Demonstration` objects passed to :meth:`fit`; it is
+        required when fitting plain arrays. When both are given they must agree.
+    mode : {"group", "per-dimension", "none"}, default="group"
+        ``"group"``: per group one global min and max over all its columns and
+        all demonstrations (the paper's magnitude normalization).
+        ``"per-dimension"``: each column its own range. ``"none"``: identity
+        (min 0, max 1), weights still apply.
+    weights : mapping of str to float, or sequence of float, optional
+        Non-negative multipliers applied after normalization: per group (groups
+        not named get 1) or per column. Used to make a group count more or less
+        in the key-point reduction. :meth:`inverse_transform` divides them out;
+        a zero weight cannot be divided out, so a column with weight 0 is
+        inverse-mapped to its minimum ``data_min_`` (documented, tested).
+
+    Attributes
+    ----------
+    n_features_in_ : int
+        Number of columns seen in :meth:`fit`.
+    column_groups_ : tuple of str
+        The group of each column.
+    columns_ : tuple of str or None
+        Column names when fitted on demonstrations (checked at transform time).
+    group_names_ : tuple of str
+        The distinct groups, in column order.
+    data_min_, data_max_ : ndarray of shape (n_features_in_,)
+        The range actually used for each column (in group mode all columns of a
+        group share the group's range; in ``"none"`` mode 0 and 1).
+    data_range_ : ndarray of shape (n_features_in_,)
+        ``data_max_ - data_min_``; 0 for a constant group, which is then mapped
+        to ``x - min`` (so to 0) instead of being divided by zero.
+    group_min_, group_max_ : dict of str to float
+        Per group the smallest and largest value seen over all its columns and
+        demonstrations (in group mode, the range used).
+    column_weights_ : ndarray of shape (n_features_in_,)
+        The weight of each column (1.0 when no weights).
+    n_samples_seen_ : int
+        Total number of rows seen in :meth:`fit`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> X = np.array([[0.0, 0.0], [20.0, 10.0]])   # 20 long in x, 10 in y
+    >>> GroupScaler(["position", "position"]).fit_transform(X)
+    array([[0. , 0. ],
+           [1. , 0.5]])
+    >>> GroupScaler(["position", "position"], mode="per-dimension").fit_transform(X)
+    array([[0., 0.],
+           [1., 1.]])
+    """
+
+    def __init__(self, groups=None, mode="group", weights=None):
+        self.groups = groups
+        self.mode = mode
+        self.weights = weights
+
+    # ------------------------------------------------------------------ input
+    def _as_list(self, data, what):
+        """Return (list of 2-D arrays, column groups or None, columns or None)."""
+        if not _is_collection(data):
+            data = [data]
+        if len(data) == 0:
+            raise ValidationError(f"{what} must hold at least one demonstration")
+        arrays, groups, columns = [], None, None
+        for i, item in enumerate(data):
+            if isinstance(item, Demonstration):
+                if i == 0:
+                    groups, columns = item.groups, item.columns
+                elif columns is None:
+                    raise ValidationError(
+                        f"{what} mixes arrays and Demonstrations; got a"
+                        f" Demonstration at {what}[{i}]"
+                    )
+                elif (item.groups, item.columns) != (groups, columns):
+                    raise ValidationError(
+                        f"{what}[{i}] has columns {item.columns} in groups"
+                        f" {item.groups}; expected the columns of {what}[0]:"
+                        f" {columns} in groups {groups}"
+                    )
+                arrays.append(np.asarray(item.X))
+            else:
+                if columns is not None:
+                    raise ValidationError(
+                        f"{what} mixes Demonstrations and arrays; got"
+                        f" {type(item).__name__} at {what}[{i}]"
+                    )
+                name = f"{what}[{i}]" if len(data) > 1 else what
+                arrays.append(check_points(item, name))
+        d = arrays[0].shape[1]
+        for i, a in enumerate(arrays):
+            if a.shape[1] != d:
+                raise ValidationError(
+                    f"every demonstration must have the same number of columns"
+                    f" ({d}, as {what}[0]); got {a.shape[1]} in {what}[{i}]"
+                )
+        return arrays, groups, columns
+
+    def _check_groups(self, data_groups, d):
+        if self.groups is None:
+            if data_groups is None:
+                raise ValidationError(
+                    "groups must be given (one group name per column) when fitting"
+                    " plain arrays; got groups=None. Pass e.g."
+                    f" GroupScaler(groups={['position'] * d!r}) or fit Demonstrations"
+                )
+            return tuple(data_groups)
+        if isinstance(self.groups, str) or not isinstance(self.groups, Sequence):
+            raise ValidationError(
+                "groups must be a sequence of group names, one per column; got"
+                f" {self.groups!r}"
+            )
+        groups = tuple(self.groups)
+        if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
+            raise ValidationError(
+                f"groups must name the group of each of the {d} columns; got"
+                f" {self.groups!r}"
+            )
+        if data_groups is not None and tuple(data_groups) != groups:
+            raise ValidationError(
+                f"groups={groups} disagrees with the demonstrations' groups"
+                f" {tuple(data_groups)}"
+            )
+        return groups
+
+    def _check_weights(self, groups):
+        d = len(groups)
+        w = self.weights
+        if w is None:
+            return np.ones(d)
+        if isinstance(w, Mapping):
+            unknown = [g for g in w if g not in groups]
+            if unknown:
+                raise ValidationError(
+                    f"weights name unknown group(s) {unknown}; the groups are"
+                    f" {list(dict.fromkeys(groups))}"
+                )
+            values = np.array([w.get(g, 1.0) for g in groups], dtype=object)
+        else:
+            if isinstance(w, str) or not isinstance(w, (Sequence, np.ndarray)):
+                raise ValidationError(
+                    "weights must be a mapping group -> weight or one weight per"
+                    f" column; got {w!r}"
+                )
+            values = np.asarray(w, dtype=object)
+            if values.shape != (d,):
+                raise ValidationError(
+                    f"weights must have one entry per column (length {d}); got"
+                    f" shape {values.shape}"
+                )
+        out = np.empty(d)
+        for j, v in enumerate(values):
+            ok = isinstance(
+                v, (int, float, np.integer, np.floating)
+            ) and not isinstance(v, bool)
+            if not ok or not np.isfinite(v) or v < 0:
+                raise ValidationError(
+                    "weights must be finite numbers >= 0; got"
+                    f" {v!r} for column {j} (group {groups[j]!r})"
+                )
+            out[j] = float(v)
+        return out
+
+    # ------------------------------------------------------------------ fit
+    def fit(self, demos, y=None) -> GroupScaler:
+        """Learn each column's range from one or many demonstrations.
+
+        Parameters
+        ----------
+        demos : Demonstration, list of Demonstration, ndarray of shape (n, d)\
+ or list of such arrays
+            Training data; lists may be ragged in length but not in columns.
+        y : None
+            Ignored (scikit-learn convention).
+
+        Returns
+        -------
+        self : GroupScaler
+        """
+        fit_range = SCALING_MODES.get(self.mode)
+        arrays, data_groups, columns = self._as_list(demos, "demos")
+        d = arrays[0].shape[1]
+        groups = self._check_groups(data_groups, d)
+        weights = self._check_weights(groups)
+        mins = np.min([a.min(axis=0) for a in arrays], axis=0)
+        maxs = np.max([a.max(axis=0) for a in arrays], axis=0)
+        lo, hi = fit_range(mins, maxs, groups)
+        self.n_features_in_ = d
+        self.column_groups_ = groups
+        self.columns_ = columns
+        self.group_names_ = tuple(dict.fromkeys(groups))
+        gmin, gmax = _group_ranges(mins, maxs, groups)
+        self.group_min_ = {g: float(gmin[groups.index(g)]) for g in self.group_names_}
+        self.group_max_ = {g: float(gmax[groups.index(g)]) for g in self.group_names_}
+        self.data_min_ = lo
+        self.data_max_ = hi
+        self.data_range_ = hi - lo
+        self.column_weights_ = weights
+        self.n_samples_seen_ = int(sum(a.shape[0] for a in arrays))
+        return self
+
+    # ------------------------------------------------------------------ use
+    def _check_fitted(self):
+        if not hasattr(self, "data_min_"):
+            raise NotFittedError(
+                "this GroupScaler is not fitted yet; call fit(demos) before"
+                " transform or inverse_transform"
+            )
+
+    def _prepare(self, X, what):
+        """Return (list of arrays, was_single) checked against the fitted columns."""
+        self._check_fitted()
+        single = not _is_collection(X)
+        items = [X] if single else list(X)
+        arrays = []
+        for i, item in enumerate(items):
+            name = what if single else f"{what}[{i}]"
+            if isinstance(item, Demonstration):
+                if self.columns_ is not None and item.columns != self.columns_:
+                    raise ValidationError(
+                        f"{name} has columns {item.columns}; expected the fitted"
+                        f" columns {self.columns_} (use demo.select(...) to pick"
+                        " the fitted groups)"
+                    )
+                if item.groups != self.column_groups_:
+                    raise ValidationError(
+                        f"{name} has column groups {item.groups}; expected the"
+                        f" fitted groups {self.column_groups_}"
+                    )
+                arrays.append(np.asarray(item.X))
+            else:
+                a = check_points(item, name)
+                if a.shape[1] != self.n_features_in_:
+                    raise ValidationError(
+                        f"{name} must have {self.n_features_in_} columns (as in"
+                        f" fit); got shape {a.shape}"
+                    )
+                arrays.append(a)
+        return arrays, single
+
+    def _divisor(self):
+        return np.where(self.data_range_ > 0, self.data_range_, 1.0)
+
+    def transform(self, X, *, weighted: bool = True):
+        """Normalize: ``u = (x - data_min_) / data_range_ * column_weights_``.
+
+        Values outside the fitted range are kept (they map below 0 or above
+        the weight), never clipped.
+
+        Parameters
+        ----------
+        X : Demonstration, ndarray of shape (n_samples, n_features_in_), or list
+            A Demonstration must have the fitted columns and groups. A list gives
+            a list.
+        weighted : bool, default=True
+            Apply ``column_weights_``; ``False`` gives the plain [0, 1] values
+            (for example for a codebook).
+
+        Returns
+        -------
+        U : ndarray of shape (n_samples, n_features_in_), or list of them
+        """
+        arrays, single = self._prepare(X, "X")
+        scale = 1.0 / self._divisor()
+        if weighted:
+            scale = scale * self.column_weights_
+        out = [(a - self.data_min_) * scale for a in arrays]
+        return out[0] if single else out
+
+    def inverse_transform(self, U, *, weighted: bool = True):
+        """Map normalized values back to physical units.
+
+        Parameters
+        ----------
+        U : ndarray of shape (n_samples, n_features_in_), or list of them
+            Normalized values as produced by :meth:`transform` with the same
+            ``weighted``.
+        weighted : bool, default=True
+            Whether ``U`` carries the column weights. A column of weight 0 is
+            mapped back to its ``data_min_`` (its values cannot be recovered).
+
+        Returns
+        -------
+        X : ndarray of shape (n_samples, n_features_in_), or list of them
+        """
+        arrays, single = self._prepare(U, "U")
+        div = self._divisor()
+        out = []
+        for a in arrays:
+            if weighted:
+                w = self.column_weights_
+                a = np.divide(a, w, out=np.zeros_like(a), where=w > 0)
+            out.append(a * div + self.data_min_)
+        return out[0] if single else out
+
+    def fit_transform(self, demos, y=None, *, weighted: bool = True):
+        """Fit to ``demos`` and return their normalized values.
+
+        Returns
+        -------
+        U : ndarray of shape (n_samples, n_features_in_), or list of them
+            A list when ``demos`` is a list.
+        """
+        return self.fit(demos).transform(demos, weighted=weighted)
+
+    def get_params(self, deep: bool = True) -> dict:
+        """Return the constructor parameters (scikit-learn convention)."""
+        return {"groups": self.groups, "mode": self.mode, "weights": self.weights}
+
+    def set_params(self, **params) -> GroupScaler:
+        """Set constructor parameters (scikit-learn convention)."""
+        for key, value in params.items():
+            if key not in ("groups", "mode", "weights"):
+                raise ValidationError(
+                    f"unknown parameter {key!r} for GroupScaler; expected groups,"
+                    " mode or weights"
+                )
+            setattr(self, key, value)
+        return self
+
+    def __repr__(self) -> str:
+        return (
+            f"GroupScaler(groups={self.groups!r}, mode={self.mode!r},"
+            f" weights={self.weights!r})"
+        )
+
+
+def _is_collection(X) -> bool:
+    """Whether ``X`` is a list of demonstrations/arrays rather than one of them."""
+    if not isinstance(X, (list, tuple)) or len(X) == 0:
+        return isinstance(X, (list, tuple))  # [] is an (empty) collection
+    first = X[0]
+    if isinstance(first, Demonstration):
+        return True
+    if isinstance(first, np.ndarray):
+        return first.ndim == 2
+    try:
+        inner = first[0]
+    except (IndexError, TypeError, KeyError):
+        return False
+    return isinstance(inner, (Sequence, np.ndarray)) and not isinstance(inner, str)
