@@ -1,0 +1,262 @@
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+from ndlfd._errors import ValidationError
+from ndlfd.codebook import Codebook, TimeBins
+
+
+def _reference_state(q, levels):
+    # plain Python mixed radix, first column most significant
+    s = 0
+    for digit, cb in zip(q, levels, strict=True):
+        s = s * cb + int(digit)
+    return s
+
+
+def test_mixed_radix_order_small_example():
+    cb = Codebook([2, 3])
+    all_q = list(itertools.product(range(2), range(3)))
+    # enumeration order of itertools.product is exactly the mixed-radix order
+    np.testing.assert_array_equal(cb.from_levels(all_q), np.arange(6))
+    np.testing.assert_array_equal(cb.to_levels(np.arange(6)), all_q)
+    assert cb.n_states == 6 and isinstance(cb.n_states, int)
+    assert cb.n_dims == 2 and cb.levels == (2, 3)
+    assert repr(cb) == "Codebook(levels=[2, 3])"
+
+
+def test_encode_known_values():
+    cb = Codebook([10, 4])
+    U = [[0.0, 0.0], [0.05, 0.3], [0.999, 0.74], [1.0, 1.0], [0.1, 0.25]]
+    # q = floor(u * CB): (0,0) (0,1) (9,2) (9 clipped from 10, 3 clipped from 4)
+    # and 0.1*10 = 1, 0.25*4 = 1
+    np.testing.assert_array_equal(cb.encode(U), [0, 1, 38, 39, 5])
+    states, n_clipped = cb.encode(U, return_n_clipped=True)
+    assert n_clipped == 0  # u = 1 is inside [0, 1]: it lands in the top level
+    assert states.dtype == np.int64
+
+
+def test_out_of_range_values_are_clipped_and_counted():
+    cb = Codebook([5, 5])
+    states, n = cb.encode(
+        [[-0.1, 1.2], [3.0, 0.5], [-1e300, 1e300]], return_n_clipped=True
+    )
+    assert n == 5
+    np.testing.assert_array_equal(cb.to_levels(states), [[0, 4], [4, 2], [0, 4]])
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.integers(1, 40), min_size=1, max_size=5),
+    st.data(),
+)
+def test_round_trip_on_level_centres(levels, data):
+    cb = Codebook(levels)
+    n = data.draw(st.integers(1, 20))
+    Q = np.column_stack(
+        [
+            data.draw(hnp.arrays(np.int64, n, elements=st.integers(0, c - 1)))
+            for c in levels
+        ]
+    )
+    states = cb.from_levels(Q)
+    expected = [_reference_state(q, levels) for q in Q]
+    np.testing.assert_array_equal(states, expected)
+    centres = cb.decode(states)
+    np.testing.assert_allclose(centres, (Q + 0.5) / np.array(levels))
+    np.testing.assert_array_equal(cb.encode(centres), states)
+    np.testing.assert_array_equal(cb.to_levels(states), Q)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    hnp.arrays(
+        np.float64,
+        st.tuples(st.integers(1, 15), st.just(3)),
+        elements=st.floats(-0.5, 1.5, allow_nan=False),
+    )
+)
+def test_encode_matches_elementwise_reference(U):
+    levels = [7, 1, 20]
+    states, n = Codebook(levels).encode(U, return_n_clipped=True)
+    expected = []
+    for row in U:
+        q = [
+            min(max(int(np.floor(u * c)), 0), c - 1)
+            for u, c in zip(row, levels, strict=True)
+        ]
+        expected.append(_reference_state(q, levels))
+    np.testing.assert_array_equal(states, expected)
+    assert n == int(((U < 0) | (U > 1)).sum())
+
+
+def test_large_codebooks_use_exact_integers():
+    levels = [100] * 9  # 1e18 states, fits in int64
+    cb = Codebook(levels)
+    assert cb.n_states == 10**18
+    top = cb.encode(np.ones((1, 9)))
+    assert int(top[0]) == 10**18 - 1
+    q = np.array([[99, 0, 1, 2, 3, 4, 5, 6, 97]])
+    s = cb.from_levels(q)
+    assert int(s[0]) == _reference_state(q[0], levels)
+    np.testing.assert_array_equal(cb.to_levels(s), q)
+
+
+def test_overflowing_codebook_is_refused_with_the_count():
+    with pytest.raises(
+        ValidationError, match=r"has 10{20} states .* does not fit in int64"
+    ):
+        Codebook([10] * 20)
+    with pytest.raises(ValidationError, match=r"9223372036854775808 states"):
+        Codebook([2] * 63 + [1, 1])  # 2**63: one too many
+    assert Codebook([2] * 62 + [1]).n_states == 2**62
+
+
+def test_from_groups():
+    cb = Codebook.from_groups(
+        {"position": 20, "velocity": 10}, ["position", "position", "velocity"]
+    )
+    assert cb.levels == (20, 20, 10)
+    with pytest.raises(
+        ValidationError, match=r"no codebook level given for group\(s\) \['force'\]"
+    ):
+        Codebook.from_groups({"position": 20}, ["position", "force"])
+    with pytest.raises(ValidationError, match=r"unknown group\(s\) \['velocity'\]"):
+        Codebook.from_groups({"position": 20, "velocity": 10}, ["position"])
+    with pytest.raises(ValidationError, match=r"group 'position' .* >= 1; got 0"):
+        Codebook.from_groups({"position": 0}, ["position"])
+    with pytest.raises(ValidationError, match=r"group 'position' must be an integer"):
+        Codebook.from_groups({"position": 2.5}, ["position"])
+    with pytest.raises(ValidationError, match=r"must be a mapping"):
+        Codebook.from_groups([20], ["position"])
+    with pytest.raises(ValidationError, match=r"sequence of group names"):
+        Codebook.from_groups({"position": 20}, "position")
+
+
+@pytest.mark.parametrize(
+    ("levels", "match"),
+    [
+        ([], r"got an empty sequence"),
+        ([3, 0], r"levels\[1\] must be an integer >= 1; got 0"),
+        ([3, 2.0], r"levels\[1\] must be an integer >= 1; got 2.0 of type float"),
+        ([True], r"levels\[0\] must be an integer"),
+        (5, r"sequence of integers >= 1, .* got 5 of type int"),
+        ("20", r"got '20' of type str"),
+        (np.array([[2, 3]]), r"got an array of shape \(1, 2\)"),
+    ],
+)
+def test_bad_levels(levels, match):
+    with pytest.raises(ValidationError, match=match):
+        Codebook(levels)
+
+
+def test_numpy_levels_accepted():
+    assert Codebook(np.array([3, 4])).n_states == 12
+
+
+def test_encode_errors():
+    cb = Codebook([4, 4])
+    with pytest.raises(
+        ValidationError, match=r"U must have 2 column\(s\).* got shape \(1, 3\)"
+    ):
+        cb.encode([[0.1, 0.2, 0.3]])
+    with pytest.raises(ValidationError, match=r"U must be finite; got .* at row 1"):
+        cb.encode([[0.1, 0.2], [np.nan, 0.1]])
+    with pytest.raises(ValidationError, match=r"U must be finite"):
+        cb.encode([[np.inf, 0.2]])
+    with pytest.raises(ValidationError, match=r"np.column_stack"):
+        cb.encode([0.1, 0.2])
+    with pytest.raises(ValidationError, match=r"at least 1 row"):
+        cb.encode(np.empty((0, 2)))
+    with pytest.raises(ValidationError, match=r"real numbers"):
+        cb.encode([["a", "b"]])
+
+
+def test_state_errors():
+    cb = Codebook([4, 4])
+    with pytest.raises(
+        ValidationError, match=r"states must lie in 0..15; got states\[1\] = 16"
+    ):
+        cb.decode([0, 16])
+    with pytest.raises(
+        ValidationError, match=r"states must lie in 0..15; got states\[0\] = -1"
+    ):
+        cb.to_levels([-1])
+    with pytest.raises(ValidationError, match=r"whole numbers"):
+        cb.decode([0.5])
+    with pytest.raises(
+        ValidationError, match=r"1-D array of integers; got shape \(1, 1\)"
+    ):
+        cb.decode([[1]])
+    with pytest.raises(
+        ValidationError, match=r"Q\[:, 1\] must lie in 0..3; got Q\[0, 1\] = 4"
+    ):
+        cb.from_levels([[0, 4]])
+    with pytest.raises(ValidationError, match=r"Q must have 2 column"):
+        cb.from_levels([[0, 1, 2]])
+    with pytest.raises(ValidationError, match=r"Q must have shape \(n_points, 2\)"):
+        cb.from_levels([0, 1])
+    with pytest.raises(ValidationError, match=r"whole numbers"):
+        cb.from_levels([[0.5, 1]])
+    with pytest.raises(ValidationError, match=r"integer array"):
+        cb.from_levels([["a", "b"]])
+
+
+# ----------------------------------------------------------------- TimeBins
+
+
+def test_time_bins_known_values():
+    tb = TimeBins(5)
+    t = [10.0, 10.5, 11.0, 12.0, 14.0, 15.0]
+    np.testing.assert_array_equal(tb.normalize(t), [0, 0.1, 0.2, 0.4, 0.8, 1.0])
+    np.testing.assert_array_equal(tb.transform(t), [0, 0, 1, 2, 4, 4])
+    np.testing.assert_array_equal(tb.transform([3.0]), [0])
+    np.testing.assert_array_equal(tb.normalize([3.0]), [0.0])
+    assert tb.transform(t).dtype == np.int64
+    assert repr(tb) == "TimeBins(n_bins=5)"
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(1, 100),
+    hnp.arrays(
+        np.float64, st.integers(1, 40), elements=st.floats(-1e6, 1e6), unique=True
+    ),
+)
+def test_time_bins_properties(n_bins, t):
+    t = np.sort(t)
+    sym = TimeBins(n_bins).transform(t)
+    assert sym[0] == 0
+    assert np.all(np.diff(sym) >= 0)
+    assert sym.min() >= 0 and sym.max() <= n_bins - 1
+    if t.size > 1:
+        assert sym[-1] == n_bins - 1
+        tau = (t - t[0]) / (t[-1] - t[0])
+        expected = [min(int(np.floor(x * n_bins)), n_bins - 1) for x in tau]
+        np.testing.assert_array_equal(sym, expected)
+
+
+@pytest.mark.parametrize(
+    ("t", "match"),
+    [
+        ([0.0, 1.0, 1.0], r"strictly increasing"),
+        ([0.0, np.nan], r"t must be finite"),
+        ([], r"at least one time stamp"),
+        ([[0.0, 1.0]], r"shape \(n_samples,\)"),
+    ],
+)
+def test_time_bins_errors(t, match):
+    with pytest.raises(ValidationError, match=match):
+        TimeBins(3).transform(t)
+
+
+@pytest.mark.parametrize("n", [0, -1, 2.5, True])
+def test_time_bins_bad_n(n):
+    with pytest.raises(ValidationError, match=r"n_bins must be an integer >= 1"):
+        TimeBins(n)
