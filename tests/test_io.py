@@ -46,20 +46,35 @@ def test_read_table_accepts_bom_and_crlf(tmp_path):
         ("t,x\n", r"bad\.csv: expected data rows below the header on line 1"),
         ("t,x\n0,1\n1,2,3\n", r"bad\.csv, line 3: expected 2 comma-separated .*got 3"),
         ("t,x\n0,1\n1\n", r"bad\.csv, line 3: expected 2 .* got 1"),
-        ("t,x\n0,1\n1,abc\n", r"bad\.csv, line 3, column 'x': expected a number;"
-         " got 'abc'"),
+        (
+            "t,x\n0,1\n1,abc\n",
+            r"bad\.csv, line 3, column 'x': expected a number;"
+            " got 'abc'",
+        ),
         ("t,x\n0,\n", r"bad\.csv, line 2, column 'x': expected a number; got ''"),
-        ("t,x\n0,1\n#c\n1,nan\n", r"bad\.csv, line 4, column 'x': expected a finite"
-         " number; got 'nan'"),
+        (
+            "t,x\n0,1\n#c\n1,nan\n",
+            r"bad\.csv, line 4, column 'x': expected a finite"
+            " number; got 'nan'",
+        ),
         ("t,x\n0,inf\n", r"line 2, column 'x': expected a finite number; got 'inf'"),
-        ("t,x,t\n0,1,2\n", r"bad\.csv, line 1: expected unique column names;"
-         " got 't' in columns 1 and 3"),
-        ("t,,y\n0,1,2\n", r"bad\.csv, line 1: expected a name for every"
-         " column.*column 2 is empty"),
-        ("0,1\n1,2\n", r"bad\.csv, line 1: expected a header row of"
-         " column names; got only numbers"),
+        (
+            "t,x,t\n0,1,2\n",
+            r"bad\.csv, line 1: expected unique column names;"
+            " got 't' in columns 1 and 3",
+        ),
+        (
+            "t,,y\n0,1,2\n",
+            r"bad\.csv, line 1: expected a name for every"
+            " column.*column 2 is empty",
+        ),
+        (
+            "0,1\n1,2\n",
+            r"bad\.csv, line 1: expected a header row of"
+            " column names; got only numbers",
+        ),
     ],
-)  # fmt: skip
+)
 def test_read_table_bad_files(tmp_path, text, match):
     p = tmp_path / "bad.csv"
     p.write_text(text)
@@ -143,3 +158,284 @@ def test_write_table_replaces_atomically(tmp_path):
     write_table(p, ["b"], [[2.0]])
     assert p.read_text() == "b\n2.0\n"
     assert [q.name for q in tmp_path.iterdir()] == ["x.csv"]
+
+
+# ---------------------------------------------------------------- demonstrations
+from ndlfd._fileformat import save_npz  # noqa: E402
+from ndlfd.demo import Demonstration  # noqa: E402
+from ndlfd.io import (  # noqa: E402
+    group_of_column,
+    read_csv,
+    read_demos,
+    read_npz,
+    write_csv,
+    write_npz,
+)
+
+
+def _rich_demo(n=6, seed=0):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.01, 1.0, n))
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    return Demonstration.from_arrays(
+        t,
+        position=rng.normal(size=(n, 3)) * 1e3,
+        velocity=rng.normal(size=(n, 3)),
+        orientation=q,
+        force=rng.normal(size=(n, 2)),
+        grip=rng.normal(size=n),
+    )
+
+
+def test_csv_round_trip_exact(tmp_path):
+    d = _rich_demo()
+    p = write_csv(d, tmp_path / "d.csv")
+    header = p.read_text().splitlines()[0]
+    assert header == "t,x,y,z,vx,vy,vz,qw,qx,qy,qz,fx,fy,grip.grip0"
+    back = read_csv(p)
+    assert back == d
+    assert back.t.tobytes() == d.t.tobytes() and back.X.tobytes() == d.X.tobytes()
+
+
+def test_csv_round_trip_awkward_names(tmp_path):
+    t = [0.0, 1.0]
+    d = Demonstration(
+        t,
+        np.arange(14.0).reshape(2, 7),
+        ["p0", "p1", "p2", "p3", "t", "velocity.vx", "x2"],
+        ["position"] * 4 + ["extra", "velocity", "velocity"],
+    )
+    p = write_csv(d, tmp_path / "a.csv")
+    assert p.read_text().splitlines()[0] == (
+        "t,p0,p1,p2,p3,extra.t,velocity.velocity.vx,velocity.x2"
+    )
+    assert read_csv(p) == d
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.integers(1, 8),
+    st.integers(1, 5),
+    st.floats(-1e9, 1e9, allow_nan=False),
+    st.integers(0, 2**32 - 1),
+)
+def test_csv_and_npz_round_trip_property(tmp_path_factory, n, k, scale, seed):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(1e-3, 10, n)) - 5.0
+    d = Demonstration.from_arrays(
+        t, position=rng.normal(size=(n, k)) * scale, other=rng.normal(size=(n, 1))
+    )
+    folder = tmp_path_factory.mktemp("rt")
+    assert read_csv(write_csv(d, folder / "d.csv")) == d
+    assert read_npz(write_npz(d, folder / "d.npz")) == d
+
+
+def test_read_csv_explicit_groups_drop_and_orders(tmp_path):
+    p = tmp_path / "robot.csv"
+    p.write_text("time,X,Y,label,ox,oy,oz,ow\n0,1,2,7,0,0,0,1\n0.5,2,3,7,0,0,0,-1\n")
+    d = read_csv(
+        p,
+        time_column="time",
+        groups={"position": ["X", "Y"], "orientation": ["ox", "oy", "oz", "ow"]},
+        quaternion_order="xyzw",
+        drop=["label"],
+    )
+    assert d.columns == ("X", "Y", "ow", "ox", "oy", "oz")
+    np.testing.assert_array_equal(d.get("orientation"), [[1, 0, 0, 0], [1, 0, 0, 0]])
+    np.testing.assert_array_equal(d.t, [0, 0.5])
+    # quaternion columns named qw.. are ordered by name, whatever the file order
+    q = tmp_path / "q.csv"
+    q.write_text("t,qx,qy,qz,qw\n0,0.6,0,0,0.8\n")
+    e = read_csv(q, quaternion_order="xyzw")
+    assert e.columns == ("qw", "qx", "qy", "qz")
+    np.testing.assert_array_equal(e.X, [[0.8, 0.6, 0, 0]])
+    assert read_csv(q) == e
+    # no time column: the row number is the time
+    r = tmp_path / "r.csv"
+    r.write_text("x,y\n0,0\n1,1\n3,3\n")
+    np.testing.assert_array_equal(read_csv(r, time_column=None).t, [0.0, 1.0, 2.0])
+
+
+def test_group_of_column_convention():
+    assert group_of_column("x") == ("position", "x")
+    assert group_of_column("p7") == ("position", "p7")
+    assert group_of_column("vz") == ("velocity", "vz")
+    assert group_of_column("qw") == ("orientation", "qw")
+    assert group_of_column("f2") == ("force", "f2")
+    assert group_of_column("tool.angle") == ("tool", "angle")
+    assert group_of_column("speed") is None
+    assert group_of_column(".x") is None and group_of_column("g.") is None
+
+
+@pytest.mark.parametrize(
+    ("text", "kwargs", "match"),
+    [
+        (
+            "x,y\n0,1\n",
+            {},
+            r"d\.csv: expected a time column 't'; got columns \['x', 'y'\]",
+        ),
+        (
+            "t,x\n0,1\n0.5,2\n0.5,3\n",
+            {},
+            r"d\.csv, line 4: time column 't' must be strictly"
+            r" increasing; got 0\.5 after 0\.5 on line 3",
+        ),
+        ("t,x\n0,1\n#\n-1,2\n", {}, r"d\.csv, line 4: time column 't'"),
+        (
+            "t,x,speed,w\n0,1,2,3\n",
+            {},
+            r"d\.csv: cannot tell the group of column\(s\)"
+            r" \['speed', 'w'\] from their names.*pass groups=",
+        ),
+        (
+            "t,a,b\n0,1,2\n",
+            {"groups": {"position": ["a", "c"]}},
+            r"d\.csv: groups maps column 'c' to 'position', but the file has no"
+            " such column",
+        ),
+        (
+            "t,a,b\n0,1,2\n",
+            {"groups": {"position": ["a"], "g": ["a", "b"]}},
+            "maps column 'a' to both 'position' and 'g'",
+        ),
+        (
+            "t,a,b\n0,1,2\n",
+            {"groups": {"position": "a"}},
+            r"groups does not map column\(s\) \['b'\]; map them or pass drop=\['b'\]",
+        ),
+        (
+            "t,a,b\n0,1,2\n",
+            {"groups": {"position": ["t", "a", "b"]}},
+            "time column or dropped",
+        ),
+        ("t,x\n0,1\n", {"drop": ["y"]}, r"drop names unknown column\(s\) \['y'\]"),
+        (
+            "t,x\n0,1\n",
+            {"drop": ["x"]},
+            "expected value columns besides the time column",
+        ),
+        (
+            "t,qw,qx,qy,qz\n0,1,0,0,0\n1,1,0,0,0.5\n",
+            {},
+            r"d\.csv: orientation must have unit norm .* at row 1.*\(line 3\)",
+        ),
+    ],
+)
+def test_read_csv_errors(tmp_path, text, kwargs, match):
+    p = tmp_path / "d.csv"
+    p.write_text(text)
+    with pytest.raises(DataFileError, match=match):
+        read_csv(p, **kwargs)
+
+
+def test_read_csv_option_errors(tmp_path):
+    p = tmp_path / "d.csv"
+    p.write_text("t,x\n0,1\n")
+    from ndlfd._errors import OptionError
+
+    with pytest.raises(OptionError, match="unknown quaternion_order"):
+        read_csv(p, quaternion_order="q")
+    with pytest.raises(ValidationError, match="groups must be a mapping"):
+        read_csv(p, groups=["position"])
+    with pytest.raises(ValidationError, match="demo must be a Demonstration"):
+        write_csv(np.zeros((2, 2)), tmp_path / "x.csv")
+    with pytest.raises(ValidationError, match="demo must be a Demonstration"):
+        write_npz("x", tmp_path / "x.npz")
+
+
+def test_npz_bad_files(tmp_path):
+    with pytest.raises(DataFileError, match=r"none\.npz: no such file"):
+        read_npz(tmp_path / "none.npz")
+    foreign = tmp_path / "foreign.npz"
+    np.savez(foreign, t=np.zeros(2))
+    with pytest.raises(DataFileError, match=r"foreign\.npz: .*without ndlfd metadata"):
+        read_npz(foreign)
+    good = write_npz(_rich_demo(), tmp_path / "good.npz")
+    trunc = tmp_path / "trunc.npz"
+    trunc.write_bytes(good.read_bytes()[:100])
+    with pytest.raises(
+        DataFileError, match=r"trunc\.npz: expected an ndlfd Demonstration"
+    ):
+        read_npz(trunc)
+    other = save_npz(
+        tmp_path / "model.npz", {"a": np.zeros(1)}, kind="DiscreteHMM", version=1
+    )
+    with pytest.raises(
+        DataFileError, match="expected an ndlfd Demonstration file; got a 'DiscreteHMM'"
+    ):
+        read_npz(other)
+    newer = save_npz(
+        tmp_path / "v2.npz", {"t": np.zeros(1)}, kind="Demonstration", version=2
+    )
+    with pytest.raises(
+        DataFileError, match="expected Demonstration format version 1; got version 2"
+    ):
+        read_npz(newer)
+    lacking = save_npz(
+        tmp_path / "lack.npz", {"t": np.zeros(1)}, kind="Demonstration", version=1
+    )
+    with pytest.raises(
+        DataFileError,
+        match=r"lack\.npz: the Demonstration file lacks \['X', 'columns', 'groups'\]",
+    ):
+        read_npz(lacking)
+    bad = save_npz(
+        tmp_path / "bad.npz",
+        {"t": [0.0, 1.0], "X": [[0.0], [np.nan]]},
+        kind="Demonstration",
+        version=1,
+        metadata={"columns": ["x"], "groups": ["position"]},
+    )
+    with pytest.raises(DataFileError, match=r"bad\.npz: X must be finite.*at row 1"):
+        read_npz(bad)
+    odd = save_npz(
+        tmp_path / "odd.npz",
+        {"t": [0.0], "X": [[0.0]]},
+        kind="Demonstration",
+        version=1,
+        metadata={"columns": "x", "groups": ["position"]},
+    )
+    with pytest.raises(DataFileError, match="columns and groups must be lists"):
+        read_npz(odd)
+
+
+def test_read_demos_folder_glob_list(tmp_path):
+    demos = [_rich_demo(4, s) for s in range(3)]
+    write_csv(demos[0], tmp_path / "b.csv")
+    write_npz(demos[1], tmp_path / "a.npz")
+    write_csv(demos[2], tmp_path / "c.csv")
+    (tmp_path / "notes.txt").write_text("not data")
+    (tmp_path / "sub").mkdir()
+    got = read_demos(tmp_path)
+    assert got == [demos[1], demos[0], demos[2]]
+    assert read_demos(str(tmp_path / "*.csv")) == [demos[0], demos[2]]
+    assert read_demos([tmp_path / "c.csv", tmp_path / "a.npz"]) == [demos[2], demos[1]]
+    assert read_demos(tmp_path / "b.csv") == [demos[0]]
+    r = tmp_path / "sub" / "r.csv"
+    r.write_text("x\n1\n2\n")
+    assert read_demos(r, time_column=None)[0].t.tolist() == [0.0, 1.0]
+
+
+def test_read_demos_errors(tmp_path):
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(
+        DataFileError,
+        match=r"empty: expected \.csv or \.npz files in the folder; found none",
+    ):
+        read_demos(tmp_path / "empty")
+    with pytest.raises(DataFileError, match=r"\*\.csv: the pattern matched no files"):
+        read_demos(str(tmp_path / "*.csv"))
+    with pytest.raises(DataFileError, match=r"missing\.csv: no such file"):
+        read_demos(tmp_path / "missing.csv")
+    with pytest.raises(
+        DataFileError, match="expected at least one file; got an empty list"
+    ):
+        read_demos([])
+    with pytest.raises(
+        ValidationError, match="paths must be str or path-like; got int"
+    ):
+        read_demos([1])
+    with pytest.raises(ValidationError, match="source must be a file, a folder"):
+        read_demos(3.5)
