@@ -1,0 +1,474 @@
+"""Synthetic demonstrations reproducing the paper's data sets (SPEC §2).
+
+Every generator samples a clean analytic path at a constant rate (``t_k = k·dt``,
+``k = 0..n_points-1``, default ``dt = 0.1`` s) and returns a
+:class:`~ndlfd.demo.Demonstration` with a ``position`` and a ``velocity`` group.
+The velocity is the analytic time derivative of the clean path at the sample
+times; noise is added afterwards, independently to both groups.
+
+**Speed.** A path is written as ``P(s)`` with a path parameter ``s`` in [0, 1].
+With ``speed="constant"`` the parameter advances uniformly, ``s = τ`` with
+``τ = t / t[-1]``. With ``speed="variable"`` the time is warped,
+``s(τ) = τ + a·sin(2πkτ) / (2πk)`` with ``a = 0.5`` and ``k = 2``: the parameter
+speed ``ds/dτ = 1 + a·cos(2πkτ)`` swings between 0.5 and 1.5 times its mean twice
+over the path, the number of samples and the end points stay the same, and the
+samples bunch up where the motion is slow.
+
+**Noise model.** Noise is i.i.d. Gaussian, per sample and column, with standard
+deviation ``noise × range`` where ``range`` is the *group's* range in the clean
+path (one global max minus min over all the group's columns, the range group
+normalization uses). ``noise_model="uniform"`` draws from
+``U(-noise·range, +noise·range)`` instead. The velocity group gets
+``velocity_noise`` (default ``0.6 × noise``, the paper's 5 % / 3 % ratio) of the
+clean velocity's range. The paper does not state its noise model; this one is
+ndlfd's explicit choice.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from ._errors import ValidationError
+from ._registry import Registry
+from ._validation import (
+    check_nonnegative_scalar,
+    check_positive_int,
+    check_random_state,
+)
+from .demo import Demonstration
+
+__all__ = [
+    "NOISE_MODELS",
+    "SHAPES",
+    "SPEEDS",
+    "VARIABLE_SPEED_AMPLITUDE",
+    "VARIABLE_SPEED_CYCLES",
+    "VELOCITY_NOISE_RATIO",
+    "curve",
+    "make_dataset",
+    "spiral",
+    "square",
+    "square_spiral",
+]
+
+#: ``a`` of the variable-speed warp ``s(τ) = τ + a·sin(2πkτ)/(2πk)``.
+VARIABLE_SPEED_AMPLITUDE = 0.5
+#: ``k`` of the variable-speed warp (number of slow/fast cycles over the path).
+VARIABLE_SPEED_CYCLES = 2
+#: Default ratio of velocity noise to position noise (paper: 3 % / 5 %).
+VELOCITY_NOISE_RATIO = 0.6
+
+
+def _constant(tau):
+    return tau, np.ones_like(tau)
+
+
+def _variable(tau):
+    a, k = VARIABLE_SPEED_AMPLITUDE, VARIABLE_SPEED_CYCLES
+    w = 2 * np.pi * k
+    return tau + a * np.sin(w * tau) / w, 1 + a * np.cos(w * tau)
+
+
+#: ``speed`` → warp ``τ ↦ (s, ds/dτ)``.
+SPEEDS: Registry[Callable] = Registry("speed")
+SPEEDS.add("constant", _constant)
+SPEEDS.add("variable", _variable)
+
+
+def _gaussian(rng, size, scale):
+    return rng.normal(scale=scale, size=size)
+
+
+def _uniform(rng, size, scale):
+    return rng.uniform(-scale, scale, size=size)
+
+
+#: ``noise_model`` → sampler ``(rng, size, scale) -> noise``; ``scale`` is the
+#: standard deviation (Gaussian) or the half-width (uniform).
+NOISE_MODELS: Registry[Callable] = Registry("noise_model")
+NOISE_MODELS.add("gaussian", _gaussian)
+NOISE_MODELS.add("uniform", _uniform)
+
+
+def _group_range(A: np.ndarray) -> float:
+    return float(A.max() - A.min())
+
+
+def _sample(
+    path: Callable,
+    n_points: int,
+    *,
+    speed: str,
+    noise,
+    velocity_noise,
+    noise_model: str,
+    dt,
+    random_state,
+    minimum: int = 2,
+) -> Demonstration:
+    warp = SPEEDS.get(speed)
+    draw = NOISE_MODELS.get(noise_model)
+    n = check_positive_int(n_points, "n_points", minimum=minimum)
+    noise = check_nonnegative_scalar(noise, "noise")
+    vnoise = (
+        VELOCITY_NOISE_RATIO * noise
+        if velocity_noise is None
+        else check_nonnegative_scalar(velocity_noise, "velocity_noise")
+    )
+    dt = check_nonnegative_scalar(dt, "dt")
+    if dt <= 0:
+        raise ValidationError(f"dt must be > 0; got {dt!r}")
+    rng = check_random_state(random_state)
+    t = np.arange(n, dtype=np.float64) * dt
+    T = t[-1]
+    tau = t / T
+    s, ds_dtau = warp(tau)
+    P, dP_ds = path(s)
+    V = dP_ds * (ds_dtau / T)[:, None]
+    P = P + draw(rng, P.shape, noise * _group_range(P))
+    V = V + draw(rng, V.shape, vnoise * _group_range(V))
+    return Demonstration.from_arrays(t, position=P, velocity=V)
+
+
+def _square_loop(u: np.ndarray, side: float, loops: int):
+    """Square (0,0)→(L,0)→(L,L)→(0,L)→(0,0) at loop parameter u in [0, loops]."""
+    corners = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]])
+    k = np.minimum(np.floor(4 * u).astype(np.int64), 4 * loops - 1)  # left-sided end
+    local = 4 * u - k
+    side_idx = k % 4
+    start, step = corners[side_idx], corners[side_idx + 1] - corners[side_idx]
+    return side * (start + local[:, None] * step), side * 4 * step  # P, dP/du
+
+
+_SIGNATURE_DOC = """
+    speed : {{"constant", "variable"}}, default="{speed}"
+        Uniform path parameter, or the time warp described in the module docs.
+    noise : float, default=0.0
+        Position noise as a fraction of the clean position group's range.
+    velocity_noise : float, optional
+        Velocity noise as a fraction of the clean velocity group's range;
+        ``0.6 × noise`` by default.
+    noise_model : {{"gaussian", "uniform"}}, default="gaussian"
+        Gaussian with that standard deviation, or uniform with that half-width.
+    dt : float, default=0.1
+        Sampling period (constant rate ``1 / dt``).
+    random_state : None, int or numpy.random.Generator, optional
+        Seed of the noise.
+
+    Returns
+    -------
+    demo : Demonstration
+        ``t`` of shape (n_points,), groups ``position`` and ``velocity``."""
+
+
+def square(
+    n_points: int = 80,
+    *,
+    side: float = 10.0,
+    speed: str = "constant",
+    noise: float = 0.0,
+    velocity_noise: float | None = None,
+    noise_model: str = "gaussian",
+    dt: float = 0.1,
+    random_state=None,
+) -> Demonstration:
+    """Closed 2-D square (paper Fig. 5a–f): 80 points by default.
+
+    Counter-clockwise from the origin: ``(0, 0) → (side, 0) → (side, side) →
+    (0, side) → (0, 0)``; the four sides take equal path parameter. At a corner
+    the velocity is the one of the side that starts there (the last sample uses
+    the last side).
+
+    Parameters
+    ----------
+    n_points : int, default=80
+        Number of samples (>= 2).
+    side : float, default=10.0
+        Side length.
+    {sig}
+
+    Examples
+    --------
+    >>> d = square()
+    >>> d.n_samples, d.columns
+    (80, ('x', 'y', 'vx', 'vy'))
+    >>> d.get("position")[[0, -1]]
+    array([[0., 0.],
+           [0., 0.]])
+    """
+    side = _check_size(side, "side")
+
+    def path(s):
+        return _square_loop(s, side, 1)
+
+    return _sample(
+        path,
+        n_points,
+        speed=speed,
+        noise=noise,
+        velocity_noise=velocity_noise,
+        noise_model=noise_model,
+        dt=dt,
+        random_state=random_state,
+    )
+
+
+def square_spiral(
+    n_points: int = 71,
+    *,
+    side: float = 10.0,
+    height: float = 10.0,
+    turns: int = 2,
+    speed: str = "variable",
+    noise: float = 0.0,
+    velocity_noise: float | None = None,
+    noise_model: str = "gaussian",
+    dt: float = 0.1,
+    random_state=None,
+) -> Demonstration:
+    """3-D square spiral along Z (paper Fig. 5g–l): 71 points, variable speed.
+
+    The square of :func:`square` is traced ``turns`` times in X–Y while Z rises
+    linearly from 0 to ``height``.
+
+    Parameters
+    ----------
+    n_points : int, default=71
+        Number of samples (>= 2).
+    side : float, default=10.0
+        Side of the square.
+    height : float, default=10.0
+        Total rise along Z.
+    turns : int, default=2
+        Number of loops around the square.
+    {sig}
+
+    Examples
+    --------
+    >>> d = square_spiral()
+    >>> d.n_samples, d.columns[:3]
+    (71, ('x', 'y', 'z'))
+    """
+    side = _check_size(side, "side")
+    height = _check_size(height, "height")
+    turns = check_positive_int(turns, "turns")
+
+    def path(s):
+        P2, dP2 = _square_loop(turns * s, side, turns)
+        z = height * s
+        P = np.column_stack([P2, z])
+        dP = np.column_stack([turns * dP2, np.full_like(z, height)])
+        return P, dP
+
+    return _sample(
+        path,
+        n_points,
+        speed=speed,
+        noise=noise,
+        velocity_noise=velocity_noise,
+        noise_model=noise_model,
+        dt=dt,
+        random_state=random_state,
+    )
+
+
+def spiral(
+    n_points: int = 150,
+    *,
+    turns: float = 3.0,
+    speed: str = "variable",
+    noise: float = 0.0,
+    velocity_noise: float | None = None,
+    noise_model: str = "gaussian",
+    dt: float = 0.1,
+    random_state=None,
+) -> Demonstration:
+    """The Fig. 2 spiral: X from -10 to 10, Y in 0..10, Z in -5..5 (6-D with velocity).
+
+    ``P(s) = (-10 + 20 s, 5 + 5 cos(2π·turns·s), 5 sin(2π·turns·s))``: it moves
+    20 units along X but only 10 along Y and Z, which is what group
+    normalization must preserve and per-dimension normalization destroys.
+
+    Parameters
+    ----------
+    n_points : int, default=150
+        Number of samples (>= 2).
+    turns : float, default=3.0
+        Number of revolutions around the X axis.
+    {sig}
+
+    Examples
+    --------
+    >>> P = spiral().get("position")
+    >>> P.min(axis=0).round(2), P.max(axis=0).round(2)
+    (array([-10.,   0.,  -5.]), array([10., 10.,  5.]))
+    """
+    turns = _check_size(turns, "turns")
+
+    def path(s):
+        w = 2 * np.pi * turns
+        P = np.column_stack([-10 + 20 * s, 5 + 5 * np.cos(w * s), 5 * np.sin(w * s)])
+        dP = np.column_stack(
+            [np.full_like(s, 20.0), -5 * w * np.sin(w * s), 5 * w * np.cos(w * s)]
+        )
+        return P, dP
+
+    return _sample(
+        path,
+        n_points,
+        speed=speed,
+        noise=noise,
+        velocity_noise=velocity_noise,
+        noise_model=noise_model,
+        dt=dt,
+        random_state=random_state,
+    )
+
+
+def curve(
+    n_points: int = 100,
+    *,
+    speed: str = "variable",
+    noise: float = 0.0,
+    velocity_noise: float | None = None,
+    noise_model: str = "gaussian",
+    dt: float = 0.1,
+    random_state=None,
+) -> Demonstration:
+    """A simple 2-D curve with variable velocity (paper Fig. 3).
+
+    One S-shaped wave, ``P(s) = (10 s, 4 sin(2π s))``.
+
+    Parameters
+    ----------
+    n_points : int, default=100
+        Number of samples (>= 2).
+    {sig}
+
+    Examples
+    --------
+    >>> d = curve(noise=0.05, random_state=0)
+    >>> d.n_samples, d.group_names
+    (100, ('position', 'velocity'))
+    """
+
+    def path(s):
+        w = 2 * np.pi
+        P = np.column_stack([10 * s, 4 * np.sin(w * s)])
+        dP = np.column_stack([np.full_like(s, 10.0), 4 * w * np.cos(w * s)])
+        return P, dP
+
+    return _sample(
+        path,
+        n_points,
+        speed=speed,
+        noise=noise,
+        velocity_noise=velocity_noise,
+        noise_model=noise_model,
+        dt=dt,
+        random_state=random_state,
+    )
+
+
+def _check_size(value, name):
+    v = check_nonnegative_scalar(value, name)
+    if v <= 0:
+        raise ValidationError(f"{name} must be > 0; got {value!r}")
+    return v
+
+
+for _f, _speed in (
+    (square, "constant"),
+    (square_spiral, "variable"),
+    (spiral, "variable"),
+    (curve, "variable"),
+):
+    if _f.__doc__:  # None under python -OO
+        _f.__doc__ = _f.__doc__.replace(
+            "    {sig}", _SIGNATURE_DOC.format(speed=_speed).strip("\n")
+        )
+
+#: Shape name → generator.
+SHAPES: Registry[Callable[..., Demonstration]] = Registry("shape")
+SHAPES.add("square", square)
+SHAPES.add("square_spiral", square_spiral)
+SHAPES.add("spiral", spiral)
+SHAPES.add("curve", curve)
+
+
+def make_dataset(
+    shape: str = "square",
+    n_demos: int = 100,
+    *,
+    noise: float = 0.10,
+    test_noise: float = 0.05,
+    velocity_noise: float | None = None,
+    test_velocity_noise: float | None = None,
+    speed: str | None = None,
+    n_points: int | None = None,
+    noise_model: str = "gaussian",
+    random_state=None,
+    **shape_kwargs,
+) -> tuple[list[Demonstration], Demonstration]:
+    """The paper's training set and its "ideal" test demonstration.
+
+    ``n_demos`` noisy copies of one clean path (10 % noise by default) and one
+    test copy with less noise (5 %), all with the same timing. The demos are
+    drawn first, in order, then the test demo, from one random generator.
+
+    Parameters
+    ----------
+    shape : {"square", "square_spiral", "spiral", "curve"}, default="square"
+        The generator (see :data:`SHAPES`).
+    n_demos : int, default=100
+        Number of training demonstrations.
+    noise, test_noise : float, default=0.10, 0.05
+        Position noise of the training and test demonstrations.
+    velocity_noise, test_velocity_noise : float, optional
+        Velocity noise; ``0.6 ×`` the position noise by default.
+    speed : {"constant", "variable"}, optional
+        The shape's default when ``None``.
+    n_points : int, optional
+        The shape's default when ``None``.
+    noise_model : {"gaussian", "uniform"}, default="gaussian"
+        See the module docs.
+    random_state : None, int or numpy.random.Generator, optional
+        Seed.
+    **shape_kwargs
+        Passed to the generator (for example ``side=`` or ``turns=``).
+
+    Returns
+    -------
+    train : list of Demonstration
+    test : Demonstration
+
+    Examples
+    --------
+    >>> train, test = make_dataset("square", n_demos=5, random_state=0)
+    >>> len(train), train[0].n_samples, test.n_samples
+    (5, 80, 80)
+    """
+    generator = SHAPES.get(shape)
+    n_demos = check_positive_int(n_demos, "n_demos")
+    rng = check_random_state(random_state)
+    kw = dict(shape_kwargs)
+    kw["noise_model"] = noise_model
+    if speed is not None:
+        kw["speed"] = speed
+    if n_points is not None:
+        kw["n_points"] = n_points
+    try:
+        train = [
+            generator(
+                noise=noise, velocity_noise=velocity_noise, random_state=rng, **kw
+            )
+            for _ in range(n_demos)
+        ]
+    except TypeError as exc:  # an unknown keyword for this shape
+        raise ValidationError(f"make_dataset({shape!r}): {exc}") from None
+    test = generator(
+        noise=test_noise, velocity_noise=test_velocity_noise, random_state=rng, **kw
+    )
+    return train, test
