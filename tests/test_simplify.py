@@ -10,6 +10,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
+from ndlfd import _simplify
 from ndlfd._errors import OptionError, ValidationError
 from ndlfd._simplify import DISTANCES, simplify, simplify_many
 from reference_simplify import (
@@ -382,3 +383,35 @@ def test_extreme_scales_are_exact():
         assert simplify(P * s, 1 * s).tolist() == [0, 3, 4]
         for mode in ("segment", "paper"):
             assert simplify(P * s, 1 * s, distance=mode).tolist() == [0, 3, 4]
+
+
+# ----------------------------------------------------------------- parallel
+
+
+@pytest.mark.parametrize("d", [2, 3, 5])
+def test_parallel_equals_serial_on_a_long_random_walk(d):
+    rng = np.random.default_rng(d)
+    P = np.cumsum(rng.normal(size=(150_000, d)), axis=0)
+    serial = simplify(P, 5.0, n_jobs=1)
+    assert 100 < len(serial) < len(P) // 10
+    for n_jobs in (2, 3):
+        assert simplify(P, 5.0, n_jobs=n_jobs).tolist() == serial.tolist()
+
+
+@SETTINGS
+@given(integer_paths(min_n=3), st.sampled_from(EPSILONS), st.integers(2, 4))
+def test_parallel_chunked_scans_keep_the_first_maximum(
+    monkeypatch_module, P, eps, n_jobs
+):
+    # tiny thresholds so that even short integer paths, full of ties, go
+    # through the chunked scans and the thread pool
+    got = simplify(P, eps, n_jobs=n_jobs)
+    assert got.tolist() == dp_reference(P, eps).tolist()
+
+
+@pytest.fixture(scope="module")
+def monkeypatch_module():
+    mp = pytest.MonkeyPatch()
+    mp.setattr(_simplify, "CHUNK_MIN", 2)
+    yield mp
+    mp.undo()

@@ -47,15 +47,52 @@ __all__ = [
     "MODE_SEGMENT",
     "dp_budget",
     "dp_generic",
-    "dp_line2",
-    "dp_line3",
+    "dp_line",
+    "finite_maxabs",
     "scan_generic",
+    "scan_line",
+    "scan_line_range",
+    "transpose",
 ]
 
 MODE_LINE = 0
 MODE_SEGMENT = 1
 MODE_SED = 2
 MODE_PAPER = 3
+
+
+_ABS_MASK = np.int64(0x7FFFFFFFFFFFFFFF)
+_EXP_ALL_ONES = np.int64(0x7FF0000000000000)
+
+
+@njit(cache=True, nogil=True)
+def finite_maxabs(P):
+    """``(all finite, max |P|)`` of a C-contiguous float64 array, one pass.
+
+    Works on the bit patterns: ``|x|`` is the pattern without its sign bit,
+    which orders like an int64, and ``x`` is NaN or inf exactly when that
+    pattern is at least ``0x7FF0000000000000``. Both reductions are integer
+    max reductions, which LLVM vectorizes.
+    """
+    bits = P.reshape(-1).view(np.int64)
+    m = np.int64(0)
+    for i in range(bits.shape[0]):
+        v = bits[i] & _ABS_MASK
+        m = v if v > m else m
+    out = np.empty(1, np.int64)
+    out[0] = m
+    return m < _EXP_ALL_ONES, out.view(np.float64)[0]
+
+
+@njit(cache=True, nogil=True)
+def transpose(P, out):
+    """Copy ``P`` of shape ``(n, d)`` into ``out`` of shape ``(d, n)``, blocked."""
+    n, d = P.shape
+    for i0 in range(0, n, 512):
+        i1 = min(n, i0 + 512)
+        for k in range(d):
+            for i in range(i0, i1):
+                out[k, i] = P[i, k]
 
 
 @njit(cache=True, nogil=True)
@@ -190,68 +227,90 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
     return work
 
 
+#: Points per block of the vectorized line-mode scans (a 2 KiB buffer).
+BLOCK = 256
+#: Below this many points a scan uses the plain scalar loop.
+SHORT = 48
+
+
 @njit(cache=True, nogil=True)
-def scan_line2(x, y, a, b, utol2, lo, hi):
-    """Farthest point of ``(a, b)`` among ``lo..hi-1`` in 2-D line mode."""
+def _block_max(buf, m, lo, best_bits, far, bestq):
+    """Fold ``buf[:m]`` (keys of points ``lo..lo+m-1``) into the running max.
+
+    Keys are non-negative doubles, whose bit patterns order like int64, so the
+    max is an integer reduction that LLVM vectorizes. The first index reaching
+    a new max is found only when the max improves.
+    """
+    bits = buf.view(np.int64)
+    bm = np.int64(-1)
+    for j in range(m):
+        v = bits[j]
+        bm = v if v > bm else bm
+    if bm > best_bits:
+        for j in range(m):
+            if bits[j] == bm:
+                return bm, lo + j, buf[j]
+    return best_bits, far, bestq
+
+
+@njit(cache=True, nogil=True)
+def scan_line2(x, y, a, b, utol2, lo, hi, buf):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, 2-D line mode.
+
+    Structure of arrays (``x``, ``y``), squared cross product, no division or
+    square root; keys of a block are computed into ``buf`` (length
+    :data:`BLOCK`) by a vectorized loop. Returns ``(far, q, S)``.
+    """
     xa = x[a]
     ya = y[a]
     ux = x[b] - xa
     uy = y[b] - ya
     U = ux * ux + uy * uy
-    best = -1.0
-    far = -1
-    if U <= utol2:
+    degenerate = U <= utol2
+    S = 1.0 if degenerate else U
+    if hi - lo < SHORT:
+        best = -1.0
+        far = -1
         for i in range(lo, hi):
             dx = x[i] - xa
             dy = y[i] - ya
-            q = dx * dx + dy * dy
+            if degenerate:
+                q = dx * dx + dy * dy
+            else:
+                c = dx * uy - dy * ux
+                q = c * c
             if q > best:
                 best = q
                 far = i
-        return far, best, 1.0
-    for i in range(lo, hi):
-        c = (x[i] - xa) * uy - (y[i] - ya) * ux
-        q = c * c
-        if q > best:
-            best = q
-            far = i
-    return far, best, U
+        return far, best, S
+    best_bits = np.int64(-1)
+    far = -1
+    bestq = -1.0
+    i0 = lo
+    while i0 < hi:
+        m = min(BLOCK, hi - i0)
+        xs = x[i0 : i0 + m]
+        ys = y[i0 : i0 + m]
+        if degenerate:
+            for j in range(m):
+                dx = xs[j] - xa
+                dy = ys[j] - ya
+                buf[j] = dx * dx + dy * dy
+        else:
+            for j in range(m):
+                c = (xs[j] - xa) * uy - (ys[j] - ya) * ux
+                buf[j] = c * c
+        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        i0 += m
+    return far, bestq, S
 
 
 @njit(cache=True, nogil=True)
-def dp_line2(x, y, eps2, utol2, keep, a0, b0):
-    """Epsilon-mode line Douglas–Peucker in 2-D on ``[a0, b0]`` (SoA input)."""
-    keep[a0] = 1
-    keep[b0] = 1
-    if b0 - a0 < 2:
-        return 0
-    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
-    stack[0] = a0
-    stack[1] = b0
-    sp = 1
-    work = 0
-    while sp > 0:
-        sp -= 1
-        a = stack[2 * sp]
-        b = stack[2 * sp + 1]
-        far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b)
-        work += b - a - 1
-        if q > eps2 * S:
-            keep[far] = 1
-            if far - a > 1:
-                stack[2 * sp] = a
-                stack[2 * sp + 1] = far
-                sp += 1
-            if b - far > 1:
-                stack[2 * sp] = far
-                stack[2 * sp + 1] = b
-                sp += 1
-    return work
+def scan_line3(x, y, z, a, b, utol2, lo, hi, buf):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, 3-D line mode.
 
-
-@njit(cache=True, nogil=True)
-def scan_line3(x, y, z, a, b, utol2, lo, hi):
-    """Farthest point of ``(a, b)`` among ``lo..hi-1`` in 3-D line mode."""
+    Squared norm of the cross product ``|v × u|²`` with ``S = U``.
+    """
     xa = x[a]
     ya = y[a]
     za = z[a]
@@ -259,39 +318,130 @@ def scan_line3(x, y, z, a, b, utol2, lo, hi):
     uy = y[b] - ya
     uz = z[b] - za
     U = ux * ux + uy * uy + uz * uz
-    best = -1.0
+    degenerate = U <= utol2
+    S = 1.0 if degenerate else U
+    best_bits = np.int64(-1)
     far = -1
-    if U <= utol2:
-        for i in range(lo, hi):
-            dx = x[i] - xa
-            dy = y[i] - ya
-            dz = z[i] - za
-            q = dx * dx + dy * dy + dz * dz
-            if q > best:
-                best = q
-                far = i
-        return far, best, 1.0
-    for i in range(lo, hi):
-        dx = x[i] - xa
-        dy = y[i] - ya
-        dz = z[i] - za
-        cx = dy * uz - dz * uy
-        cy = dz * ux - dx * uz
-        cz = dx * uy - dy * ux
-        q = cx * cx + cy * cy + cz * cz
-        if q > best:
-            best = q
-            far = i
-    return far, best, U
+    bestq = -1.0
+    i0 = lo
+    while i0 < hi:
+        m = min(BLOCK, hi - i0)
+        xs = x[i0 : i0 + m]
+        ys = y[i0 : i0 + m]
+        zs = z[i0 : i0 + m]
+        if degenerate:
+            for j in range(m):
+                dx = xs[j] - xa
+                dy = ys[j] - ya
+                dz = zs[j] - za
+                buf[j] = dx * dx + dy * dy + dz * dz
+        else:
+            for j in range(m):
+                dx = xs[j] - xa
+                dy = ys[j] - ya
+                dz = zs[j] - za
+                cx = dy * uz - dz * uy
+                cy = dz * ux - dx * uz
+                cz = dx * uy - dy * ux
+                buf[j] = cx * cx + cy * cy + cz * cz
+        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        i0 += m
+    return far, bestq, S
 
 
 @njit(cache=True, nogil=True)
-def dp_line3(x, y, z, eps2, utol2, keep, a0, b0):
-    """Epsilon-mode line Douglas–Peucker in 3-D on ``[a0, b0]`` (SoA input)."""
+def scan_lineN(Pt, a, b, utol2, lo, hi, buf, vu, u, pa):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, line mode, any ``d``.
+
+    ``Pt`` is the transposed (column-major) data of shape ``(d, n)``; each
+    block is processed column by column in vectorized loops. The keys are the
+    same numbers as :func:`scan_generic`'s (same operations, same order).
+    ``buf``, ``vu`` are workspaces of length :data:`BLOCK`; ``u``, ``pa`` of
+    length ``d``.
+    """
+    d = Pt.shape[0]
+    U = 0.0
+    for k in range(d):
+        pa[k] = Pt[k, a]
+        u[k] = Pt[k, b] - pa[k]
+        U += u[k] * u[k]
+    degenerate = U <= utol2
+    S = 1.0 if degenerate else U * U
+    best_bits = np.int64(-1)
+    far = -1
+    bestq = -1.0
+    i0 = lo
+    while i0 < hi:
+        m = min(BLOCK, hi - i0)
+        for j in range(m):
+            buf[j] = 0.0
+        if degenerate:
+            for k in range(d):
+                col = Pt[k, i0 : i0 + m]
+                pk = pa[k]
+                for j in range(m):
+                    r = col[j] - pk
+                    buf[j] += r * r
+        else:
+            for j in range(m):
+                vu[j] = 0.0
+            for k in range(d):
+                col = Pt[k, i0 : i0 + m]
+                pk = pa[k]
+                uk = u[k]
+                for j in range(m):
+                    vu[j] += (col[j] - pk) * uk
+            for k in range(d):
+                col = Pt[k, i0 : i0 + m]
+                pk = pa[k]
+                uk = u[k]
+                for j in range(m):
+                    r = U * (col[j] - pk) - vu[j] * uk
+                    buf[j] += r * r
+        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        i0 += m
+    return far, bestq, S
+
+
+@njit(cache=True, nogil=True)
+def scan_line(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, vu, u, pa):
+    """Dispatch to the line-mode scan of ``kind`` (2, 3, or 0 for any ``d``)."""
+    if kind == 2:
+        return scan_line2(x, y, a, b, utol2, lo, hi, buf)
+    if kind == 3:
+        return scan_line3(x, y, z, a, b, utol2, lo, hi, buf)
+    return scan_lineN(Pt, a, b, utol2, lo, hi, buf, vu, u, pa)
+
+
+@njit(cache=True, nogil=True)
+def scan_line_range(kind, x, y, z, Pt, a, b, utol2, lo, hi):
+    """:func:`scan_line` with its own workspaces (one chunk of a long scan)."""
+    d = Pt.shape[0]
+    buf = np.empty(BLOCK)
+    vu = np.empty(BLOCK)
+    u = np.empty(d)
+    pa = np.empty(d)
+    return scan_line(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, vu, u, pa)
+
+
+@njit(cache=True, nogil=True)
+def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode line Douglas–Peucker on ``[a0, b0]``.
+
+    ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
+    ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``. Unused
+    arrays may be empty. Explicit stack, no recursion. Returns the number of
+    distance evaluations.
+    """
     keep[a0] = 1
     keep[b0] = 1
     if b0 - a0 < 2:
         return 0
+    d = Pt.shape[0]
+    buf = np.empty(BLOCK)
+    vu = np.empty(BLOCK)
+    u = np.empty(d)
+    pa = np.empty(d)
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     stack[0] = a0
     stack[1] = b0
@@ -301,7 +451,7 @@ def dp_line3(x, y, z, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b)
+        far, q, S = scan_line(kind, x, y, z, Pt, a, b, utol2, a + 1, b, buf, vu, u, pa)
         work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1

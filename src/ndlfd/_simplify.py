@@ -32,6 +32,7 @@ the distance to ``P_a`` is used instead (paper eq. 4), in every mode but
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 from concurrent.futures import ThreadPoolExecutor
@@ -43,6 +44,7 @@ from . import _dp_kernels as K
 from ._errors import ValidationError
 from ._registry import Registry
 from ._validation import (
+    as_float_array,
     check_nonnegative_scalar,
     check_points,
     check_positive_int,
@@ -92,14 +94,13 @@ del _mode
 _EMPTY_TIMES = np.zeros(0)
 
 
-def _pow2_scale(a: np.ndarray) -> float:
-    """A power of two that brings ``max|a|`` near 1, or 1.0 if not needed.
+def _pow2_scale(m: float) -> float:
+    """A power of two that brings ``m = max|a|`` near 1, or 1.0 if not needed.
 
     Multiplying by a power of two is exact, so the kernels' comparisons are
     unchanged; it only keeps fourth powers of the coordinates (the keys of the
     kernels) away from overflow and underflow.
     """
-    m = float(np.max(np.abs(a))) if a.size else 0.0
     if m == 0.0 or 2.0**-64 <= m <= 2.0**64:
         return 1.0
     return math.ldexp(1.0, -math.frexp(m)[1])
@@ -117,9 +118,21 @@ class _Job:
     utol2: float
 
 
+def _checked_points(points, name):
+    # Fast path: one compiled pass checks finiteness and finds max|P|; the
+    # shared check_points (slower on large arrays) explains any problem.
+    P = as_float_array(points, name)
+    if P.ndim == 2 and P.shape[0] >= 1 and P.shape[1] >= 1:
+        finite, m = K.finite_maxabs(P)
+        if finite:
+            return P, m
+    P = check_points(points, name)
+    return P, K.finite_maxabs(P)[1]
+
+
 def _prepare(points, epsilon, distance, weights, times, n_points, name="points"):
     mode = DISTANCES.get(distance)
-    P = check_points(points, name)
+    P, m = _checked_points(points, name)
     n, d = P.shape
     if (epsilon is None) == (n_points is None):
         got = "both" if epsilon is not None else "neither"
@@ -136,6 +149,7 @@ def _prepare(points, epsilon, distance, weights, times, n_points, name="points")
     if weights is not None:
         w = check_weights(weights, d)
         P = P * w
+        m = K.finite_maxabs(P)[1]
     if mode.needs_times:
         if times is None:
             raise ValidationError(
@@ -150,34 +164,104 @@ def _prepare(points, epsilon, distance, weights, times, n_points, name="points")
                 f" distance={mode.name!r}"
             )
         t = _EMPTY_TIMES
-    s = _pow2_scale(P)
+    s = _pow2_scale(m)
     if s != 1.0:
         P = P * s
         eps *= s
+        m *= s
     if t.size:
-        ts = _pow2_scale(t - t[0])
+        t = t - t[0]
+        ts = _pow2_scale(float(t[-1]))
         if ts != 1.0:
-            t = (t - t[0]) * ts
-    m = float(np.max(np.abs(P))) if P.size else 0.0
+            t = t * ts
     utol = _UTOL_ULPS * _EPS * m
     return _Job(P, t, mode.code, eps * eps, k, utol * utol)
 
 
-def _run(job: _Job, n_jobs) -> np.ndarray:
-    P = job.P
-    n, d = P.shape
-    keep = np.zeros(n, np.uint8)
-    if job.k:
-        K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
-    elif job.mode == K.MODE_LINE and d == 2:
+#: Below this many points one trajectory is simplified serially.
+PARALLEL_MIN = 100_000
+#: Segments at least this long are scanned in parallel chunks.
+CHUNK_MIN = 50_000
+
+
+def _line_layout(P):
+    """Arguments of the line-mode kernels: kind and column layout."""
+    d = P.shape[1]
+    if d == 2:
         x = np.ascontiguousarray(P[:, 0])
         y = np.ascontiguousarray(P[:, 1])
-        K.dp_line2(x, y, job.eps2, job.utol2, keep, 0, n - 1)
-    elif job.mode == K.MODE_LINE and d == 3:
+        return 2, x, y, _EMPTY_TIMES, np.zeros((2, 0))
+    if d == 3:
         x = np.ascontiguousarray(P[:, 0])
         y = np.ascontiguousarray(P[:, 1])
         z = np.ascontiguousarray(P[:, 2])
-        K.dp_line3(x, y, z, job.eps2, job.utol2, keep, 0, n - 1)
+        return 3, x, y, z, np.zeros((3, 0))
+    Pt = np.empty((d, P.shape[0]))
+    K.transpose(P, Pt)
+    return 0, _EMPTY_TIMES, _EMPTY_TIMES, _EMPTY_TIMES, Pt
+
+
+def _line_parallel(args, eps2, utol2, keep, workers):
+    """Line-mode DP on two or more threads; same result as the serial kernel.
+
+    The first splits of the longest segments are found by scanning chunks of
+    the segment in parallel and reducing their results in index order (the
+    first maximum still wins). Once there are enough independent segments,
+    each is finished by the serial kernel in a worker thread (the kernels
+    release the GIL; the segments' interiors are disjoint, so the threads
+    write disjoint entries of ``keep``).
+    """
+    n = keep.shape[0]
+    keep[0] = 1
+    keep[n - 1] = 1
+    pending = [(0, n - 1)]
+    with ThreadPoolExecutor(max_workers=workers) as pool:
+        while len(pending) < 4 * workers:
+            j = max(range(len(pending)), key=lambda i: pending[i][1] - pending[i][0])
+            a, b = pending[j]
+            if b - a < CHUNK_MIN:
+                break
+            pending.pop(j)
+            cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
+            futures = [
+                pool.submit(K.scan_line_range, *args, a, b, utol2, lo, hi)
+                for lo, hi in itertools.pairwise(cuts)
+            ]
+            far, best, S = -1, -1.0, 1.0
+            for fut in futures:  # in index order: the first maximum wins
+                f, q, S = fut.result()
+                if q > best:
+                    far, best = f, q
+            if best > eps2 * S:
+                keep[far] = 1
+                pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
+            if not pending:
+                break
+        pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
+        list(
+            pool.map(
+                lambda seg: K.dp_line(*args, eps2, utol2, keep, seg[0], seg[1]),
+                pending,
+            )
+        )
+
+
+def _run(job: _Job, n_jobs) -> np.ndarray:
+    P = job.P
+    n = P.shape[0]
+    keep = np.zeros(n, np.uint8)
+    if job.k:
+        K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
+    elif job.mode == K.MODE_LINE:
+        args = _line_layout(P)
+        if n_jobs is None:
+            workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
+        else:
+            workers = check_positive_int(n_jobs, "n_jobs")
+        if workers > 1 and n > 2:
+            _line_parallel(args, job.eps2, job.utol2, keep, workers)
+        else:
+            K.dp_line(*args, job.eps2, job.utol2, keep, 0, n - 1)
     else:
         K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
     return keep.view(np.bool_)
