@@ -1,8 +1,14 @@
 """ndlfd: learning robot paths from demonstrations with n-D key points and HMMs.
 
-The public names live in private modules and are re-exported here.
+Demonstrations are reduced to key points by an n-dimensional Douglas–Peucker
+algorithm over group-normalized channels, encoded as codebook states, learned by
+a supervised discrete hidden Markov model, and decoded for a new timing by
+Viterbi. The public names live in small private modules and are re-exported
+here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics`` and
+``plot`` are public too.
 """
 
+from . import hmm, io, metrics, orientation, plot, synth
 from ._errors import (
     DataFileError,
     DecodeError,
@@ -13,17 +19,38 @@ from ._errors import (
     OptionError,
     ValidationError,
 )
+from ._simplify import simplify, simplify_many
+from .codebook import Codebook, TimeBins
+from .demo import Demonstration, with_velocity
+from .hmm import DiscreteHMM
+from .learner import KeypointHMM
+from .normalize import GroupScaler
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "Codebook",
     "DataFileError",
     "DecodeError",
+    "Demonstration",
+    "DiscreteHMM",
+    "GroupScaler",
+    "KeypointHMM",
     "MissingExtraError",
     "ModelFormatError",
     "NdlfdError",
     "NotFittedError",
     "OptionError",
+    "TimeBins",
     "ValidationError",
     "__version__",
+    "hmm",
+    "io",
+    "metrics",
+    "orientation",
+    "plot",
+    "simplify",
+    "simplify_many",
+    "synth",
+    "with_velocity",
 ]

@@ -1,0 +1,210 @@
+"""The built-in job behind ``ndlfd demo``, and helpers shared with ``reproduce``.
+
+:func:`run_demo` learns from built-in data and writes generated paths, a figure
+and a summary. It is deterministic (fixed seeds).
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from . import synth
+from ._errors import MissingExtraError
+from .demo import Demonstration
+from .io import write_csv
+from .learner import KeypointHMM
+from .metrics import discrete_frechet, dtw_distance, path_difference
+
+__all__ = ["mean_demo_baseline", "path_errors", "run_demo"]
+
+#: Settings of the built-in jobs, per dataset (epsilon in normalized units).
+#: The square's 10 % training noise needs a coarser tolerance than LASA's smooth
+#: handwriting; 20 time bins keep every bin populated by training key points.
+#: LASA uses 50 position levels: a finer codebook is cheap and shows its gain.
+DEMO_SETTINGS = {
+    "square": {
+        "epsilon": 0.1,
+        "n_time_bins": 20,
+        "levels": {"position": 20, "velocity": 10},
+    },
+    "lasa": {
+        "epsilon": 0.005,
+        "n_time_bins": 20,
+        "levels": {"position": 50, "velocity": 10},
+    },
+}
+
+Echo = Callable[[str], None]
+
+
+def _silent(_: str) -> None:
+    pass
+
+
+def mean_demo_baseline(demos, times, group: str = "position") -> np.ndarray:
+    """The simplest learner: the average of the demonstrations on normalized time.
+
+    Each demonstration's ``group`` values are interpolated at the normalized
+    times of ``times`` and averaged.
+
+    Parameters
+    ----------
+    demos : sequence of Demonstration
+        Training demonstrations.
+    times : array-like of shape (n_samples,)
+        Time stamps where the baseline is evaluated.
+    group : str, default="position"
+        The group to average.
+
+    Returns
+    -------
+    values : ndarray of shape (n_samples, n_group_columns)
+    """
+    t = np.asarray(times, dtype=float)
+    tau = (t - t[0]) / (t[-1] - t[0]) if t[-1] > t[0] else np.zeros_like(t)
+    acc = None
+    for d in demos:
+        s = (d.t - d.t[0]) / (d.t[-1] - d.t[0])
+        V = d.get(group)
+        Vi = np.column_stack([np.interp(tau, s, V[:, c]) for c in range(V.shape[1])])
+        acc = Vi if acc is None else acc + Vi
+    return acc / len(demos)
+
+
+def path_errors(test: Demonstration, path: Demonstration, group="position") -> dict:
+    """Difference %, mean DTW and discrete Fréchet of ``path`` to ``test``.
+
+    Parameters
+    ----------
+    test : Demonstration
+        The reference demonstration.
+    path : Demonstration
+        The path to evaluate.
+    group : str, default="position"
+        The group compared.
+
+    Returns
+    -------
+    errors : dict
+        ``difference_pct`` (:func:`ndlfd.metrics.path_difference`), ``dtw_mean``
+        (DTW divided by the number of points of both paths) and ``frechet``.
+    """
+    a, b = test.get(group), path.get(group)
+    return {
+        "difference_pct": path_difference(test.t, a, path.t, b),
+        "dtw_mean": dtw_distance(a, b, normalize=True),
+        "frechet": discrete_frechet(a, b),
+    }
+
+
+def _try_plot():
+    try:
+        from . import plot
+
+        plot.new_figure(1)
+    except MissingExtraError:
+        return None
+    return plot
+
+
+def _learn_and_generate(train, test, settings: dict):
+    t0 = time.perf_counter()
+    model = KeypointHMM(**settings).fit(train)
+    t_fit = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    keys = model.generate(test)
+    dense = model.generate(test, dense=True)
+    t_gen = time.perf_counter() - t0
+    return model, keys, dense, t_fit, t_gen
+
+
+def run_demo(
+    out: str | os.PathLike = "demo-output",
+    *,
+    quick: bool = False,
+    plot: bool = True,
+    echo: Echo = _silent,
+) -> dict:
+    """Learn from built-in data, generate, write files and a figure, summarize.
+
+    Parameters
+    ----------
+    out : str or path-like, default="demo-output"
+        Output folder (created).
+    quick : bool, default=False
+        Use 20 training demonstrations instead of 100.
+    plot : bool, default=True
+        Write figures (needs the ``plot`` extra; skipped with a note without it).
+    echo : callable, optional
+        Where summary lines go (``print`` on the command line).
+
+    Returns
+    -------
+    summary : dict
+        One entry per dataset with key-point counts, states used, timings and
+        errors to the test demonstration.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    plotting = _try_plot() if plot else None
+    if plot and plotting is None:
+        echo('(no figures: install matplotlib with pip install "ndlfd[plot]")')
+    jobs = []
+    n_demos = 20 if quick else 100
+    train, test = synth.make_dataset("square", n_demos=n_demos, random_state=0)
+    jobs.append(("square", train, test, DEMO_SETTINGS["square"]))
+    try:
+        from .datasets import load_lasa
+
+        lasa = load_lasa("Angle")
+        jobs.append(("lasa-Angle", lasa[:-1], lasa[-1], DEMO_SETTINGS["lasa"]))
+    except MissingExtraError:
+        echo('(LASA skipped: install it with pip install "ndlfd[lasa]")')
+    summary = {}
+    for name, tr, te, settings in jobs:
+        model, keys, dense, t_fit, t_gen = _learn_and_generate(tr, te, settings)
+        base = mean_demo_baseline(tr, te.t)
+        base_demo = Demonstration(
+            te.t, base, te.select("position").columns, ("position",) * base.shape[1]
+        )
+        row = {
+            "n_demos": len(tr),
+            "keypoints_min": int(model.n_keypoints_.min()),
+            "keypoints_max": int(model.n_keypoints_.max()),
+            "states_used": model.n_states_used_,
+            "n_states": model.codebook_.n_states,
+            "fit_s": t_fit,
+            "generate_s": t_gen,
+            "generated_keypoints": keys.n_samples,
+            **path_errors(te, dense),
+            "baseline_difference_pct": path_errors(te, base_demo)["difference_pct"],
+        }
+        summary[name] = row
+        write_csv(keys, out / f"{name}_generated_keypoints.csv")
+        write_csv(dense, out / f"{name}_generated_dense.csv")
+        if plotting is not None:
+            fig, (ax,) = plotting.new_figure(1)
+            plotting.plot_demos(
+                tr,
+                keypoints=model.keypoints_,
+                generated=keys,
+                test=te,
+                ax=ax,
+                max_demos=15,
+                title=f"{name}: {len(tr)} demonstrations, generated path (red)",
+            )
+            plotting.save_figure(fig, out / f"{name}.png")
+        echo(
+            f"{name:>12}: {len(tr)} demos, key points {row['keypoints_min']}-"
+            f"{row['keypoints_max']}, {row['states_used']} of {row['n_states']}"
+            f" states used, fit {t_fit * 1e3:.0f} ms, generate {t_gen * 1e3:.1f} ms,"
+            f" difference to test {row['difference_pct']:.2f} %"
+            f" (mean-demo baseline {row['baseline_difference_pct']:.2f} %)"
+        )
+    echo(f"wrote generated paths{' and figures' if plotting else ''} to {out}/")
+    return summary

@@ -1,0 +1,180 @@
+import numpy as np
+import pytest
+
+from ndlfd import (
+    DecodeError,
+    ModelFormatError,
+    NotFittedError,
+    OptionError,
+    ValidationError,
+    hmm,
+    synth,
+)
+from ndlfd._simplify import simplify
+from ndlfd.codebook import Codebook, TimeBins
+from ndlfd.demo import Demonstration
+from ndlfd.learner import KeypointHMM
+from ndlfd.metrics import path_difference
+from ndlfd.normalize import GroupScaler
+
+
+@pytest.fixture(scope="module")
+def square():
+    return synth.make_dataset("square", n_demos=30, random_state=3)
+
+
+def test_hand_worked_three_point_example():
+    # position (0,0), (1,0.5), (2,2): group range 0..2 -> u = (0,0), (.5,.25), (1,1)
+    # epsilon 0 keeps the middle point (distance 0.177 to the diagonal);
+    # 2 levels per column -> digits (0,0), (1,0), (1,1) -> states 0, 2, 3;
+    # centres (.25,.25), (.75,.25), (.75,.75) -> physical (.5,.5), (1.5,.5), (1.5,1.5)
+    t = np.array([0.0, 1.0, 2.0])
+    d = Demonstration.from_arrays(t, position=[[0, 0], [1, 0.5], [2, 2]])
+    model = KeypointHMM(groups=("position",), levels=2, epsilon=0.0, n_time_bins=3)
+    model.fit([d, d])
+    assert [k.tolist() for k in model.keypoints_] == [[0, 1, 2], [0, 1, 2]]
+    assert model.n_states_used_ == 3
+    path = model.generate(d)
+    np.testing.assert_array_equal(path.t, t)
+    np.testing.assert_allclose(path.X, [[0.5, 0.5], [1.5, 0.5], [1.5, 1.5]])
+    # the same from a plain time vector (one observation per time bin)
+    path2 = model.generate(np.array([10.0, 11.0, 12.0]))
+    np.testing.assert_allclose(path2.X, path.X)
+    np.testing.assert_array_equal(path2.t, [10.0, 11.0, 12.0])
+
+
+def test_matches_manual_composition_of_the_stages(square):
+    train, test = square
+    kw = dict(levels={"position": 20, "velocity": 10}, epsilon=0.05, n_time_bins=40)
+    model = KeypointHMM(**kw).fit(train)
+    # the pipeline written out by hand from the public pieces
+    sel = [d.select("position", "velocity") for d in train]
+    scaler = GroupScaler().fit(sel)
+    cb = Codebook([20, 20, 10, 10])
+    tb = TimeBins(40)
+    states, symbols = [], []
+    for d in sel:
+        u = scaler.transform(d)
+        idx = simplify(u, 0.05)
+        states.append(cb.encode(u[idx]))
+        symbols.append(tb.transform(d.t)[idx])
+    ref = hmm.estimate(states, symbols, cb.n_states, 40)
+    u_test = scaler.transform(test.select("position", "velocity"))
+    idx = simplify(u_test, 0.05)
+    path, logp = hmm.viterbi(ref, tb.transform(test.t)[idx])
+    expected = scaler.inverse_transform(cb.decode(path))
+    got = model.generate(test)
+    np.testing.assert_array_equal(got.t, test.t[idx])
+    np.testing.assert_allclose(got.X, expected, rtol=0, atol=1e-12)
+    assert model.decode(test)[2] == pytest.approx(logp)
+
+
+def test_generated_path_is_close_to_the_test_demo(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=40).fit(train)
+    dense = model.generate(test, dense=True)
+    assert dense.n_samples == test.n_samples
+    diff = path_difference(test.t, test.get("position"), dense.t, dense.get("position"))
+    # 20 position levels alone allow a few percent; 10 % noise in training
+    assert diff < 12.0
+    # and it is not a copy of any training demonstration
+    for d in train:
+        assert not np.allclose(
+            d.get("position")[: dense.n_samples], dense.get("position")
+        )
+
+
+def test_deterministic_and_save_load_round_trip(square, tmp_path):
+    train, test = square
+    a = KeypointHMM(epsilon=0.05, n_time_bins=40, random_state=0).fit(train)
+    b = KeypointHMM(epsilon=0.05, n_time_bins=40, random_state=0).fit(train)
+    ga, gb = a.generate(test), b.generate(test)
+    np.testing.assert_array_equal(ga.X, gb.X)
+    a.save(tmp_path / "m.ndlfd")
+    c = KeypointHMM.load(tmp_path / "m.ndlfd")
+    gc = c.generate(test)
+    np.testing.assert_array_equal(gc.X, ga.X)
+    np.testing.assert_array_equal(gc.t, ga.t)
+    assert c.get_params() == a.get_params() | {"groups": ("position", "velocity")}
+    np.testing.assert_array_equal(c.n_keypoints_, a.n_keypoints_)
+    grid = np.linspace(0, 3, 200)
+    np.testing.assert_array_equal(
+        c.generate(grid, dense=True).X, a.generate(grid, dense=True).X
+    )
+
+
+def test_load_refuses_foreign_and_tampered_files(square, tmp_path):
+    train, _ = square
+    m = KeypointHMM(epsilon=0.05, n_time_bins=40).fit(train)
+    m.save(tmp_path / "m.ndlfd")
+    m.model_.save(tmp_path / "hmm.npz")
+    with pytest.raises(ModelFormatError, match="KeypointHMM"):
+        KeypointHMM.load(tmp_path / "hmm.npz")
+    z = dict(np.load(tmp_path / "m.ndlfd", allow_pickle=False))
+    z["levels"] = z["levels"][:-1]
+    with open(tmp_path / "bad.ndlfd", "wb") as fh:
+        np.savez(fh, **z)
+    with pytest.raises(ModelFormatError, match=r"tampered|inconsistent"):
+        KeypointHMM.load(tmp_path / "bad.ndlfd")
+
+
+def test_unfitted_and_bad_parameters(square):
+    train, test = square
+    with pytest.raises(NotFittedError, match="not fitted"):
+        KeypointHMM().generate(test)
+    with pytest.raises(OptionError, match="normalization"):
+        KeypointHMM(normalization="global").fit(train)
+    with pytest.raises(OptionError, match="distance"):
+        KeypointHMM(distance="euclid").fit(train)
+    with pytest.raises(OptionError, match="start"):
+        KeypointHMM(start="first").fit(train)
+    with pytest.raises(ValidationError, match="epsilon"):
+        KeypointHMM(epsilon=-1).fit(train)
+    with pytest.raises(ValidationError, match="n_time_bins"):
+        KeypointHMM(n_time_bins=0).fit(train)
+    with pytest.raises(ValidationError, match="levels names group"):
+        KeypointHMM(levels={"force": 3}).fit(train)
+    with pytest.raises(ValidationError, match="lacks group"):
+        KeypointHMM(groups=("position", "force")).fit(train)
+    with pytest.raises(ValidationError, match="Demonstration"):
+        KeypointHMM().fit(np.zeros((10, 2)))
+    with pytest.raises(ValidationError, match="at least one"):
+        KeypointHMM().fit([])
+    with pytest.raises(ValidationError, match="unknown parameter"):
+        KeypointHMM().set_params(eps=1)
+
+
+def test_undecodable_timing_is_a_clear_error():
+    t = np.linspace(0, 1, 5)
+    d = Demonstration.from_arrays(t, position=np.column_stack([t, t**2]))
+    # 2 key points per demo only -> only bins 0 and 9 are ever emitted
+    model = KeypointHMM(groups=("position",), epsilon=10.0, n_time_bins=10).fit([d])
+    grid = np.linspace(0, 1, 50)
+    path = model.generate(grid)  # plain times: only bins seen in training
+    assert path.n_samples == 2
+    other = Demonstration.from_arrays(
+        np.linspace(0, 1, 7),
+        position=np.column_stack([np.linspace(0, 1, 7), np.sin(np.arange(7))]),
+    )
+    model0 = KeypointHMM(groups=("position",), epsilon=0.0, n_time_bins=10).fit([d])
+    with pytest.raises(DecodeError, match="cannot generate"):
+        model0.generate(other)
+
+
+def test_velocity_is_derived_when_missing():
+    t = np.linspace(0, 2 * np.pi, 60)
+    demos = [
+        Demonstration.from_arrays(
+            t, position=np.column_stack([np.cos(t), np.sin(t)]) * s
+        )
+        for s in (1.0, 1.05, 0.95)
+    ]
+    model = KeypointHMM(epsilon=0.02, n_time_bins=20).fit(demos)
+    assert model.columns_ == ("x", "y", "vx", "vy")
+    assert model.column_groups_ == ("position",) * 2 + ("velocity",) * 2
+
+
+def test_repr_and_params():
+    m = KeypointHMM(epsilon=0.1)
+    assert repr(m) == "KeypointHMM(epsilon=0.1)"
+    assert m.set_params(n_time_bins=7) is m and m.n_time_bins == 7
