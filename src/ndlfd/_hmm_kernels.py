@@ -35,14 +35,6 @@ def _n_candidates(obs, em_indptr, n_seen, has_unseen, emit_all):
 
 
 @njit(cache=True, nogil=True)
-def _candidate(t_obs, k, em_indptr, em_state, emit_all):
-    # the k-th candidate state (kernel slot) of a step with symbol t_obs
-    if emit_all:
-        return k
-    return em_state[em_indptr[t_obs] + k]
-
-
-@njit(cache=True, nogil=True)
 def viterbi_sparse(
     obs,
     gid,
@@ -128,7 +120,7 @@ def viterbi_sparse(
     n0 = off[1] - off[0]
     any_finite = False
     for k in range(n0):
-        j = _candidate(o, k, em_indptr, em_state, emit_all)
+        j = k if emit_all else em_state[em_indptr[o] + k]
         if emit_all:
             lb = em_cur[j] if j < S else unseen_emit
         else:
@@ -157,7 +149,7 @@ def viterbi_sparse(
         best_b_g = big
         best_b_l = -1
         for k in range(n_prev):
-            i = _candidate(o_prev, k, em_indptr, em_state, emit_all)
+            i = k if emit_all else em_state[em_indptr[o_prev] + k]
             d = prev[i]
             if d == NEG:
                 continue
@@ -177,7 +169,7 @@ def viterbi_sparse(
         n_cur = off[t + 1] - off[t]
         any_finite = False
         for k in range(n_cur):
-            j = _candidate(o, k, em_indptr, em_state, emit_all)
+            j = k if emit_all else em_state[em_indptr[o] + k]
             best = best_b
             bg = best_b_g
             bl = best_b_l
@@ -210,7 +202,7 @@ def viterbi_sparse(
                 em_cur[em_state[e]] = em_base[em_state[e]]
         # clean step t-1 out of prev so it is all -inf again
         for k in range(n_prev):
-            prev[_candidate(o_prev, k, em_indptr, em_state, emit_all)] = NEG
+            prev[k if emit_all else em_state[em_indptr[o_prev] + k]] = NEG
         if not any_finite:
             return path, NEG, t
 
@@ -221,7 +213,7 @@ def viterbi_sparse(
     bg = big
     bk = -1
     for k in range(n_last):
-        j = _candidate(o, k, em_indptr, em_state, emit_all)
+        j = k if emit_all else em_state[em_indptr[o] + k]
         s = cur[j]
         if s == NEG:
             continue
@@ -233,7 +225,7 @@ def viterbi_sparse(
     k = bk
     for t in range(T - 1, -1, -1):
         o = obs[t]
-        j = _candidate(o, k, em_indptr, em_state, emit_all)
+        j = k if emit_all else em_state[em_indptr[o] + k]
         path[t] = j
         if t == 0:
             break
