@@ -100,6 +100,24 @@ def test_variable_speed_warp():
     assert np.all((np.isclose(P, 0.0) | np.isclose(P, 10.0)).any(axis=1))
 
 
+def test_curve_speed_profile():
+    d = curve(n_points=1001)
+    tau = d.t / d.t[-1]
+    a, k = 0.7, 3
+    s = tau + a * np.sin(2 * np.pi * k * tau) / (2 * np.pi * k)
+    ds = 1 + a * np.cos(2 * np.pi * k * tau)
+    T = d.t[-1]
+    np.testing.assert_allclose(
+        d.get("position"),
+        np.column_stack([10 * s, 4 * np.sin(2 * np.pi * s)]),
+        atol=1e-12,
+    )
+    np.testing.assert_allclose(d.get("velocity")[:, 0], 10 * ds / T, rtol=1e-12)
+    # constant speed uses the plain parameter
+    c = curve(n_points=1001, speed="constant")
+    np.testing.assert_allclose(c.get("position")[:, 0], 10 * tau, atol=1e-12)
+
+
 @pytest.mark.parametrize("name", list(GENERATORS))
 def test_reproducible_by_seed_and_seeds_differ(name):
     gen = GENERATORS[name]
