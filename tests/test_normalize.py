@@ -302,3 +302,62 @@ def test_transform_checks_columns():
 def test_fit_errors(scaler, data, error, match):
     with pytest.raises(error, match=match):
         scaler.fit(data)
+
+
+def test_from_ranges_reproduces_a_fitted_scaler():
+    rng = np.random.default_rng(5)
+    q = rng.normal(size=(30, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    demo = Demonstration.from_arrays(
+        np.arange(30.0), position=rng.normal(size=(30, 2)) * 7, orientation=q
+    )
+    for mode in ("group", "per-dimension", "none"):
+        s = GroupScaler(mode=mode, weights={"orientation": 0.5}).fit(demo)
+        r = GroupScaler.from_ranges(
+            s.data_min_,
+            s.data_max_,
+            s.column_groups_,
+            columns=s.columns_,
+            mode=mode,
+            weights={"orientation": 0.5},
+        )
+        np.testing.assert_array_equal(r.transform(demo), s.transform(demo))
+        U = s.transform(demo)
+        np.testing.assert_array_equal(r.inverse_transform(U), s.inverse_transform(U))
+        assert r.group_min_ == s.group_min_ or mode != "group"
+        assert r.get_params()["mode"] == mode
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "match"),
+    [
+        (([0.0, 1.0], [1.0], ["p", "p"]), {}, r"data_max must have shape \(2,\)"),
+        (
+            ([0.0, 2.0], [1.0, 1.0], ["p", "p"]),
+            {},
+            "data_max must be >= data_min; got 1.0 < 2.0 in column 1",
+        ),
+        (([0.0], [np.nan], ["p"]), {}, "data_max must be finite"),
+        (
+            ([0.0, 0.0], [1.0, 1.0], ["p"]),
+            {},
+            "column_groups must name the group of each of the 2",
+        ),
+        (([0.0, 0.0], [1.0, 1.0], "pp"), {}, "column_groups must name"),
+        (
+            ([0.0], [1.0], ["p"]),
+            {"columns": ["a", "b"]},
+            "columns must have 1 names; got 2",
+        ),
+        (
+            ([0.0], [1.0], ["p"]),
+            {"weights": {"p": -1}},
+            "weights must be finite numbers >= 0",
+        ),
+    ],
+)
+def test_from_ranges_errors(args, kwargs, match):
+    with pytest.raises(ValidationError, match=match):
+        GroupScaler.from_ranges(*args, **kwargs)
+    with pytest.raises(OptionError, match="unknown mode"):
+        GroupScaler.from_ranges([0.0], [1.0], ["p"], mode="x")

@@ -253,6 +253,90 @@ class GroupScaler:
         self.n_samples_seen_ = int(sum(a.shape[0] for a in arrays))
         return self
 
+    @classmethod
+    def from_ranges(
+        cls,
+        data_min,
+        data_max,
+        column_groups,
+        *,
+        columns=None,
+        mode: str = "group",
+        weights=None,
+    ) -> GroupScaler:
+        """Rebuild a fitted scaler from stored per-column ranges (for loading models).
+
+        Parameters
+        ----------
+        data_min, data_max : array-like of shape (n_dims,)
+            The ranges actually used (``data_min_`` / ``data_max_`` of a fitted
+            scaler), ``data_min <= data_max``.
+        column_groups : sequence of str of length n_dims
+            The group of each column.
+        columns : sequence of str of length n_dims, optional
+            Column names, checked when transforming Demonstrations.
+        mode, weights
+            As in the constructor; stored as the parameters.
+
+        Returns
+        -------
+        scaler : GroupScaler
+            Fitted: transforms exactly like the scaler the ranges came from.
+            ``group_min_`` / ``group_max_`` are the group-wise extremes of the
+            given ranges and ``n_samples_seen_`` is 0.
+
+        Examples
+        --------
+        >>> s = GroupScaler.from_ranges([0.0, 0.0], [10.0, 10.0], ["p", "p"])
+        >>> s.transform([[5.0, 10.0]])
+        array([[0.5, 1. ]])
+        """
+        SCALING_MODES.get(mode)
+        lo = check_points(
+            np.atleast_1d(np.asarray(data_min, dtype=float))[None], "data_min"
+        )[0]
+        hi = check_points(
+            np.atleast_1d(np.asarray(data_max, dtype=float))[None], "data_max"
+        )[0]
+        d = lo.shape[0]
+        if hi.shape != (d,):
+            raise ValidationError(
+                f"data_max must have shape ({d},) like data_min; got {hi.shape}"
+            )
+        bad = np.flatnonzero(hi < lo)
+        if bad.size:
+            j = int(bad[0])
+            raise ValidationError(
+                f"data_max must be >= data_min; got {float(hi[j])!r} < {float(lo[j])!r}"
+                f" in column {j}"
+            )
+        self = cls(groups=None, mode=mode, weights=weights)
+        groups = tuple(column_groups) if not isinstance(column_groups, str) else ()
+        if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
+            raise ValidationError(
+                f"column_groups must name the group of each of the {d} columns; got"
+                f" {column_groups!r}"
+            )
+        if columns is not None:
+            columns = tuple(columns)
+            if len(columns) != d:
+                raise ValidationError(
+                    f"columns must have {d} names; got {len(columns)}"
+                )
+        self.n_features_in_ = d
+        self.column_groups_ = groups
+        self.columns_ = columns
+        self.group_names_ = tuple(dict.fromkeys(groups))
+        gmin, gmax = _group_ranges(lo, hi, groups)
+        self.group_min_ = {g: float(gmin[groups.index(g)]) for g in self.group_names_}
+        self.group_max_ = {g: float(gmax[groups.index(g)]) for g in self.group_names_}
+        self.data_min_ = lo.copy()
+        self.data_max_ = hi.copy()
+        self.data_range_ = hi - lo
+        self.column_weights_ = self._check_weights(groups)
+        self.n_samples_seen_ = 0
+        return self
+
     # ------------------------------------------------------------------ use
     def _check_fitted(self):
         if not hasattr(self, "data_min_"):
