@@ -178,3 +178,34 @@ def test_repr_and_params():
     m = KeypointHMM(epsilon=0.1)
     assert repr(m) == "KeypointHMM(epsilon=0.1)"
     assert m.set_params(n_time_bins=7) is m and m.n_time_bins == 7
+
+
+def test_orientation_group_round_trip_and_unit_quaternions(tmp_path):
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(4)
+    t = np.linspace(0, 2, 60)
+    demos = []
+    for _ in range(8):
+        P = np.column_stack([t, np.sin(t)]) + rng.normal(scale=0.02, size=(60, 2))
+        angles = np.column_stack([t, 0.5 * t, np.zeros(60)]) + rng.normal(
+            scale=0.02, size=(60, 3)
+        )
+        q = Rotation.from_euler("xyz", angles).as_quat()  # scalar-last
+        demos.append(
+            Demonstration.from_arrays(
+                t, position=P, orientation=q, quaternion_order="xyzw"
+            )
+        )
+    model = KeypointHMM(
+        groups=("position", "orientation"),
+        levels={"position": 20, "orientation": 12},
+        epsilon=0.05,
+        n_time_bins=15,
+    ).fit(demos)
+    path = model.generate(demos[0], dense=True)
+    q = path.get("orientation")
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+    model.save(tmp_path / "o.ndlfd")
+    again = KeypointHMM.load(tmp_path / "o.ndlfd").generate(demos[0], dense=True)
+    np.testing.assert_array_equal(again.X, path.X)

@@ -576,11 +576,9 @@ class KeypointHMM:
             self.columns_ = columns
             self.column_groups_ = col_groups
             self.groups_ = tuple(params["groups"])
-            # fitting on the two rows (min, max) restores the stored ranges exactly
-            bounds = Demonstration(
-                np.array([0.0, 1.0]), np.vstack([mins, maxs]), columns, col_groups
+            self.scaler_ = GroupScaler.from_ranges(
+                mins, maxs, col_groups, columns=columns, mode=self.normalization
             )
-            self.scaler_ = GroupScaler(mode=self.normalization).fit(bounds)
             self.codebook_ = Codebook([int(x) for x in levels])
             self.time_bins_ = TimeBins(self.n_time_bins)
             self.model_ = hmm.DiscreteHMM.from_arrays(arrays, prefix="hmm_")

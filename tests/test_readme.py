@@ -1,0 +1,53 @@
+"""The README's shell examples really run (its Python examples run as doctests)."""
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ndlfd import synth
+from ndlfd.io import read_csv, write_csv, write_table
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+BIN = Path(sys.executable).parent / "ndlfd"
+
+
+def _shell_examples() -> list[list[str]]:
+    text = README.read_text(encoding="utf-8")
+    return [shlex.split(m) for m in re.findall(r"^\$ (ndlfd .+)$", text, re.M)]
+
+
+def test_readme_shell_examples_run(tmp_path):
+    examples = _shell_examples()
+    assert [e[1] for e in examples] == ["simplify", "fit", "generate", "reproduce"]
+    # the files the examples name
+    rng = np.random.default_rng(0)
+    walk = np.column_stack(
+        [np.arange(500) * 0.1, np.cumsum(rng.normal(size=(500, 2)), 0)]
+    )
+    write_table(tmp_path / "walk.csv", ["t", "x", "y"], walk)
+    train, _ = synth.make_dataset("square", n_demos=15, random_state=2)
+    (tmp_path / "demos").mkdir()
+    for i, d in enumerate(train):
+        write_csv(d, tmp_path / "demos" / f"d{i}.csv")
+    env = dict(os.environ, PYTHONWARNINGS="error")
+    for args in examples:
+        if args[1] == "reproduce":
+            args = [*args, "--quick"]  # the full run is checked by its own test
+        r = subprocess.run(
+            [str(BIN), *args[1:]],
+            cwd=tmp_path,
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=600,
+        )
+        assert r.returncode == 0, f"{shlex.join(args)} failed: {r.stderr}"
+    assert read_csv(tmp_path / "keypoints.csv").n_samples < 500
+    path = read_csv(tmp_path / "path.csv")
+    assert path.n_samples == 400 and path.t[-1] == 8.0
+    assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
