@@ -18,7 +18,6 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ._errors import ValidationError
 from ._registry import Registry
@@ -574,6 +573,8 @@ def with_velocity(
                 "window_length must be odd, greater than polyorder"
                 f" ({polyorder}) and at most n_samples ({n}); got {window_length}"
             )
+        from scipy.signal import savgol_filter  # lazy: scipy.signal is slow to import
+
         P = savgol_filter(P, window_length, polyorder, axis=0, mode="interp")
     V = np.gradient(P, demo.t, axis=0, edge_order=2 if n >= 3 else 1)
     names = default_columns("velocity", V.shape[1])
