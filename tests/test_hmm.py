@@ -114,6 +114,10 @@ def test_matrices_match_dense_reference(case):
     KB = model.emission_matrix()
     c = model.emission_baseline(np.arange(m))
     np.testing.assert_allclose(KB.toarray() + c[:, None], B, rtol=1e-14, atol=0)
+    # the array form round-trips
+    back = DiscreteHMM.from_arrays(model.to_arrays())
+    np.testing.assert_array_equal(back.transition_matrix(dense=True), A)
+    np.testing.assert_array_equal(back.emission_matrix(dense=True), B)
     # rows of A and B are distributions or (no counts, no pseudo-count) all zero
     for M in (A, B):
         sums = M.sum(axis=1)
@@ -306,6 +310,8 @@ def test_viterbi_errors():
     model = estimate([[0, 1, 2]], [[0, 1, 1]], 4, 3, pseudo_transition=0)
     with pytest.raises(OptionError, match=r"unknown start 'first'; expected one of"):
         viterbi(model, [0], start="first")
+    with pytest.raises(OptionError, match=r"unknown start None; expected one of"):
+        model.decode([0], start=None)
     with pytest.raises(ValidationError, match=r"at least one symbol; got length 0"):
         viterbi(model, [])
     with pytest.raises(ValidationError, match=r"symbols must lie in 0..2; got"):
