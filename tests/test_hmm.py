@@ -453,3 +453,32 @@ def test_tampered_arrays_are_refused(tmp_path, key, change, match):
     f = _tampered(tmp_path, key, change)
     with pytest.raises(ModelFormatError, match=match):
         DiscreteHMM.load(f)
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize(
+    ("p", "r"), [(None, 0.0), (None, 0.01), (0.0, 0.0), (2.0, 1.0)]
+)
+def test_medium_models_match_dense_reference(seed, p, r):
+    # random-walk state sequences over part of m = 60 states, as key points do
+    rng = np.random.default_rng(seed)
+    m, nt = 60, 12
+    states, symbols = [], []
+    for _ in range(20):
+        n = int(rng.integers(5, 25))
+        walk = np.clip(np.cumsum(rng.integers(-2, 3, size=n)) + 20, 0, 45)
+        states.append(walk)
+        symbols.append(np.minimum((np.arange(n) * nt) // n, nt - 1))
+    obs = np.sort(rng.integers(0, nt, size=30))
+    for start in ("learned", "state1"):
+        model = estimate(states, symbols, m, nt, pseudo_transition=p, pseudo_emission=r)
+        ref_path, ref_logp = ref.reference_viterbi(
+            states, symbols, m, nt, obs, p=p, r=r, start=start
+        )
+        if ref_path is None:
+            with pytest.raises(DecodeError):
+                viterbi(model, obs, start=start)
+            continue
+        path, logp = viterbi(model, obs, start=start)
+        np.testing.assert_array_equal(path, ref_path)
+        assert logp == ref_logp
