@@ -361,3 +361,13 @@ def test_from_ranges_errors(args, kwargs, match):
         GroupScaler.from_ranges(*args, **kwargs)
     with pytest.raises(OptionError, match="unknown mode"):
         GroupScaler.from_ranges([0.0], [1.0], ["p"], mode="x")
+
+
+def test_subnormal_range_counts_as_zero_range():
+    # found by hypothesis: 1 / 2.2e-313 overflows; such a range is no range
+    X = np.array([[0.0, 2.22507386e-313, 2.22507386e-313], [0.0, 0.0, 0.0]])
+    s = GroupScaler(["a", "a", "b"]).fit(X)
+    U = s.transform(X)
+    assert np.all(np.isfinite(U)) and np.all(np.abs(U) < 1e-300)
+    np.testing.assert_array_equal(s.inverse_transform(U), X)
+    np.testing.assert_array_equal(s.transform(X + 1.0), np.ones_like(X))

@@ -377,7 +377,10 @@ class GroupScaler:
         return arrays, single
 
     def _divisor(self):
-        return np.where(self.data_range_ > 0, self.data_range_, 1.0)
+        # A range below the smallest normal float is a zero range: dividing by a
+        # subnormal number overflows for any value a little outside it.
+        tiny = np.finfo(np.float64).tiny
+        return np.where(self.data_range_ > tiny, self.data_range_, 1.0)
 
     def transform(self, X, *, weighted: bool = True):
         """Normalize: ``u = (x - data_min_) / data_range_ * column_weights_``.
@@ -399,10 +402,9 @@ class GroupScaler:
         U : ndarray of shape (n_samples, n_features_in_), or list of them
         """
         arrays, single = self._prepare(X, "X")
-        scale = 1.0 / self._divisor()
-        if weighted:
-            scale = scale * self.column_weights_
-        out = [(a - self.data_min_) * scale for a in arrays]
+        div = self._divisor()
+        w = self.column_weights_ if weighted else 1.0
+        out = [(a - self.data_min_) / div * w for a in arrays]
         return out[0] if single else out
 
     def inverse_transform(self, U, *, weighted: bool = True):
