@@ -8,7 +8,7 @@ here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics`` and
 ``plot`` are public too.
 """
 
-from . import hmm, io, metrics, orientation, plot, synth
+from . import datasets, hmm, io, metrics, orientation, plot, synth
 from ._errors import (
     DataFileError,
     DecodeError,
@@ -21,6 +21,7 @@ from ._errors import (
 )
 from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
+from .datasets import load_lasa
 from .demo import Demonstration, with_velocity
 from .hmm import DiscreteHMM
 from .learner import KeypointHMM
@@ -44,8 +45,10 @@ __all__ = [
     "TimeBins",
     "ValidationError",
     "__version__",
+    "datasets",
     "hmm",
     "io",
+    "load_lasa",
     "metrics",
     "orientation",
     "plot",
