@@ -95,3 +95,20 @@ def test_atomic_path_leaves_nothing_on_error(tmp_path):
         raise RuntimeError("boom")
     assert target.read_text() == "old"
     assert [f.name for f in tmp_path.iterdir()] == ["out.txt"]
+
+
+def test_atomic_path_gives_normal_file_permissions(tmp_path):
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        with atomic_path(tmp_path / "new.txt") as tmp:
+            tmp.write_text("x")
+        assert stat.S_IMODE((tmp_path / "new.txt").stat().st_mode) == 0o644
+        os.chmod(tmp_path / "new.txt", 0o600)
+        with atomic_path(tmp_path / "new.txt") as tmp:
+            tmp.write_text("y")
+        assert stat.S_IMODE((tmp_path / "new.txt").stat().st_mode) == 0o600
+    finally:
+        os.umask(old)

@@ -209,3 +209,25 @@ def test_orientation_group_round_trip_and_unit_quaternions(tmp_path):
     model.save(tmp_path / "o.ndlfd")
     again = KeypointHMM.load(tmp_path / "o.ndlfd").generate(demos[0], dense=True)
     np.testing.assert_array_equal(again.X, path.X)
+
+
+def test_committed_v1_model_file_still_loads_and_generates_the_same():
+    import importlib.util
+    from pathlib import Path
+
+    from ndlfd.io import read_csv
+
+    here = Path(__file__).parent / "data"
+    spec = importlib.util.spec_from_file_location(
+        "make_kp", here / "make_keypointhmm_v1.py"
+    )
+    mk = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mk)
+    model = KeypointHMM.load(mk.FIXTURE)
+    expected = read_csv(mk.EXPECTED)
+    got = model.generate(mk.GRID, dense=True)
+    np.testing.assert_array_equal(got.t, expected.t)
+    np.testing.assert_allclose(got.X, expected.X, rtol=0, atol=1e-12)
+    assert got.columns == expected.columns
+    # and the file holds what a fresh fit with the recorded parameters learns
+    np.testing.assert_array_equal(mk.build().generate(mk.GRID, dense=True).X, got.X)
