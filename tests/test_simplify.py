@@ -413,5 +413,6 @@ def test_parallel_chunked_scans_keep_the_first_maximum(
 def monkeypatch_module():
     mp = pytest.MonkeyPatch()
     mp.setattr(_simplify, "CHUNK_MIN", 2)
+    mp.setattr(_simplify, "SPLIT_MIN", 2)
     yield mp
     mp.undo()

@@ -180,8 +180,12 @@ def _prepare(points, epsilon, distance, weights, times, n_points, name="points")
 
 #: Below this many points one trajectory is simplified serially.
 PARALLEL_MIN = 100_000
-#: Segments at least this long are scanned in parallel chunks.
-CHUNK_MIN = 50_000
+#: A lone segment at least this long is scanned in parallel chunks (a thread
+#: round trip costs tens of microseconds, a 200k-point scan about 100).
+CHUNK_MIN = 200_000
+#: Segments at least this long are split one level at a time in parallel
+#: before the independent segments are handed to the workers.
+SPLIT_MIN = 20_000
 
 
 def _line_layout(P):
@@ -201,43 +205,68 @@ def _line_layout(P):
     return 0, _EMPTY_TIMES, _EMPTY_TIMES, _EMPTY_TIMES, Pt
 
 
+def _gather(pool, calls):
+    """Run ``calls`` (function, args) on the pool and this thread, in order."""
+    futures = [pool.submit(f, *a) for f, a in calls[1:]]
+    first = calls[0][0](*calls[0][1])
+    return [first, *(f.result() for f in futures)]
+
+
 def _line_parallel(args, eps2, utol2, keep, workers):
     """Line-mode DP on two or more threads; same result as the serial kernel.
 
-    The first splits of the longest segments are found by scanning chunks of
-    the segment in parallel and reducing their results in index order (the
-    first maximum still wins). Once there are enough independent segments,
-    each is finished by the serial kernel in a worker thread (the kernels
-    release the GIL; the segments' interiors are disjoint, so the threads
-    write disjoint entries of ``keep``).
+    The top of the split tree is built level by level: while there are few
+    long segments, the longest are scanned at the same time (one thread
+    each), and a lone segment longer than :data:`CHUNK_MIN` is scanned in
+    chunks whose results are reduced in index order (so the first maximum
+    still wins). Then each remaining segment is finished by the serial
+    kernel in a worker thread, longest first (the kernels release the GIL;
+    segment interiors are disjoint, so threads write disjoint ``keep``
+    entries).
     """
     n = keep.shape[0]
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
     with ThreadPoolExecutor(max_workers=workers) as pool:
-        while len(pending) < 4 * workers:
-            j = max(range(len(pending)), key=lambda i: pending[i][1] - pending[i][0])
-            a, b = pending[j]
-            if b - a < CHUNK_MIN:
+        while pending and len(pending) < 4 * workers:
+            pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
+            longest = pending[0][1] - pending[0][0]
+            if longest < SPLIT_MIN:
                 break
-            pending.pop(j)
-            cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
-            futures = [
-                pool.submit(K.scan_line_range, *args, a, b, utol2, lo, hi)
-                for lo, hi in itertools.pairwise(cuts)
+            top = [
+                seg
+                for seg in pending[:workers]
+                if seg[1] - seg[0] >= max(SPLIT_MIN, longest // 4)
             ]
-            far, best, S = -1, -1.0, 1.0
-            for fut in futures:  # in index order: the first maximum wins
-                f, q, S = fut.result()
-                if q > best:
-                    far, best = f, q
-            if best > eps2 * S:
-                keep[far] = 1
-                pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
-            if not pending:
-                break
-        pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
+            if len(top) == 1:
+                if longest < CHUNK_MIN:
+                    break
+                a, b = top[0]
+                cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
+                calls = [
+                    (K.scan_line_range, (*args, a, b, utol2, lo, hi))
+                    for lo, hi in itertools.pairwise(cuts)
+                ]
+                parts = _gather(pool, calls)
+                far, best, S = parts[0]
+                for f, q, _ in parts[1:]:  # in index order: first maximum wins
+                    if q > best:
+                        far, best = f, q
+                results = [(far, best, S)]
+            else:
+                calls = [
+                    (K.scan_line_range, (*args, a, b, utol2, a + 1, b)) for a, b in top
+                ]
+                results = _gather(pool, calls)
+            del pending[: len(top)]
+            for (a, b), (far, q, S) in zip(top, results, strict=True):
+                if q > eps2 * S:
+                    keep[far] = 1
+                    pending += [
+                        (lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1
+                    ]
+        pending.sort(key=lambda seg: seg[0] - seg[1])
         list(
             pool.map(
                 lambda seg: K.dp_line(*args, eps2, utol2, keep, seg[0], seg[1]),
