@@ -191,14 +191,11 @@ def _parse_mapping(text: str | None, what: str, cast) -> dict | None:
 
 
 def _progress(iterable, total: int, desc: str):
-    """Wrap ``iterable`` in a tqdm progress bar when tqdm is installed."""
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - optional
-        return iterable
-    return tqdm(
-        iterable, total=total, desc=desc, unit="file", disable=None, leave=False
-    )
+    """Wrap ``iterable`` in a progress bar on a terminal (silent otherwise)."""
+    from tqdm import tqdm
+
+    bar = dict(desc=desc, unit="file", disable=None, leave=False)
+    return tqdm(iterable, total=total, **bar)
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
