@@ -15,12 +15,14 @@ from hypothesis import strategies as st
 
 from ndlfd import synth
 from ndlfd._errors import OptionError, ValidationError
+from ndlfd._simplify import simplify
 from ndlfd.demo import Demonstration
 from ndlfd.reproduction import (
     CHANNELS,
     DISTANCES,
     PAPER,
     ReproductionSettings,
+    _first_split,
     _sentences,
     fig2_normalization,
     fig3_channels,
@@ -77,6 +79,33 @@ def test_fig2_proportions_match_hand_computed_ranges():
         assert r[mode]["n_keypoints"] == k.size
 
 
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(3, 25),
+    d=st.integers(2, 6),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_first_split_agrees_with_the_kernels(n, d, seed):
+    """The numpy-det reference decides the first split like the compiled kernels."""
+    U = np.random.default_rng(seed).normal(size=(n, d))
+    split = _first_split(U)
+    if d == 2:  # the determinant formula is exact in 2-D
+        assert split["paper"] == pytest.approx(split["line"], rel=1e-9, abs=1e-12)
+    for distance in DISTANCES:
+        v = split[distance]
+        assert simplify(U, 1.001 * v + 1e-12, distance=distance).size == 2
+        if v > 1e-9:
+            assert simplify(U, 0.999 * v, distance=distance).size > 2
+
+
+def test_fig2_paper_distance_collapses_on_the_spiral():
+    r = fig2_normalization(synth.spiral(), epsilon=S.fig2_epsilon, distance="paper")
+    for m in r:
+        assert r[m]["n_keypoints"] == 2
+        assert r[m]["first_split"]["paper"] < 1e-12 < r[m]["first_split"]["line"]
+        np.testing.assert_allclose(r[m]["chord"][1:], 0, atol=1e-12)
+
+
 def test_fig2_needs_velocity():
     d = synth.spiral().select("position")
     with pytest.raises(ValidationError, match="velocity"):
@@ -102,8 +131,6 @@ def test_fig3_paper_distance_equals_line_in_2d():
 
 def test_fig3_counts_equal_a_direct_reduction():
     """Each channel set equals simplify() on hand-normalized columns."""
-    from ndlfd._simplify import simplify
-
     demo = synth.curve()
     r = fig3_channels(demo, epsilon=S.fig3_epsilon)
     for name, groups in CHANNELS.items():
@@ -207,10 +234,11 @@ def test_fig6_resolution_gains_shrink_where_quantization_dominates():
 
 # --------------------------------------------------------- verdict sentences
 def _fake_results(fig3_counts, iqr_lo, iqr_hi, d1020, d2030):
+    split = {"first_split": {"line": 1.0, "paper": 0.0}, "chord": np.eye(6)[0]}
     mode = {
-        "none": {"proportions": np.array([1.0, 0.5, 0.5])},
-        "per-dimension": {"proportions": np.array([1.0, 1.0, 1.0])},
-        "group": {"proportions": np.array([1.0, 0.5, 0.5])},
+        "none": {"proportions": np.array([1.0, 0.5, 0.5]), **split},
+        "per-dimension": {"proportions": np.array([1.0, 1.0, 1.0]), **split},
+        "group": {"proportions": np.array([1.0, 0.5, 0.5]), **split},
     }
     err = {"errors": {"difference_pct": 5.0}}
 
@@ -232,7 +260,7 @@ def _fake_results(fig3_counts, iqr_lo, iqr_hi, d1020, d2030):
     counts = dict(zip(CHANNELS, fig3_counts, strict=True))
     sweep5 = {"position": spread(iqr_lo), "position+velocity": spread(iqr_hi)}
     return {
-        "fig2": {"line": mode},
+        "fig2": {"line": mode, "paper": {m: {"n_keypoints": 2} for m in mode}},
         "fig3": {d: f3 for d in DISTANCES},
         "fig3_sweep": {
             v: {0.1: {d: counts for d in DISTANCES}} for v in ("clean", "noisy")
@@ -265,6 +293,8 @@ def test_sentences_follow_the_numbers(counts, iqr, diffs):
         assert ("**Holds.**" in line) == narrower
         assert f"narrows at {int(iqr[1] < iqr[0])} of 1" in line
     assert s["fig2"].startswith("**Holds.**")
+    assert "every normalization mode" in s["fig2_paper"]
+    assert "singular" in s["fig2_paper"]
     assert s["holds"]["fig3"]["line"] == order
     assert s["holds"]["fig6"]["paper"] == (diffs[0] > diffs[1])
     ok = int(diffs[0] > diffs[1])

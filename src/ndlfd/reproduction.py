@@ -169,8 +169,12 @@ def fig2_normalization(
         One entry per mode (``"none"``, ``"per-dimension"``, ``"group"``) with
         ``keypoints`` (indices), ``n_keypoints``, ``values`` (the transformed
         position columns, shape ``(n_samples, 3)``), ``ranges`` (the range of
-        each transformed position column) and ``proportions`` (``ranges``
-        divided by the first one: X:Y:Z).
+        each transformed position column), ``proportions`` (``ranges``
+        divided by the first one: X:Y:Z), ``chord`` (``U[-1] - U[0]``, the
+        first chord Douglas–Peucker splits) and ``first_split`` (the largest
+        distance of an interior point to that chord: ``{"line": ...,
+        "paper": ...}``, the paper's value from eq. 5–6 with ``numpy.linalg.det``,
+        independently of the compiled kernel).
 
     Examples
     --------
@@ -194,8 +198,33 @@ def fig2_normalization(
             "values": P,
             "ranges": ranges,
             "proportions": ranges / ranges[0],
+            "chord": U[-1] - U[0],
+            "first_split": _first_split(U),
         }
     return out
+
+
+def _first_split(U: np.ndarray) -> dict:
+    """Largest line and determinant distance to the chord ``U[0]``–``U[-1]``."""
+    n, d = U.shape
+    if n < 3:
+        return {"line": 0.0, "paper": 0.0}
+    u = U[-1] - U[0]
+    norm = float(np.linalg.norm(u))
+    v = U[1:-1] - U[0]
+    if norm == 0.0:
+        dist = np.linalg.norm(v, axis=1)
+        return {"line": float(dist.max()), "paper": float(dist.max())}
+    line = np.linalg.norm(v - np.outer(v @ u / (u @ u), u), axis=1)
+    A = np.zeros((n - 2, d + 1, d + 1))
+    A[:, 0] = np.r_[1.0, U[0]]
+    A[:, 1, 0] = 1.0
+    A[:, 1, 1:] = U[1:-1]
+    A[:, 2] = np.r_[1.0, U[-1]]
+    for k in range(1, d - 1):  # eq. 5 completion: zeros in 0..k-1, ones in k..d
+        A[:, 2 + k, k:] = 1.0
+    paper = np.abs(np.linalg.det(A)) / norm
+    return {"line": float(line.max()), "paper": float(paper.max())}
 
 
 # ----------------------------------------------------------------- Fig. 3
@@ -415,14 +444,19 @@ def fig6_levels(
         ``"paths"`` → {levels: dense generated Demonstration}, ``"keys"`` →
         {levels: generated key points}, ``"differences"`` → {"10-20": %, ...}
         between consecutive levels, ``"errors"`` → {levels: errors to test},
-        ``"scale"`` → the diagonal used as 100 %.
+        ``"scale"`` → the diagonal used as 100 %, ``"ranges"`` → {levels:
+        (min, max) of the position group fitted by the scaler}.
     """
     settings = settings or ReproductionSettings()
     pos = test.get("position")
     scale = float(np.linalg.norm(pos.max(axis=0) - pos.min(axis=0)))
-    paths, keys, errors = {}, {}, {}
+    paths, keys, errors, ranges = {}, {}, {}, {}
     for lv in levels:
         model = _model(("position",), {"position": lv}, settings, distance).fit(train)
+        ranges[lv] = (
+            float(model.scaler_.data_min_.min()),
+            float(model.scaler_.data_max_.max()),
+        )
         keys[lv] = model.generate(test)
         paths[lv] = model.generate(test, dense=True)
         errors[lv] = path_errors(test, paths[lv])
@@ -438,6 +472,7 @@ def fig6_levels(
         "differences": diffs,
         "errors": errors,
         "scale": scale,
+        "ranges": ranges,
     }
 
 
@@ -585,10 +620,13 @@ def _draw_fig5(
         tag = low if name == "position" else high
         ax = fig.add_subplot(2, 4, 4 * row + 1, **proj)
         plot_demos(
-            sample,
-            keypoints=r["model"].keypoints_[:6],
+            sample[:2],
+            keypoints=r["model"].keypoints_[:2],
             ax=ax,
-            title=f"key points, {tag} ({name}): {r['min']}–{r['max']}",
+            title=(
+                f"key points of 2 demos, {tag} ({name})\n"
+                f"all {len(train)}: {r['min']}–{r['max']} per demo"
+            ),
             max_demos=None,
         )
         ax = fig.add_subplot(2, 4, 4 * row + 2, **proj)
@@ -622,14 +660,19 @@ def _draw_fig5(
     ax.set_title(f"key-point counts, {len(train)} demonstrations")
     ax = fig.add_subplot(2, 4, 8)
     bars = {
-        f"generated {low}": results["position"]["errors"]["difference_pct"],
-        f"generated {high}": results["position+velocity"]["errors"]["difference_pct"],
-        "mean-demo baseline": results["baseline"]["errors"]["difference_pct"],
+        f"generated\n{low}": results["position"]["errors"]["difference_pct"],
+        f"generated\n{high}": results["position+velocity"]["errors"]["difference_pct"],
+        "mean-demo\nbaseline": results["baseline"]["errors"]["difference_pct"],
+        "typical\ndemo": results["demos_median"],
     }
-    ax.bar(range(3), list(bars.values()), color=["#d62728", "#9467bd", "#7f7f7f"])
-    ax.set_xticks(range(3), list(bars), fontsize="small")
-    ax.set_ylabel("difference to the test demonstration (%)")
-    ax.set_title("error to the test demonstration (line distance)")
+    ax.bar(
+        range(len(bars)),
+        list(bars.values()),
+        color=["#d62728", "#9467bd", "#7f7f7f", "#7fa7d6"],
+    )
+    ax.set_xticks(range(len(bars)), list(bars), fontsize="small")
+    ax.set_ylabel("difference % to the test demonstration")
+    ax.set_title("difference to the test")
     fig.suptitle(f"Fig. 5 analogue: {shape}, {low} vs {high} (line distance)")
     save_figure(fig, path, dpi=dpi)
 
@@ -642,6 +685,10 @@ def _draw_fig6(test, results: dict, path: Path, dpi: int) -> None:
     for i, lv in enumerate(levels):
         ax = fig.add_subplot(1, len(levels), i + 1)
         e = results["errors"][lv]
+        lo, hi = results["ranges"][lv]
+        for edge in np.linspace(lo, hi, lv + 1):
+            ax.axvline(edge, color="#cccccc", lw=0.5, zorder=0)
+            ax.axhline(edge, color="#cccccc", lw=0.5, zorder=0)
         plot_demos(
             [],
             generated=results["keys"][lv],
@@ -650,7 +697,10 @@ def _draw_fig6(test, results: dict, path: Path, dpi: int) -> None:
             title=f"{lv} levels: difference to test {e['difference_pct']:.2f} %",
         )
     d = ", ".join(f"{k}: {v:.2f} %" for k, v in results["differences"].items())
-    fig.suptitle(f"Fig. 6 analogue: codebook resolution (2-D square); {d}")
+    fig.suptitle(
+        f"Fig. 6 analogue: codebook resolution (2-D square, grey: level edges);"
+        f" differences between generated paths {d}"
+    )
     save_figure(fig, path, dpi=dpi)
 
 
@@ -700,6 +750,38 @@ def _sentences(res: dict, settings: ReproductionSettings) -> dict:
         f" group {_fmt_prop(grp_p)}: group normalization does not keep the raw"
         " proportions, or per-dimension normalization does not change them.",
     )
+    collapsed = [
+        m
+        for m in NORMALIZATION_MODES
+        if res["fig2"]["paper"][m]["n_keypoints"] == 2
+        and f2[m]["first_split"]["paper"] < settings.fig2_epsilon
+    ]
+    note = ""
+    if collapsed:
+        g = f2[collapsed[-1]]
+        chord = g["chord"]
+        along_x = bool(np.linalg.norm(chord[1:]) <= 1e-9 * np.linalg.norm(chord))
+        note = (
+            "With the paper's determinant distance, "
+            + (
+                "every normalization mode keeps"
+                if len(collapsed) == len(NORMALIZATION_MODES)
+                else f"mode {' and '.join(collapsed)} keeps"
+            )
+            + " only the two endpoints: against the first chord P_n − P_1 = ("
+            + ", ".join(f"{c:.3g}" for c in np.where(abs(chord) < 1e-12, 0, chord))
+            + f") ({collapsed[-1]} mode)"
+            " the largest |det A_d| / |P_1 P_n| over the interior points is"
+            f" {g['first_split']['paper']:.1e}, while the true perpendicular"
+            f" distance reaches {g['first_split']['line']:.3g}."
+            + (
+                " The chord runs along X, and then the fixed completion rows of"
+                " eq. 5 make A_d singular for every P_i."
+                if along_x
+                else ""
+            )
+        )
+    out["fig2_paper"] = note
     # Fig. 3 -- order at one tolerance
     f3 = {d: {c: res["fig3"][d][c]["n_keypoints"] for c in CHANNELS} for d in DISTANCES}
     holds["fig3"] = {d: _fig3_order_holds(f3[d]) for d in DISTANCES}
@@ -1006,6 +1088,9 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
     w("")
     w(sent["fig2"])
     w("")
+    if sent["fig2_paper"]:
+        w(sent["fig2_paper"])
+        w("")
     # --- Fig. 3
     w(
         "## Fig. 3: position / velocity / both at one tolerance"
