@@ -201,10 +201,10 @@ def _progress(iterable, total: int, desc: str):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import time
 
-    from .io import _expand, read_demos
+    from .io import demo_files, read_demos
     from .learner import KeypointHMM
 
-    paths = _expand(args.demos)
+    paths = demo_files(args.demos)
     demos = [read_demos(p)[0] for p in _progress(paths, len(paths), "reading demos")]
     levels = args.levels
     if levels is not None:

@@ -35,6 +35,7 @@ from .orientation import QUATERNION_ORDERS
 
 __all__ = [
     "NAMING_CONVENTION",
+    "demo_files",
     "group_of_column",
     "read_csv",
     "read_demos",
@@ -597,6 +598,27 @@ def read_npz(path: str | os.PathLike) -> Demonstration:
 
 
 # --------------------------------------------------------------------------- many
+def demo_files(source) -> list[Path]:
+    """The files :func:`read_demos` reads from ``source``, in that order.
+
+    Parameters
+    ----------
+    source : str, path-like or list of them
+        A folder (its ``*.csv`` and ``*.npz`` files, sorted), a glob pattern
+        (its matches, sorted), a file, or a list of these.
+
+    Returns
+    -------
+    paths : list of Path
+
+    Examples
+    --------
+    >>> demo_files(["a.csv", "b.npz"])
+    [PosixPath('a.csv'), PosixPath('b.npz')]
+    """
+    return _expand(source)
+
+
 def _expand(source) -> list[Path]:
     if isinstance(source, (str, os.PathLike)):
         p = Path(source)
