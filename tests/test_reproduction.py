@@ -375,3 +375,16 @@ def test_demo_type_of_generated_paths(square_data):
     r = fig6_levels(train[:20], test, levels=(10, 20), settings=S)
     assert isinstance(r["paths"][10], Demonstration)
     np.testing.assert_array_equal(r["paths"][10].t, test.t)
+
+
+def test_fig6_sentence_reads_the_noise_sweep():
+    res = _fake_results((1, 2, 3), 2, 1, 5.0, 9.0)
+    res["fig6_sweep"] = {
+        0.01: [{"differences": {"10-20": 2.0, "20-30": 1.0}}],
+        0.1: [{"differences": {"10-20": 9.0, "20-30": 9.5}}, None],
+    }
+    s = _sentences(res, S)["fig6"]
+    assert s.startswith("**Does not hold.**")
+    assert "At 1% noise" in s and "no systematic resolution gain" in s
+    res["fig6_sweep"][0.01] = [{"differences": {"10-20": 1.0, "20-30": 2.0}}]
+    assert "At 1% noise" not in _sentences(res, S)["fig6"]
