@@ -84,10 +84,15 @@ def test_fig2_proportions_match_hand_computed_ranges():
     n=st.integers(3, 25),
     d=st.integers(2, 6),
     seed=st.integers(0, 2**32 - 1),
+    closed=st.booleans(),
 )
-def test_first_split_agrees_with_the_kernels(n, d, seed):
+def test_first_split_agrees_with_the_kernels(n, d, seed, closed):
     """The numpy-det reference decides the first split like the compiled kernels."""
     U = np.random.default_rng(seed).normal(size=(n, d))
+    if closed:  # coincident endpoints: distance to P_1 (paper eq. 4)
+        U[-1] = U[0]
+        far = np.linalg.norm(U[1:-1] - U[0], axis=1).max()
+        assert _first_split(U) == {"line": far, "paper": far}
     split = _first_split(U)
     if d == 2:  # the determinant formula is exact in 2-D
         assert split["paper"] == pytest.approx(split["line"], rel=1e-9, abs=1e-12)
@@ -256,7 +261,10 @@ def _fake_results(fig3_counts, iqr_lo, iqr_hi, d1020, d2030):
     def spread(x):
         return {"std": x, "iqr": x, "min": 1, "max": 2}
 
-    f3 = {c: {"n_keypoints": n} for c, n in zip(CHANNELS, fig3_counts, strict=True)}
+    f3 = {
+        c: {"n_keypoints": n, **split}
+        for c, n in zip(CHANNELS, fig3_counts, strict=True)
+    }
     counts = dict(zip(CHANNELS, fig3_counts, strict=True))
     sweep5 = {"position": spread(iqr_lo), "position+velocity": spread(iqr_hi)}
     return {
@@ -293,6 +301,7 @@ def test_sentences_follow_the_numbers(counts, iqr, diffs):
         assert ("**Holds.**" in line) == narrower
         assert f"narrows at {int(iqr[1] < iqr[0])} of 1" in line
     assert s["fig2"].startswith("**Holds.**")
+    assert ("keeps only the two endpoints" in s["fig3_paper"]) == (2 in counts)
     assert "every normalization mode" in s["fig2_paper"]
     assert "singular" in s["fig2_paper"]
     assert s["holds"]["fig3"]["line"] == order

@@ -254,7 +254,8 @@ def fig3_channels(
     -------
     result : dict
         ``"position"``, ``"velocity"``, ``"both"`` → ``{"keypoints": indices,
-        "n_keypoints": int}``.
+        "n_keypoints": int, "chord": ..., "first_split": ...}`` (the last two
+        as in :func:`fig2_normalization`).
 
     Examples
     --------
@@ -269,7 +270,12 @@ def fig3_channels(
         d = demo.select(*groups)
         U = GroupScaler(mode="group").fit([d]).transform(d)
         idx = simplify(U, epsilon, distance=distance)
-        out[name] = {"keypoints": idx, "n_keypoints": int(idx.size)}
+        out[name] = {
+            "keypoints": idx,
+            "n_keypoints": int(idx.size),
+            "chord": U[-1] - U[0],
+            "first_split": _first_split(U),
+        }
     return out
 
 
@@ -726,6 +732,39 @@ def _counts_str(counts: dict) -> str:
     return " / ".join(str(counts[c]) for c in CHANNELS)
 
 
+def _collapse_note(counts: dict, results: dict, eps: float, every: str, one: str):
+    """Explain, from the numbers, why the paper distance kept only endpoints."""
+    collapsed = [
+        k
+        for k, n in counts.items()
+        if n == 2 and results[k]["first_split"]["paper"] < eps
+    ]
+    if not collapsed:
+        return ""
+    g = results[collapsed[-1]]
+    chord = np.where(np.abs(g["chord"]) < 1e-12, 0.0, g["chord"])
+    along_x = bool(np.linalg.norm(chord[1:]) <= 1e-9 * np.linalg.norm(chord))
+    return (
+        "With the paper's determinant distance, "
+        + (
+            every
+            if len(collapsed) == len(counts)
+            else f"{one} {' and '.join(map(repr, collapsed))} keeps"
+        )
+        + " only the two endpoints: against the first chord P_n − P_1 = ("
+        + ", ".join(f"{c:.3g}" for c in chord)
+        + f") (in {collapsed[-1]!r}) the largest |det A_d| / |P_1 P_n| over the"
+        f" interior points is {g['first_split']['paper']:.1e}, while the true"
+        f" perpendicular distance reaches {g['first_split']['line']:.3g}."
+        + (
+            " The chord runs along the first axis, and then the fixed completion"
+            " rows of eq. 5 make A_d singular for every P_i."
+            if along_x
+            else ""
+        )
+    )
+
+
 def _sentences(res: dict, settings: ReproductionSettings) -> dict:
     """Choose each figure's sentence from the measured numbers.
 
@@ -751,38 +790,21 @@ def _sentences(res: dict, settings: ReproductionSettings) -> dict:
         f" group {_fmt_prop(grp_p)}: group normalization does not keep the raw"
         " proportions, or per-dimension normalization does not change them.",
     )
-    collapsed = [
-        m
-        for m in NORMALIZATION_MODES
-        if res["fig2"]["paper"][m]["n_keypoints"] == 2
-        and f2[m]["first_split"]["paper"] < settings.fig2_epsilon
-    ]
-    note = ""
-    if collapsed:
-        g = f2[collapsed[-1]]
-        chord = g["chord"]
-        along_x = bool(np.linalg.norm(chord[1:]) <= 1e-9 * np.linalg.norm(chord))
-        note = (
-            "With the paper's determinant distance, "
-            + (
-                "every normalization mode keeps"
-                if len(collapsed) == len(NORMALIZATION_MODES)
-                else f"mode {' and '.join(collapsed)} keeps"
-            )
-            + " only the two endpoints: against the first chord P_n − P_1 = ("
-            + ", ".join(f"{c:.3g}" for c in np.where(abs(chord) < 1e-12, 0, chord))
-            + f") ({collapsed[-1]} mode)"
-            " the largest |det A_d| / |P_1 P_n| over the interior points is"
-            f" {g['first_split']['paper']:.1e}, while the true perpendicular"
-            f" distance reaches {g['first_split']['line']:.3g}."
-            + (
-                " The chord runs along X, and then the fixed completion rows of"
-                " eq. 5 make A_d singular for every P_i."
-                if along_x
-                else ""
-            )
-        )
-    out["fig2_paper"] = note
+    out["fig2_paper"] = _collapse_note(
+        {m: res["fig2"]["paper"][m]["n_keypoints"] for m in NORMALIZATION_MODES},
+        f2,
+        settings.fig2_epsilon,
+        "every normalization mode keeps",
+        "mode",
+    )
+    out["fig3_paper"] = _collapse_note(
+        {c: res["fig3"]["paper"][c]["n_keypoints"] for c in CHANNELS},
+        res["fig3"]["line"],
+        settings.fig3_epsilon,
+        "every channel set keeps",
+        "the channel set",
+    )
+
     # Fig. 3 -- order at one tolerance
     f3 = {d: {c: res["fig3"][d][c]["n_keypoints"] for c in CHANNELS} for d in DISTANCES}
     holds["fig3"] = {d: _fig3_order_holds(f3[d]) for d in DISTANCES}
@@ -971,7 +993,9 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
         ' determinant formula (`distance="paper"`, eq. 5–6). The two agree'
         " exactly in 2-D; in 3-D and above the paper's formula is a projected"
         " quantity, not a distance (SPEC §1.3), so the 4-D and 6-D columns"
-        " differ. Figures show the `line` runs."
+        " differ. Figures show the `line` runs. Regenerate with"
+        " `ndlfd reproduce --out docs/reproduction`; the parameters are"
+        " `ndlfd.reproduction.ReproductionSettings`."
     )
     w("")
     w("## Summary: our numbers beside the paper's")
@@ -1166,6 +1190,9 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
     w("")
     w(sent["fig3"])
     w("")
+    if sent["fig3_paper"]:
+        w(sent["fig3_paper"])
+        w("")
     # --- Fig. 5
     w("## Fig. 5: learning from position vs position + velocity")
     w("")
