@@ -252,6 +252,23 @@ def test_weights_scale_columns(case, eps):
     assert got.tolist() == simplify(P * w, eps, distance=mode).tolist()
 
 
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9])
+@pytest.mark.parametrize("mode", MODES)
+def test_long_integer_walks_cross_block_boundaries(d, mode):
+    # several blocks of the vectorized scans, many exact ties across blocks
+    rng = np.random.default_rng(d)
+    n = 300 if mode == "paper" else 700  # the paper reference is slow
+    P = np.cumsum(rng.integers(-1, 2, size=(n, d)), axis=0).astype(float)
+    times = np.cumsum(rng.integers(1, 3, size=n)).astype(float)
+    t = times if mode == "sed" else None
+    for eps in (0.0, 1.0, 2.5):
+        got = simplify(P, eps, distance=mode, times=t)
+        assert got.tolist() == dp_reference(P, eps, mode, t).tolist()
+    if mode == "line":
+        got = simplify(P, n_points=40, distance=mode, times=t)
+        assert got.tolist() == budget_reference(P, 40, mode, t).tolist()
+
+
 # -------------------------------------------------------------- worst case
 
 

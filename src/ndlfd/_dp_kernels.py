@@ -46,11 +46,12 @@ __all__ = [
     "MODE_SED",
     "MODE_SEGMENT",
     "dp_budget",
+    "dp_cols",
     "dp_generic",
     "dp_line",
     "finite_maxabs",
+    "scan_cols_range",
     "scan_generic",
-    "scan_line",
     "scan_line_range",
     "transpose",
 ]
@@ -85,11 +86,11 @@ def finite_maxabs(P):
 
 
 @njit(cache=True, nogil=True)
-def transpose(P, out):
-    """Copy ``P`` of shape ``(n, d)`` into ``out`` of shape ``(d, n)``, blocked."""
-    n, d = P.shape
-    for i0 in range(0, n, 512):
-        i1 = min(n, i0 + 512)
+def transpose(P, out, lo, hi):
+    """Copy rows ``lo..hi-1`` of ``P`` (n, d) into columns of ``out`` (d, n)."""
+    d = P.shape[1]
+    for i0 in range(lo, hi, 512):
+        i1 = min(hi, i0 + 512)
         for k in range(d):
             for i in range(i0, i1):
                 out[k, i] = P[i, k]
@@ -229,37 +230,25 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
 
 #: Points per block of the vectorized line-mode scans (a 2 KiB buffer).
 BLOCK = 256
-#: Below this many points a scan uses the plain scalar loop.
-SHORT = 48
+
+# The line-mode scans compute the keys of a block of points into ``buf`` in
+# a vectorized loop, then take the block's max as an integer reduction over
+# ``bits`` (an int64 view of ``buf``): keys are non-negative doubles, whose
+# bit patterns order like int64, and LLVM vectorizes integer max reductions
+# (not float ones without fast-math). The first index reaching a new max is
+# looked up only when the max improves. Block indices are cast to uint64 so
+# numba skips its negative-index wraparound and LLVM vectorizes the loops.
+# The block max is written out in each scan: a helper function returning a
+# tuple cost twice the time on trees with many short segments.
 
 
 @njit(cache=True, nogil=True)
-def _block_max(buf, m, lo, best_bits, far, bestq):
-    """Fold ``buf[:m]`` (keys of points ``lo..lo+m-1``) into the running max.
-
-    Keys are non-negative doubles, whose bit patterns order like int64, so the
-    max is an integer reduction that LLVM vectorizes. The first index reaching
-    a new max is found only when the max improves.
-    """
-    bits = buf.view(np.int64)
-    bm = np.int64(-1)
-    for j in range(m):
-        v = bits[j]
-        bm = v if v > bm else bm
-    if bm > best_bits:
-        for j in range(m):
-            if bits[j] == bm:
-                return bm, lo + j, buf[j]
-    return best_bits, far, bestq
-
-
-@njit(cache=True, nogil=True)
-def scan_line2(x, y, a, b, utol2, lo, hi, buf):
+def scan_line2(x, y, a, b, utol2, lo, hi, buf, bits):
     """Farthest point of ``(a, b)`` among ``lo..hi-1``, 2-D line mode.
 
-    Structure of arrays (``x``, ``y``), squared cross product, no division or
-    square root; keys of a block are computed into ``buf`` (length
-    :data:`BLOCK`) by a vectorized loop. Returns ``(far, q, S)``.
+    Structure of arrays (``x``, ``y``), squared cross product with ``S = U``,
+    no division or square root per point. ``buf`` is a workspace of length
+    :data:`BLOCK` and ``bits`` its int64 view. Returns ``(far, q, S)``.
     """
     xa = x[a]
     ya = y[a]
@@ -268,45 +257,40 @@ def scan_line2(x, y, a, b, utol2, lo, hi, buf):
     U = ux * ux + uy * uy
     degenerate = U <= utol2
     S = 1.0 if degenerate else U
-    if hi - lo < SHORT:
-        best = -1.0
-        far = -1
-        for i in range(lo, hi):
-            dx = x[i] - xa
-            dy = y[i] - ya
-            if degenerate:
-                q = dx * dx + dy * dy
-            else:
-                c = dx * uy - dy * ux
-                q = c * c
-            if q > best:
-                best = q
-                far = i
-        return far, best, S
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
     i0 = lo
     while i0 < hi:
         m = min(BLOCK, hi - i0)
-        xs = x[i0 : i0 + m]
-        ys = y[i0 : i0 + m]
         if degenerate:
             for j in range(m):
-                dx = xs[j] - xa
-                dy = ys[j] - ya
+                i = np.uint64(i0 + j)
+                dx = x[i] - xa
+                dy = y[i] - ya
                 buf[j] = dx * dx + dy * dy
         else:
             for j in range(m):
-                c = (xs[j] - xa) * uy - (ys[j] - ya) * ux
+                i = np.uint64(i0 + j)
+                c = (x[i] - xa) * uy - (y[i] - ya) * ux
                 buf[j] = c * c
-        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        bm = np.int64(-1)
+        for j in range(m):
+            v = bits[j]
+            bm = v if v > bm else bm
+        if bm > best_bits:
+            for j in range(m):
+                if bits[j] == bm:
+                    best_bits = bm
+                    far = i0 + j
+                    bestq = buf[j]
+                    break
         i0 += m
     return far, bestq, S
 
 
 @njit(cache=True, nogil=True)
-def scan_line3(x, y, z, a, b, utol2, lo, hi, buf):
+def scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits):
     """Farthest point of ``(a, b)`` among ``lo..hi-1``, 3-D line mode.
 
     Squared norm of the cross product ``|v × u|²`` with ``S = U``.
@@ -326,38 +310,47 @@ def scan_line3(x, y, z, a, b, utol2, lo, hi, buf):
     i0 = lo
     while i0 < hi:
         m = min(BLOCK, hi - i0)
-        xs = x[i0 : i0 + m]
-        ys = y[i0 : i0 + m]
-        zs = z[i0 : i0 + m]
         if degenerate:
             for j in range(m):
-                dx = xs[j] - xa
-                dy = ys[j] - ya
-                dz = zs[j] - za
+                i = np.uint64(i0 + j)
+                dx = x[i] - xa
+                dy = y[i] - ya
+                dz = z[i] - za
                 buf[j] = dx * dx + dy * dy + dz * dz
         else:
             for j in range(m):
-                dx = xs[j] - xa
-                dy = ys[j] - ya
-                dz = zs[j] - za
+                i = np.uint64(i0 + j)
+                dx = x[i] - xa
+                dy = y[i] - ya
+                dz = z[i] - za
                 cx = dy * uz - dz * uy
                 cy = dz * ux - dx * uz
                 cz = dx * uy - dy * ux
                 buf[j] = cx * cx + cy * cy + cz * cz
-        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        bm = np.int64(-1)
+        for j in range(m):
+            v = bits[j]
+            bm = v if v > bm else bm
+        if bm > best_bits:
+            for j in range(m):
+                if bits[j] == bm:
+                    best_bits = bm
+                    far = i0 + j
+                    bestq = buf[j]
+                    break
         i0 += m
     return far, bestq, S
 
 
 @njit(cache=True, nogil=True)
-def scan_lineN(Pt, a, b, utol2, lo, hi, buf, vu, u, pa):
+def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
     """Farthest point of ``(a, b)`` among ``lo..hi-1``, line mode, any ``d``.
 
     ``Pt`` is the transposed (column-major) data of shape ``(d, n)``; each
     block is processed column by column in vectorized loops. The keys are the
     same numbers as :func:`scan_generic`'s (same operations, same order).
-    ``buf``, ``vu`` are workspaces of length :data:`BLOCK`; ``u``, ``pa`` of
-    length ``d``.
+    ``buf`` (``bits`` its int64 view), ``vu`` are workspaces of length
+    :data:`BLOCK`; ``u``, ``pa`` of length ``d``.
     """
     d = Pt.shape[0]
     U = 0.0
@@ -377,51 +370,164 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, vu, u, pa):
             buf[j] = 0.0
         if degenerate:
             for k in range(d):
-                col = Pt[k, i0 : i0 + m]
                 pk = pa[k]
                 for j in range(m):
-                    r = col[j] - pk
+                    r = Pt[k, np.uint64(i0 + j)] - pk
                     buf[j] += r * r
         else:
             for j in range(m):
                 vu[j] = 0.0
             for k in range(d):
-                col = Pt[k, i0 : i0 + m]
                 pk = pa[k]
                 uk = u[k]
                 for j in range(m):
-                    vu[j] += (col[j] - pk) * uk
+                    vu[j] += (Pt[k, np.uint64(i0 + j)] - pk) * uk
             for k in range(d):
-                col = Pt[k, i0 : i0 + m]
                 pk = pa[k]
                 uk = u[k]
                 for j in range(m):
-                    r = U * (col[j] - pk) - vu[j] * uk
+                    r = U * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
                     buf[j] += r * r
-        best_bits, far, bestq = _block_max(buf, m, i0, best_bits, far, bestq)
+        bm = np.int64(-1)
+        for j in range(m):
+            v = bits[j]
+            bm = v if v > bm else bm
+        if bm > best_bits:
+            for j in range(m):
+                if bits[j] == bm:
+                    best_bits = bm
+                    far = i0 + j
+                    bestq = buf[j]
+                    break
         i0 += m
     return far, bestq, S
 
 
 @njit(cache=True, nogil=True)
-def scan_line(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, vu, u, pa):
-    """Dispatch to the line-mode scan of ``kind`` (2, 3, or 0 for any ``d``)."""
-    if kind == 2:
-        return scan_line2(x, y, a, b, utol2, lo, hi, buf)
-    if kind == 3:
-        return scan_line3(x, y, z, a, b, utol2, lo, hi, buf)
-    return scan_lineN(Pt, a, b, utol2, lo, hi, buf, vu, u, pa)
+def scan_line_cols(cols, a, b, utol2, lo, hi, buf, bits, u, pa):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, line mode, small ``d``.
+
+    ``cols`` is a tuple of ``d`` contiguous columns. Its length is part of the
+    type, so numba compiles one version per ``d`` with the loops over the
+    columns unrolled and the loop over points vectorized, with everything in
+    registers. Same keys as :func:`scan_generic` (same operations, same
+    order). ``u``, ``pa`` are workspaces of length ``d``.
+    """
+    d = len(cols)
+    U = 0.0
+    for k in range(d):
+        pa[k] = cols[k][a]
+        u[k] = cols[k][b] - pa[k]
+        U += u[k] * u[k]
+    degenerate = U <= utol2
+    S = 1.0 if degenerate else U * U
+    best_bits = np.int64(-1)
+    far = -1
+    bestq = -1.0
+    i0 = lo
+    while i0 < hi:
+        m = min(BLOCK, hi - i0)
+        if degenerate:
+            for j in range(m):
+                i = np.uint64(i0 + j)
+                q = 0.0
+                for k in range(d):
+                    r = cols[k][i] - pa[k]
+                    q += r * r
+                buf[j] = q
+        else:
+            for j in range(m):
+                i = np.uint64(i0 + j)
+                vu = 0.0
+                for k in range(d):
+                    vu += (cols[k][i] - pa[k]) * u[k]
+                q = 0.0
+                for k in range(d):
+                    r = U * (cols[k][i] - pa[k]) - vu * u[k]
+                    q += r * r
+                buf[j] = q
+        bm = np.int64(-1)
+        for j in range(m):
+            v = bits[j]
+            bm = v if v > bm else bm
+        if bm > best_bits:
+            for j in range(m):
+                if bits[j] == bm:
+                    best_bits = bm
+                    far = i0 + j
+                    bestq = buf[j]
+                    break
+        i0 += m
+    return far, bestq, S
+
+
+@njit(cache=True, nogil=True)
+def scan_cols_range(cols, a, b, utol2, lo, hi):
+    """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``."""
+    buf = np.empty(BLOCK)
+    d = len(cols)
+    return scan_line_cols(
+        cols, a, b, utol2, lo, hi, buf, buf.view(np.int64), np.empty(d), np.empty(d)
+    )
+
+
+@njit(cache=True, nogil=True)
+def dp_cols(cols, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode line Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
+
+    See :func:`scan_line_cols`; used for ``4 <= d <= 8``. Explicit stack, no
+    recursion. Returns the number of distance evaluations.
+    """
+    keep[a0] = 1
+    keep[b0] = 1
+    if b0 - a0 < 2:
+        return 0
+    d = len(cols)
+    buf = np.empty(BLOCK)
+    bits = buf.view(np.int64)
+    u = np.empty(d)
+    pa = np.empty(d)
+    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    stack[0] = a0
+    stack[1] = b0
+    sp = 1
+    work = 0
+    while sp > 0:
+        sp -= 1
+        a = stack[2 * sp]
+        b = stack[2 * sp + 1]
+        far, q, S = scan_line_cols(cols, a, b, utol2, a + 1, b, buf, bits, u, pa)
+        work += b - a - 1
+        if q > eps2 * S:
+            keep[far] = 1
+            if far - a > 1:
+                stack[2 * sp] = a
+                stack[2 * sp + 1] = far
+                sp += 1
+            if b - far > 1:
+                stack[2 * sp] = far
+                stack[2 * sp + 1] = b
+                sp += 1
+    return work
 
 
 @njit(cache=True, nogil=True)
 def scan_line_range(kind, x, y, z, Pt, a, b, utol2, lo, hi):
-    """:func:`scan_line` with its own workspaces (one chunk of a long scan)."""
-    d = Pt.shape[0]
+    """Line-mode scan of one chunk ``lo..hi-1`` of segment ``(a, b)``.
+
+    ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
+    ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``.
+    """
     buf = np.empty(BLOCK)
-    vu = np.empty(BLOCK)
-    u = np.empty(d)
-    pa = np.empty(d)
-    return scan_line(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, vu, u, pa)
+    bits = buf.view(np.int64)
+    if kind == 2:
+        return scan_line2(x, y, a, b, utol2, lo, hi, buf, bits)
+    if kind == 3:
+        return scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits)
+    d = Pt.shape[0]
+    return scan_lineN(
+        Pt, a, b, utol2, lo, hi, buf, bits, np.empty(BLOCK), np.empty(d), np.empty(d)
+    )
 
 
 @njit(cache=True, nogil=True)
@@ -430,8 +536,9 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
 
     ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
     ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``. Unused
-    arrays may be empty. Explicit stack, no recursion. Returns the number of
-    distance evaluations.
+    arrays may be empty. Explicit stack, no recursion; each kind has its own
+    loop so that the scan is called directly. Returns the number of distance
+    evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -439,6 +546,7 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
         return 0
     d = Pt.shape[0]
     buf = np.empty(BLOCK)
+    bits = buf.view(np.int64)
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
@@ -451,7 +559,12 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_line(kind, x, y, z, Pt, a, b, utol2, a + 1, b, buf, vu, u, pa)
+        if kind == 2:
+            far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
+        elif kind == 3:
+            far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+        else:
+            far, q, S = scan_lineN(Pt, a, b, utol2, a + 1, b, buf, bits, vu, u, pa)
         work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1

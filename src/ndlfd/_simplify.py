@@ -188,21 +188,35 @@ CHUNK_MIN = 200_000
 SPLIT_MIN = 20_000
 
 
-def _line_layout(P):
-    """Arguments of the line-mode kernels: kind and column layout."""
-    d = P.shape[1]
-    if d == 2:
+#: Dimensions handled by the column-tuple kernels (one compiled version each).
+COLS_DIMS = range(4, 9)
+
+
+def _line_layout(P, pool=None, workers=1):
+    """The line-mode kernels for ``P``: ``(dp, scan_range, args)``.
+
+    ``dp(*args, eps2, utol2, keep, a, b)`` simplifies one segment and
+    ``scan_range(*args, a, b, utol2, lo, hi)`` scans one chunk of one. The
+    data are laid out column by column (structure of arrays); with a thread
+    ``pool`` the transposition is shared among ``workers`` threads.
+    """
+    n, d = P.shape
+    if d in (2, 3):
         x = np.ascontiguousarray(P[:, 0])
         y = np.ascontiguousarray(P[:, 1])
-        return 2, x, y, _EMPTY_TIMES, np.zeros((2, 0))
-    if d == 3:
-        x = np.ascontiguousarray(P[:, 0])
-        y = np.ascontiguousarray(P[:, 1])
-        z = np.ascontiguousarray(P[:, 2])
-        return 3, x, y, z, np.zeros((3, 0))
-    Pt = np.empty((d, P.shape[0]))
-    K.transpose(P, Pt)
-    return 0, _EMPTY_TIMES, _EMPTY_TIMES, _EMPTY_TIMES, Pt
+        z = np.ascontiguousarray(P[:, 2]) if d == 3 else _EMPTY_TIMES
+        return K.dp_line, K.scan_line_range, (d, x, y, z, np.zeros((d, 0)))
+    Pt = np.empty((d, n))
+    if pool is None:
+        K.transpose(P, Pt, 0, n)
+    else:
+        cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()
+        parts = itertools.pairwise(cuts)
+        _gather(pool, [(K.transpose, (P, Pt, lo, hi)) for lo, hi in parts])
+    if d in COLS_DIMS:
+        return K.dp_cols, K.scan_cols_range, (tuple(Pt),)
+    e = _EMPTY_TIMES
+    return K.dp_line, K.scan_line_range, (0, e, e, e, Pt)
 
 
 def _gather(pool, calls):
@@ -212,7 +226,7 @@ def _gather(pool, calls):
     return [first, *(f.result() for f in futures)]
 
 
-def _line_parallel(args, eps2, utol2, keep, workers):
+def _line_parallel(P, eps2, utol2, keep, workers):
     """Line-mode DP on two or more threads; same result as the serial kernel.
 
     The top of the split tree is built level by level: while there are few
@@ -229,6 +243,7 @@ def _line_parallel(args, eps2, utol2, keep, workers):
     keep[n - 1] = 1
     pending = [(0, n - 1)]
     with ThreadPoolExecutor(max_workers=workers) as pool:
+        dp, scan_range, args = _line_layout(P, pool, workers)
         while pending and len(pending) < 4 * workers:
             pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
             longest = pending[0][1] - pending[0][0]
@@ -245,7 +260,7 @@ def _line_parallel(args, eps2, utol2, keep, workers):
                 a, b = top[0]
                 cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
                 calls = [
-                    (K.scan_line_range, (*args, a, b, utol2, lo, hi))
+                    (scan_range, (*args, a, b, utol2, lo, hi))
                     for lo, hi in itertools.pairwise(cuts)
                 ]
                 parts = _gather(pool, calls)
@@ -255,9 +270,7 @@ def _line_parallel(args, eps2, utol2, keep, workers):
                         far, best = f, q
                 results = [(far, best, S)]
             else:
-                calls = [
-                    (K.scan_line_range, (*args, a, b, utol2, a + 1, b)) for a, b in top
-                ]
+                calls = [(scan_range, (*args, a, b, utol2, a + 1, b)) for a, b in top]
                 results = _gather(pool, calls)
             del pending[: len(top)]
             for (a, b), (far, q, S) in zip(top, results, strict=True):
@@ -269,7 +282,7 @@ def _line_parallel(args, eps2, utol2, keep, workers):
         pending.sort(key=lambda seg: seg[0] - seg[1])
         list(
             pool.map(
-                lambda seg: K.dp_line(*args, eps2, utol2, keep, seg[0], seg[1]),
+                lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1]),
                 pending,
             )
         )
@@ -282,15 +295,15 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
     if job.k:
         K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
     elif job.mode == K.MODE_LINE:
-        args = _line_layout(P)
         if n_jobs is None:
             workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
         else:
             workers = check_positive_int(n_jobs, "n_jobs")
         if workers > 1 and n > 2:
-            _line_parallel(args, job.eps2, job.utol2, keep, workers)
+            _line_parallel(P, job.eps2, job.utol2, keep, workers)
         else:
-            K.dp_line(*args, job.eps2, job.utol2, keep, 0, n - 1)
+            dp, _, args = _line_layout(P)
+            dp(*args, job.eps2, job.utol2, keep, 0, n - 1)
     else:
         K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
     return keep.view(np.bool_)
