@@ -35,6 +35,7 @@ from __future__ import annotations
 import itertools
 import math
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -188,6 +189,8 @@ CHUNK_MIN = 200_000
 SPLIT_MIN = 20_000
 
 
+#: The top of the tree is split until there are this many segments per thread.
+PENDING_PER_WORKER = 4
 #: Dimensions handled by the column-tuple kernels (one compiled version each).
 COLS_DIMS = range(4, 9)
 
@@ -201,11 +204,6 @@ def _line_layout(P, pool=None, workers=1):
     ``pool`` the transposition is shared among ``workers`` threads.
     """
     n, d = P.shape
-    if d in (2, 3):
-        x = np.ascontiguousarray(P[:, 0])
-        y = np.ascontiguousarray(P[:, 1])
-        z = np.ascontiguousarray(P[:, 2]) if d == 3 else _EMPTY_TIMES
-        return K.dp_line, K.scan_line_range, (d, x, y, z, np.zeros((d, 0)))
     Pt = np.empty((d, n))
     if pool is None:
         K.transpose(P, Pt, 0, n)
@@ -213,6 +211,9 @@ def _line_layout(P, pool=None, workers=1):
         cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()
         parts = itertools.pairwise(cuts)
         _gather(pool, [(K.transpose, (P, Pt, lo, hi)) for lo, hi in parts])
+    if d in (2, 3):
+        z = Pt[2] if d == 3 else _EMPTY_TIMES
+        return K.dp_line, K.scan_line_range, (d, Pt[0], Pt[1], z, np.zeros((d, 0)))
     if d in COLS_DIMS:
         return K.dp_cols, K.scan_cols_range, (tuple(Pt),)
     e = _EMPTY_TIMES
@@ -224,6 +225,23 @@ def _gather(pool, calls):
     futures = [pool.submit(f, *a) for f, a in calls[1:]]
     first = calls[0][0](*calls[0][1])
     return [first, *(f.result() for f in futures)]
+
+
+_POOLS: dict[int, ThreadPoolExecutor] = {}
+_POOLS_LOCK = threading.Lock()
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    """A persistent pool per thread count (starting threads costs milliseconds).
+
+    The tasks never wait on other tasks of the pool, so callers may share it.
+    """
+    with _POOLS_LOCK:
+        pool = _POOLS.get(workers)
+        if pool is None:
+            pool = ThreadPoolExecutor(workers, thread_name_prefix="ndlfd-simplify")
+            _POOLS[workers] = pool
+        return pool
 
 
 def _line_parallel(P, eps2, utol2, keep, workers):
@@ -242,50 +260,48 @@ def _line_parallel(P, eps2, utol2, keep, workers):
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
-    with ThreadPoolExecutor(max_workers=workers) as pool:
-        dp, scan_range, args = _line_layout(P, pool, workers)
-        while pending and len(pending) < 4 * workers:
-            pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
-            longest = pending[0][1] - pending[0][0]
-            if longest < SPLIT_MIN:
+    pool = _pool(workers)
+    dp, scan_range, args = _line_layout(P, pool, workers)
+    while pending and len(pending) < PENDING_PER_WORKER * workers:
+        pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
+        longest = pending[0][1] - pending[0][0]
+        if longest < SPLIT_MIN:
+            break
+        top = [
+            seg
+            for seg in pending[:workers]
+            if seg[1] - seg[0] >= max(SPLIT_MIN, longest // 4)
+        ]
+        if len(top) == 1:
+            if longest < CHUNK_MIN:
                 break
-            top = [
-                seg
-                for seg in pending[:workers]
-                if seg[1] - seg[0] >= max(SPLIT_MIN, longest // 4)
+            a, b = top[0]
+            cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
+            calls = [
+                (scan_range, (*args, a, b, utol2, lo, hi))
+                for lo, hi in itertools.pairwise(cuts)
             ]
-            if len(top) == 1:
-                if longest < CHUNK_MIN:
-                    break
-                a, b = top[0]
-                cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
-                calls = [
-                    (scan_range, (*args, a, b, utol2, lo, hi))
-                    for lo, hi in itertools.pairwise(cuts)
-                ]
-                parts = _gather(pool, calls)
-                far, best, S = parts[0]
-                for f, q, _ in parts[1:]:  # in index order: first maximum wins
-                    if q > best:
-                        far, best = f, q
-                results = [(far, best, S)]
-            else:
-                calls = [(scan_range, (*args, a, b, utol2, a + 1, b)) for a, b in top]
-                results = _gather(pool, calls)
-            del pending[: len(top)]
-            for (a, b), (far, q, S) in zip(top, results, strict=True):
-                if q > eps2 * S:
-                    keep[far] = 1
-                    pending += [
-                        (lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1
-                    ]
-        pending.sort(key=lambda seg: seg[0] - seg[1])
-        list(
-            pool.map(
-                lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1]),
-                pending,
-            )
+            parts = _gather(pool, calls)
+            far, best, S = parts[0]
+            for f, q, _ in parts[1:]:  # in index order: first maximum wins
+                if q > best:
+                    far, best = f, q
+            results = [(far, best, S)]
+        else:
+            calls = [(scan_range, (*args, a, b, utol2, a + 1, b)) for a, b in top]
+            results = _gather(pool, calls)
+        del pending[: len(top)]
+        for (a, b), (far, q, S) in zip(top, results, strict=True):
+            if q > eps2 * S:
+                keep[far] = 1
+                pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
+    pending.sort(key=lambda seg: seg[0] - seg[1])
+    list(
+        pool.map(
+            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1]),
+            pending,
         )
+    )
 
 
 def _run(job: _Job, n_jobs) -> np.ndarray:
