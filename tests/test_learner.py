@@ -231,3 +231,29 @@ def test_committed_v1_model_file_still_loads_and_generates_the_same():
     assert got.columns == expected.columns
     # and the file holds what a fresh fit with the recorded parameters learns
     np.testing.assert_array_equal(mk.build().generate(mk.GRID, dense=True).X, got.X)
+
+
+@pytest.mark.parametrize("distance", ["line", "segment", "sed", "paper"])
+def test_budget_mode_and_every_distance(square, distance):
+    train, test = square
+    model = KeypointHMM(n_points=25, distance=distance, n_time_bins=10).fit(train)
+    assert np.all(model.n_keypoints_ == 25)
+    key_t, symbols, _ = model.timing(test)
+    assert key_t.size == symbols.size == 25
+    u = model.scaler_.transform(test.select("position", "velocity"))
+    times = test.t if distance == "sed" else None
+    idx = simplify(u, n_points=25, distance=distance, times=times)
+    np.testing.assert_array_equal(key_t, test.t[idx])
+    assert model.generate(test).n_samples == 25
+
+
+def test_weights_change_the_reduction_not_the_codebook(square):
+    train, _ = square
+    plain = KeypointHMM(epsilon=0.1, n_time_bins=10).fit(train)
+    heavy = KeypointHMM(epsilon=0.1, n_time_bins=10, weights={"velocity": 3.0})
+    heavy.fit(train)
+    assert heavy.n_keypoints_.sum() > plain.n_keypoints_.sum()
+    assert heavy.n_clipped_ == 0
+    assert heavy.codebook_.n_states == plain.codebook_.n_states
+    with pytest.raises(ValidationError, match="weights names group"):
+        KeypointHMM(weights={"force": 1.0}).fit(train)

@@ -401,22 +401,14 @@ class KeypointHMM:
                     f" learned columns {self.columns_}"
                 )
             u = self.scaler_.transform(d)
-            if self.n_points is not None:
-                idx = simplify(
-                    u,
-                    n_points=self.n_points,
-                    distance=self.distance,
-                    weights=self._column_weights(),
-                    times=d.t if self.distance == "sed" else None,
-                )
-            else:
-                idx = simplify(
-                    u,
-                    self.epsilon,
-                    distance=self.distance,
-                    weights=self._column_weights(),
-                    times=d.t if self.distance == "sed" else None,
-                )
+            idx = simplify(
+                u,
+                None if self.n_points is not None else self.epsilon,
+                n_points=self.n_points,
+                distance=self.distance,
+                weights=self._column_weights(),
+                times=d.t if self.distance == "sed" else None,
+            )
             return d.t[idx], self.time_bins_.transform(d.t)[idx], d.t
         t = check_times(times_or_demo, name="times")
         sym = self.time_bins_.transform(t)
