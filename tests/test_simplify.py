@@ -319,6 +319,20 @@ def test_simplify_many_errors_name_the_trajectory():
         simplify_many(np.zeros((3, 2)), 0.1)
     with pytest.raises(ValidationError, match="n_jobs must be an integer >= 1"):
         simplify_many([[[0, 0]]], 0.1, n_jobs=0)
+    with pytest.raises(ValidationError, match=r"times\[1\] must be strictly"):
+        simplify_many(
+            [[[0, 0], [1, 1]], [[0, 0], [1, 1]]],
+            0.1,
+            distance="sed",
+            times=[[0, 1], [1, 1]],
+        )
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_n_jobs_is_checked_in_every_mode(mode):
+    times = [0, 1, 2] if mode == "sed" else None
+    with pytest.raises(ValidationError, match="n_jobs must be an integer >= 1; got 0"):
+        simplify([[0, 0], [1, 1], [2, 0]], 0.1, distance=mode, times=times, n_jobs=0)
 
 
 # ------------------------------------------------------------------ errors

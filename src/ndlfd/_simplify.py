@@ -131,7 +131,16 @@ def _checked_points(points, name):
     return P, K.finite_maxabs(P)[1]
 
 
-def _prepare(points, epsilon, distance, weights, times, n_points, name="points"):
+def _prepare(
+    points,
+    epsilon,
+    distance,
+    weights,
+    times,
+    n_points,
+    name="points",
+    times_name="times",
+):
     mode = DISTANCES.get(distance)
     P, m = _checked_points(points, name)
     n, d = P.shape
@@ -157,7 +166,7 @@ def _prepare(points, epsilon, distance, weights, times, n_points, name="points")
                 f"distance={mode.name!r} needs times (one strictly increasing"
                 f" time per point, length {n}); got times=None"
             )
-        t = check_times(times, n, name="times")
+        t = check_times(times, n, name=times_name)
     else:
         if times is not None:
             raise ValidationError(
@@ -314,7 +323,7 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
         if n_jobs is None:
             workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
         else:
-            workers = check_positive_int(n_jobs, "n_jobs")
+            workers = n_jobs
         if workers > 1 and n > 2:
             _line_parallel(P, job.eps2, job.utol2, keep, workers)
         else:
@@ -427,6 +436,8 @@ def simplify(
     >>> simplify([[0, 0], [1, 2], [2, 0], [3, 1], [4, 0]], n_points=3)
     array([0, 1, 4])
     """
+    if n_jobs is not None:
+        n_jobs = check_positive_int(n_jobs, "n_jobs")
     job = _prepare(points, epsilon, distance, weights, times, n_points)
     return _output(_run(job, n_jobs), return_mask)
 
@@ -497,7 +508,16 @@ def simplify_many(
     else:
         workers = check_positive_int(n_jobs, "n_jobs")
     jobs = [
-        _prepare(p, epsilon, distance, weights, t, n_points, name=f"trajectories[{j}]")
+        _prepare(
+            p,
+            epsilon,
+            distance,
+            weights,
+            t,
+            n_points,
+            name=f"trajectories[{j}]",
+            times_name=f"times[{j}]",
+        )
         for j, (p, t) in enumerate(zip(trajs, tlist, strict=True))
     ]
 
