@@ -419,25 +419,32 @@ def test_extreme_scales_are_exact():
 # ----------------------------------------------------------------- parallel
 
 
+@pytest.mark.parametrize("mode", ["line", "segment"])
 @pytest.mark.parametrize("d", [2, 3, 5])
-def test_parallel_equals_serial_on_a_long_random_walk(d):
+def test_parallel_equals_serial_on_a_long_random_walk(d, mode):
     rng = np.random.default_rng(d)
     P = np.cumsum(rng.normal(size=(150_000, d)), axis=0)
-    serial = simplify(P, 5.0, n_jobs=1)
+    serial = simplify(P, 5.0, distance=mode, n_jobs=1)
     assert 100 < len(serial) < len(P) // 10
     for n_jobs in (2, 3):
-        assert simplify(P, 5.0, n_jobs=n_jobs).tolist() == serial.tolist()
+        got = simplify(P, 5.0, distance=mode, n_jobs=n_jobs)
+        assert got.tolist() == serial.tolist()
 
 
 @SETTINGS
-@given(integer_paths(min_n=3), st.sampled_from(EPSILONS), st.integers(2, 4))
+@given(
+    integer_paths(min_n=3),
+    st.sampled_from(EPSILONS),
+    st.integers(2, 4),
+    st.sampled_from(["line", "segment"]),
+)
 def test_parallel_chunked_scans_keep_the_first_maximum(
-    monkeypatch_module, P, eps, n_jobs
+    monkeypatch_module, P, eps, n_jobs, mode
 ):
     # tiny thresholds so that even short integer paths, full of ties, go
     # through the chunked scans and the thread pool
-    got = simplify(P, eps, n_jobs=n_jobs)
-    assert got.tolist() == dp_reference(P, eps).tolist()
+    got = simplify(P, eps, distance=mode, n_jobs=n_jobs)
+    assert got.tolist() == dp_reference(P, eps, mode).tolist()
 
 
 @pytest.fixture(scope="module")

@@ -404,12 +404,13 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
 
 
 @njit(cache=True, nogil=True)
-def scan_line_cols(cols, a, b, utol2, lo, hi, buf, bits, u, pa):
-    """Farthest point of ``(a, b)`` among ``lo..hi-1``, line mode, small ``d``.
+def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, small ``d``.
 
-    ``cols`` is a tuple of ``d`` contiguous columns. Its length is part of the
-    type, so numba compiles one version per ``d`` with the loops over the
-    columns unrolled and the loop over points vectorized, with everything in
+    ``"line"`` mode, or ``"segment"`` mode when ``segment`` is true. ``cols``
+    is a tuple of ``d`` contiguous columns. Its length is part of the type, so
+    numba compiles one version per ``d`` with the loops over the columns
+    unrolled and the loop over points vectorized, with everything in
     registers. Same keys as :func:`scan_generic` (same operations, same
     order). ``u``, ``pa`` are workspaces of length ``d``.
     """
@@ -420,7 +421,8 @@ def scan_line_cols(cols, a, b, utol2, lo, hi, buf, bits, u, pa):
         u[k] = cols[k][b] - pa[k]
         U += u[k] * u[k]
     degenerate = U <= utol2
-    S = 1.0 if degenerate else U * U
+    UU = U * U
+    S = 1.0 if degenerate else UU
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
@@ -434,6 +436,28 @@ def scan_line_cols(cols, a, b, utol2, lo, hi, buf, bits, u, pa):
                 for k in range(d):
                     r = cols[k][i] - pa[k]
                     q += r * r
+                buf[j] = q
+        elif segment:
+            for j in range(m):
+                i = np.uint64(i0 + j)
+                vu = 0.0
+                for k in range(d):
+                    vu += (cols[k][i] - pa[k]) * u[k]
+                qa = 0.0
+                qb = 0.0
+                qr = 0.0
+                for k in range(d):
+                    ra = cols[k][i] - pa[k]
+                    rb = cols[k][i] - cols[k][b]
+                    rr = U * (cols[k][i] - pa[k]) - vu * u[k]
+                    qa += ra * ra
+                    qb += rb * rb
+                    qr += rr * rr
+                q = qr
+                if vu <= 0.0:
+                    q = qa * UU
+                if vu >= U:
+                    q = qb * UU
                 buf[j] = q
         else:
             for j in range(m):
@@ -462,21 +486,23 @@ def scan_line_cols(cols, a, b, utol2, lo, hi, buf, bits, u, pa):
 
 
 @njit(cache=True, nogil=True)
-def scan_cols_range(cols, a, b, utol2, lo, hi):
+def scan_cols_range(cols, segment, a, b, utol2, lo, hi):
     """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``."""
     buf = np.empty(BLOCK)
     d = len(cols)
-    return scan_line_cols(
-        cols, a, b, utol2, lo, hi, buf, buf.view(np.int64), np.empty(d), np.empty(d)
-    )
+    bits = buf.view(np.int64)
+    u = np.empty(d)
+    pa = np.empty(d)
+    return scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa)
 
 
 @njit(cache=True, nogil=True)
-def dp_cols(cols, eps2, utol2, keep, a0, b0):
-    """Epsilon-mode line Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
+def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
+    """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
-    See :func:`scan_line_cols`; used for ``4 <= d <= 8``. Explicit stack, no
-    recursion. Returns the number of distance evaluations.
+    See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
+    for ``"segment"`` with ``2 <= d <= 8``. Explicit stack, no recursion.
+    Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -496,7 +522,9 @@ def dp_cols(cols, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_line_cols(cols, a, b, utol2, a + 1, b, buf, bits, u, pa)
+        far, q, S = scan_line_cols(
+            cols, segment, a, b, utol2, a + 1, b, buf, bits, u, pa
+        )
         work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1

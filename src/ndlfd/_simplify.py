@@ -198,13 +198,15 @@ CHUNK_MIN = 200_000
 SPLIT_MIN = 20_000
 
 
+#: Dimensions where "segment" mode uses the vectorized column-tuple kernels.
+SEGMENT_DIMS = range(2, 9)
 #: The top of the tree is split until there are this many segments per thread.
 PENDING_PER_WORKER = 4
 #: Dimensions handled by the column-tuple kernels (one compiled version each).
 COLS_DIMS = range(4, 9)
 
 
-def _line_layout(P, pool=None, workers=1):
+def _line_layout(P, pool=None, workers=1, segment=False):
     """The line-mode kernels for ``P``: ``(dp, scan_range, args)``.
 
     ``dp(*args, eps2, utol2, keep, a, b)`` simplifies one segment and
@@ -220,11 +222,13 @@ def _line_layout(P, pool=None, workers=1):
         cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()
         parts = itertools.pairwise(cuts)
         _gather(pool, [(K.transpose, (P, Pt, lo, hi)) for lo, hi in parts])
+    if segment:
+        return K.dp_cols, K.scan_cols_range, (tuple(Pt), True)
     if d in (2, 3):
         z = Pt[2] if d == 3 else _EMPTY_TIMES
         return K.dp_line, K.scan_line_range, (d, Pt[0], Pt[1], z, np.zeros((d, 0)))
     if d in COLS_DIMS:
-        return K.dp_cols, K.scan_cols_range, (tuple(Pt),)
+        return K.dp_cols, K.scan_cols_range, (tuple(Pt), False)
     e = _EMPTY_TIMES
     return K.dp_line, K.scan_line_range, (0, e, e, e, Pt)
 
@@ -253,7 +257,7 @@ def _pool(workers: int) -> ThreadPoolExecutor:
         return pool
 
 
-def _line_parallel(P, eps2, utol2, keep, workers):
+def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
     """Line-mode DP on two or more threads; same result as the serial kernel.
 
     The top of the split tree is built level by level: while there are few
@@ -270,7 +274,7 @@ def _line_parallel(P, eps2, utol2, keep, workers):
     keep[n - 1] = 1
     pending = [(0, n - 1)]
     pool = _pool(workers)
-    dp, scan_range, args = _line_layout(P, pool, workers)
+    dp, scan_range, args = _line_layout(P, pool, workers, segment)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
         pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
         longest = pending[0][1] - pending[0][0]
@@ -319,15 +323,18 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
     keep = np.zeros(n, np.uint8)
     if job.k:
         K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
-    elif job.mode == K.MODE_LINE:
+    elif job.mode == K.MODE_LINE or (
+        job.mode == K.MODE_SEGMENT and P.shape[1] in SEGMENT_DIMS
+    ):
+        segment = job.mode == K.MODE_SEGMENT
         if n_jobs is None:
             workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
         else:
             workers = n_jobs
         if workers > 1 and n > 2:
-            _line_parallel(P, job.eps2, job.utol2, keep, workers)
+            _line_parallel(P, job.eps2, job.utol2, keep, workers, segment)
         else:
-            dp, _, args = _line_layout(P)
+            dp, _, args = _line_layout(P, segment=segment)
             dp(*args, job.eps2, job.utol2, keep, 0, n - 1)
     else:
         K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
@@ -406,7 +413,8 @@ def simplify(
     return_mask : bool, default=False
         Return a boolean mask of length ``n_samples`` instead of indices.
     n_jobs : int, optional
-        Threads for one long trajectory (``"line"`` mode). ``None`` uses all
+        Threads for one long trajectory (``"line"`` mode, and ``"segment"``
+        mode in 2 to 8 dimensions). ``None`` uses all
         cores above a size threshold; ``1`` is serial. The result does not
         depend on it.
 
