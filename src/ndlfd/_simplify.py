@@ -13,7 +13,8 @@ Distances (the ``distance=`` option, registry :data:`DISTANCES`):
     segment's endpoints ``P_a, P_b``, in any number of dimensions, computed as
     the norm of the residual ``v - (v·u / |u|²) u`` (``v = P_i - P_a``,
     ``u = P_b - P_a``), never as the cancellation-prone
-    ``|v|²|u|² - (v·u)²``.
+    ``|v|²|u|² - (v·u)²``; in 2-D and 3-D as the equivalent, equally stable
+    ``|v × u| / |u|``.
 ``"segment"``
     Distance to the closed segment ``[P_a, P_b]``: a point that reaches past an
     endpoint and comes back is measured from that endpoint.
