@@ -57,6 +57,8 @@ def as_float_array(values, name: str) -> np.ndarray:
 def first_nonfinite_row(a: np.ndarray) -> int | None:
     """Index of the first row (or element of a 1-D array) with NaN or inf."""
     bad = ~np.isfinite(a)
+    if not bad.any():  # the common case, without a per-row reduction
+        return None
     if a.ndim > 1:
         bad = bad.reshape(a.shape[0], -1).any(axis=1)
     hits = np.flatnonzero(bad)
