@@ -144,6 +144,45 @@ def _log(x) -> np.ndarray:
         return np.log(np.asarray(x, dtype=np.float64))
 
 
+def _log_table(indptr, cols, counts, totals, pseudo, width, n_cols):
+    """Log-probabilities of one counted table (CSR over the seen states).
+
+    Each counted entry ``(i, c)`` gets the log of the ratio
+    ``log((count + pseudo) / (totals[i] + width * pseudo))`` (one float formula
+    for bit-exact ties); each row the baseline ``log(pseudo / (totals[i] +
+    width * pseudo))`` of its uncounted entries (``-inf`` when ``pseudo == 0``);
+    an unseen row ``log(1 / width)``.
+
+    Returns
+    -------
+    logp : ndarray, per entry in CSR order
+    row_base : ndarray of shape (n_rows,)
+    unseen : float
+    col_indptr, col_rows, col_logp : ndarray
+        The same entries grouped by column (CSC), rows ascending in a column.
+    """
+    rows = np.repeat(np.arange(totals.shape[0], dtype=np.int64), np.diff(indptr))
+    wp = width * pseudo
+    logp = _log((counts + pseudo) / (totals[rows] + wp))
+    if pseudo > 0:
+        row_base = _log(pseudo / (totals + wp))
+        unseen = float(_log(np.array([pseudo / wp]))[0])
+    else:
+        row_base = np.full(totals.shape[0], _NEG_INF)
+        unseen = _NEG_INF
+    order = np.lexsort((rows, cols))
+    col_indptr = np.zeros(n_cols + 1, dtype=np.int64)
+    np.cumsum(np.bincount(cols, minlength=n_cols), out=col_indptr[1:])
+    return (
+        logp,
+        row_base,
+        unseen,
+        col_indptr,
+        np.ascontiguousarray(rows[order]),
+        np.ascontiguousarray(logp[order]),
+    )
+
+
 def _check_dense_size(n_entries: int, what: str) -> None:
     nbytes = n_entries * 8
     if nbytes > DENSE_LIMIT_BYTES:
@@ -359,40 +398,19 @@ class DiscreteHMM:
         e = self.emission_totals_.astype(np.float64)
         t_indptr = raw["transition_indptr"]
         t_dst = raw["transition_targets"]
-        t_cnt = raw["transition_counts"]
-        t_src = np.repeat(np.arange(n_seen, dtype=np.int64), np.diff(t_indptr))
+        la, row_base, unseen_trans, in_indptr, in_src, in_logp = _log_table(
+            t_indptr, t_dst, raw["transition_counts"], n, p, m, n_seen
+        )
         mp = m * p
-        # each log-probability is the log of the ratio (bit-exact ties)
-        la = _log((t_cnt + p) / (n[t_src] + mp))
-        if p > 0:
-            row_base = _log(p / (n + mp))
-            unseen_trans = float(_log(np.array([p / mp]))[0])
-        else:
-            row_base = np.full(n_seen, _NEG_INF)
-            unseen_trans = _NEG_INF
-        order = np.lexsort((t_src, t_dst))
-        in_indptr = np.zeros(n_seen + 1, dtype=np.int64)
-        np.cumsum(np.bincount(t_dst, minlength=n_seen), out=in_indptr[1:])
-        in_src = np.ascontiguousarray(t_src[order])
-        in_logp = np.ascontiguousarray(la[order])
-
-        e_indptr = raw["emission_indptr"]
-        e_sym = raw["emission_symbols"]
-        e_cnt = raw["emission_counts"]
-        e_state = np.repeat(np.arange(n_seen, dtype=np.int64), np.diff(e_indptr))
-        ntr = nt * r
-        le = _log((e_cnt + r) / (e[e_state] + ntr))
-        if r > 0:
-            em_base = _log(r / (e + ntr))
-            unseen_emit = float(_log(np.array([r / ntr]))[0])
-        else:
-            em_base = np.full(n_seen, _NEG_INF)
-            unseen_emit = _NEG_INF
-        order = np.lexsort((e_state, e_sym))
-        em_indptr = np.zeros(nt + 1, dtype=np.int64)
-        np.cumsum(np.bincount(e_sym, minlength=nt), out=em_indptr[1:])
-        em_state = np.ascontiguousarray(e_state[order])
-        em_logp = np.ascontiguousarray(le[order])
+        _, em_base, unseen_emit, em_indptr, em_state, em_logp = _log_table(
+            raw["emission_indptr"],
+            raw["emission_symbols"],
+            raw["emission_counts"],
+            e,
+            r,
+            nt,
+            nt,
+        )
 
         has_unseen = self.lowest_unseen_state_ is not None
         gid = np.empty(n_seen + 1, dtype=np.int64)
