@@ -213,11 +213,11 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             if levels.strip().isdigit()
             else _parse_mapping(levels, "--levels", int)
         )
+    given = {"epsilon": args.epsilon, "n_time_bins": args.time_bins}
     model = KeypointHMM(
         groups=_split_names(args.groups),
         levels=levels,
-        epsilon=args.epsilon if args.epsilon is not None else 0.05,
-        n_time_bins=args.time_bins,
+        **{k: v for k, v in given.items() if v is not None},
         n_points=args.n_points,
         distance=args.distance,
         normalization=args.normalization,
@@ -274,7 +274,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
 
 def _add_fit(sub) -> None:
     from ._simplify import DISTANCES
-    from .learner import NORMALIZATIONS, STARTS
+    from .learner import NORMALIZATIONS, STARTS, KeypointHMM
 
     p = sub.add_parser(
         "fit",
@@ -293,8 +293,11 @@ def _add_fit(sub) -> None:
         " a missing velocity is derived from position)",
     )
     budget = p.add_mutually_exclusive_group()
+    defaults = KeypointHMM()
     budget.add_argument(
-        "--epsilon", type=float, help="reduction tolerance (default 0.05)"
+        "--epsilon",
+        type=float,
+        help=f"reduction tolerance (default {defaults.epsilon})",
     )
     budget.add_argument("--n-points", type=int, help="key points per demonstration")
     p.add_argument("--distance", default="line", choices=DISTANCES.names)
@@ -303,7 +306,9 @@ def _add_fit(sub) -> None:
         help="codebook levels, e.g. position=20,velocity=10 or one number for all",
     )
     p.add_argument(
-        "--time-bins", type=int, default=50, help="number of time symbols (50)"
+        "--time-bins",
+        type=int,
+        help=f"number of time symbols (default {defaults.n_time_bins})",
     )
     p.add_argument("--normalization", default="group", choices=NORMALIZATIONS.names)
     p.add_argument("--weights", help="per-group weights, e.g. velocity=0.5")

@@ -103,12 +103,13 @@ def path_errors(test: Demonstration, path: Demonstration, group="position") -> d
 
 
 def _try_plot():
+    """The plot module when matplotlib is installed, else None."""
     try:
-        from . import plot
-
-        plot.new_figure(1)
-    except MissingExtraError:
+        import matplotlib  # noqa: F401
+    except ImportError:
         return None
+    from . import plot
+
     return plot
 
 
