@@ -940,15 +940,14 @@ def _sentences(res: dict, settings: ReproductionSettings) -> dict:
                     else "."
                 )
             )
+    paper6 = " (paper {:.2f} % then {:.2f} %)".format(*PAPER["fig6"].values())
     out["fig6"] = _verdict(
         all(holds["fig6"].values()),
         "Resolution gains shrink as the codebook grows: the change from 10 to 20"
-        " levels is larger than from 20 to 30: " + "; ".join(parts) + " (paper"
-        " 25.76 % then 11.89 %). Repeated over noise levels it holds for "
-        + sweep_txt
-        + ".",
+        " levels is larger than from 20 to 30: " + "; ".join(parts) + paper6 + "."
+        " Repeated over noise levels it holds for " + sweep_txt + ".",
         "At the paper's noise the change from 10 to 20 levels is not larger than"
-        " from 20 to 30: " + "; ".join(parts) + " (paper 25.76 % then 11.89 %)."
+        " from 20 to 30: " + "; ".join(parts) + paper6 + "."
         " Repeated over noise levels it holds for " + sweep_txt + "." + low_txt,
     )
     return out
@@ -1439,7 +1438,7 @@ def reproduce(
         + ", ".join(
             f"{k}: {v:.2f} %" for k, v in res["fig6"]["line"]["differences"].items()
         )
-        + " (paper 25.76 %, 11.89 %)"
+        + " (paper {:.2f} %, {:.2f} %)".format(*PAPER["fig6"].values())
     )
 
     files = [out / "fig2.png", out / "fig3.png"]
