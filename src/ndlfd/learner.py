@@ -436,7 +436,11 @@ class KeypointHMM:
         states : ndarray of shape (n_obs,), dtype int64
         log_probability : float
         """
-        key_t, symbols, _ = self.timing(times_or_demo)
+        key_t, states, logp, _ = self._decode(times_or_demo)
+        return key_t, states, logp
+
+    def _decode(self, times_or_demo):
+        key_t, symbols, all_t = self.timing(times_or_demo)
         try:
             states, logp = hmm.viterbi(self.model_, symbols, start=self.start)
         except DecodeError as exc:
@@ -444,7 +448,7 @@ class KeypointHMM:
                 f"cannot generate a path for this timing: {exc}. Use fewer time"
                 " bins, more demonstrations, or pseudo_emission > 0."
             ) from None
-        return key_t, states, logp
+        return key_t, states, logp, all_t
 
     def generate(self, times_or_demo, *, dense: bool = False) -> Demonstration:
         """Generate a path for a new timing.
@@ -464,17 +468,12 @@ class KeypointHMM:
             The generated key points (codebook centres mapped back to physical
             units) at their times, or the dense path when ``dense=True``.
         """
-        key_t, states, _ = self.decode(times_or_demo)
+        key_t, states, _, all_t = self._decode(times_or_demo)
         X = self.scaler_.inverse_transform(self.codebook_.decode(states))
         X = self._renormalize(X)
         path = Demonstration(key_t, X, self.columns_, self.column_groups_)
         if not dense:
             return path
-        all_t = (
-            times_or_demo.t
-            if isinstance(times_or_demo, Demonstration)
-            else check_times(times_or_demo, name="times")
-        )
         Xd = np.column_stack(
             [np.interp(all_t, key_t, X[:, c]) for c in range(X.shape[1])]
         )
