@@ -101,7 +101,8 @@ def viterbi_sparse(
     NEG = -np.inf
     big = np.iinfo(np.int64).max
     off = _n_candidates(obs, em_indptr, S, has_unseen, emit_all)
-    bp = np.empty(off[T], dtype=np.int64)
+    # local candidate indices (< n_seen + 2 < 2**31): 4 bytes each
+    bp = np.empty(off[T], dtype=np.int32)
     prev = np.full(S + 1, NEG)
     cur = np.full(S + 1, NEG)
     path = np.zeros(T, dtype=np.int64)

@@ -949,7 +949,7 @@ def viterbi(
     A step costs ``O(candidates + counted transitions into them)``, where the
     candidates are the seen states that emitted the step's symbol (``r == 0``)
     or all seen states plus the unseen class (``r > 0``). Back-pointers take
-    8 bytes per candidate and step, so with ``r > 0`` decoding holds
+    4 bytes per candidate and step, so with ``r > 0`` decoding holds
     ``n_steps * (n_seen + 1)`` of them; the symbol index takes
     ``n_symbols + 1`` integers. Nothing of size ``n_states`` is allocated.
 
