@@ -16,7 +16,7 @@ from ndlfd._errors import (
     OptionError,
     ValidationError,
 )
-from ndlfd.hmm import DENSE_LIMIT_BYTES, DiscreteHMM, estimate, viterbi
+from ndlfd.hmm import DENSE_LIMIT_BYTES, DiscreteHMM, estimate, merge, viterbi
 
 HERE = Path(__file__).parent
 sys.path.insert(0, str(HERE))
@@ -482,3 +482,74 @@ def test_medium_models_match_dense_reference(seed, p, r):
         path, logp = viterbi(model, obs, start=start)
         np.testing.assert_array_equal(path, ref_path)
         assert logp == ref_logp
+
+
+# -- merge: counts add up across chunks of demonstrations ------------------------
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    st.integers(2, 9).flatmap(
+        lambda m: st.tuples(
+            st.just(m),
+            st.lists(
+                st.integers(1, 6).flatmap(
+                    lambda n: st.tuples(
+                        st.lists(st.integers(0, m - 1), min_size=n, max_size=n),
+                        st.lists(st.integers(0, 2), min_size=n, max_size=n),
+                    )
+                ),
+                min_size=2,
+                max_size=7,
+            ),
+            st.integers(1, 6),
+        )
+    ),
+    st.sampled_from([None, 0.0, 0.5]),
+    st.sampled_from([0.0, 0.25]),
+)
+def test_merge_of_chunks_equals_estimate_on_all(case, p, r):
+    m, seqs, cut = case
+    cut = min(cut, len(seqs) - 1)
+    states = [s for s, _ in seqs]
+    symbols = [o for _, o in seqs]
+    kw = dict(pseudo_transition=p, pseudo_emission=r)
+    whole = estimate(states, symbols, m, 3, **kw)
+    parts = [
+        estimate(states[:cut], symbols[:cut], m, 3, **kw),
+        estimate(states[cut:], symbols[cut:], m, 3, **kw),
+    ]
+    merged = merge(parts)
+    a, b = whole.to_arrays(), merged.to_arrays()
+    assert a.keys() == b.keys()
+    for k in a:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+    assert merged.n_sequences_ == whole.n_sequences_
+    obs = symbols[0]
+    for start in ("learned", "state1"):
+        try:
+            expected = viterbi(whole, obs, start=start)
+        except DecodeError:
+            with pytest.raises(DecodeError):
+                viterbi(merged, obs, start=start)
+            continue
+        got = viterbi(merged, obs, start=start)
+        np.testing.assert_array_equal(got[0], expected[0])
+        assert got[1] == expected[1]
+
+
+def test_merge_errors():
+    from ndlfd.hmm import merge
+
+    a = estimate([[0, 1]], [[0, 1]], 3, 2)
+    with pytest.raises(ValidationError, match="at least one"):
+        merge([])
+    with pytest.raises(ValidationError, match=r"models\[1\] must be a DiscreteHMM"):
+        merge([a, "b"])
+    with pytest.raises(ValidationError, match="must share n_states"):
+        merge([a, estimate([[0, 1]], [[0, 1]], 4, 2)])
+    with pytest.raises(ValidationError, match="must share"):
+        merge([a, estimate([[0, 1]], [[0, 1]], 3, 2, pseudo_emission=1.0)])
+    with pytest.raises(NotFittedError):
+        merge([a, DiscreteHMM(3, 2)])
+    assert merge(a).to_arrays().keys() == a.to_arrays().keys()

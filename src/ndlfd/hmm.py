@@ -46,7 +46,7 @@ from ._validation import (
     check_positive_int,
 )
 
-__all__ = ["DENSE_LIMIT_BYTES", "DiscreteHMM", "estimate", "viterbi"]
+__all__ = ["DENSE_LIMIT_BYTES", "DiscreteHMM", "estimate", "merge", "viterbi"]
 
 #: Largest dense matrix (in bytes) that ``dense=True`` accessors build: 256 MiB.
 DENSE_LIMIT_BYTES = 256 * 2**20
@@ -111,8 +111,11 @@ def _as_sequences(values, name: str, high: int) -> list[np.ndarray]:
     return out
 
 
-def _count_pairs(a: np.ndarray, b: np.ndarray, n_rows: int):
-    """CSR (indptr, columns, counts) of the multiset of pairs ``(a, b)``."""
+def _count_pairs(a: np.ndarray, b: np.ndarray, n_rows: int, weights=None):
+    """CSR (indptr, columns, counts) of the multiset of pairs ``(a, b)``.
+
+    With ``weights``, each pair counts its weight (integer counts to add up).
+    """
     order = np.lexsort((b, a))
     a2 = a[order]
     b2 = b[order]
@@ -123,7 +126,11 @@ def _count_pairs(a: np.ndarray, b: np.ndarray, n_rows: int):
     first = np.flatnonzero(new)
     rows = a2[first]
     cols = np.ascontiguousarray(b2[first], dtype=np.int64)
-    counts = np.diff(np.append(first, n)).astype(np.int64)
+    if weights is None:
+        counts = np.diff(np.append(first, n)).astype(np.int64)
+    else:
+        w = np.asarray(weights, dtype=np.int64)[order]
+        counts = np.add.reduceat(w, first) if n else np.zeros(0, np.int64)
     indptr = np.zeros(n_rows + 1, dtype=np.int64)
     np.cumsum(np.bincount(rows, minlength=n_rows), out=indptr[1:])
     return indptr, cols, counts
@@ -909,6 +916,87 @@ def estimate(
         pseudo_transition=pseudo_transition,
         pseudo_emission=pseudo_emission,
     ).fit(states, symbols)
+
+
+def merge(models) -> DiscreteHMM:
+    """Combine HMMs estimated on separate groups of demonstrations.
+
+    Transition, emission and first-state counts are per demonstration and add
+    up, so estimating on chunks of the demonstrations (in other threads,
+    processes or machines, e.g. with Dask) and merging gives exactly the model
+    that :func:`estimate` gives on all of them at once.
+
+    Parameters
+    ----------
+    models : sequence of DiscreteHMM
+        Fitted models with the same ``n_states``, ``n_symbols`` and
+        pseudo-counts.
+
+    Returns
+    -------
+    model : DiscreteHMM
+
+    Examples
+    --------
+    >>> a = estimate([[0, 1, 1]], [[0, 1, 2]], 4, 3)
+    >>> b = estimate([[0, 2, 1]], [[0, 1, 2]], 4, 3)
+    >>> both = estimate([[0, 1, 1], [0, 2, 1]], [[0, 1, 2], [0, 1, 2]], 4, 3)
+    >>> merged = merge([a, b])
+    >>> merged.states_, merged.n_sequences_
+    (array([0, 1, 2]), 2)
+    >>> (merged.transition_counts_ != both.transition_counts_).nnz
+    0
+    """
+    models = list(models) if not isinstance(models, DiscreteHMM) else [models]
+    if not models:
+        raise ValidationError("merge needs at least one fitted DiscreteHMM; got none")
+    for k, mod in enumerate(models):
+        if not isinstance(mod, DiscreteHMM):
+            raise ValidationError(
+                f"models[{k}] must be a DiscreteHMM; got {type(mod).__name__}"
+            )
+        mod._check_fitted()
+    first = models[0]
+    key = (first._m, first._nt, first._p, first._r)
+    for k, mod in enumerate(models[1:], start=1):
+        other = (mod._m, mod._nt, mod._p, mod._r)
+        if other != key:
+            raise ValidationError(
+                "models must share n_states, n_symbols and pseudo-counts; models[0]"
+                f" has {key} and models[{k}] has {other}"
+            )
+    m, nt, p, r = key
+    seen = np.unique(np.concatenate([mod.states_ for mod in models]))
+    n_seen = seen.shape[0]
+    t_src, t_dst, t_w, e_src, e_sym, e_w, f_loc, f_w = ([] for _ in range(8))
+    for mod in models:
+        raw = mod._raw
+        loc = np.searchsorted(seen, mod.states_)
+        rows = np.repeat(loc, np.diff(raw["transition_indptr"]))
+        t_src.append(rows)
+        t_dst.append(loc[raw["transition_targets"]])
+        t_w.append(raw["transition_counts"])
+        e_src.append(np.repeat(loc, np.diff(raw["emission_indptr"])))
+        e_sym.append(raw["emission_symbols"])
+        e_w.append(raw["emission_counts"])
+        f_loc.append(loc)
+        f_w.append(raw["start_counts"])
+    cat = np.concatenate
+    t_indptr, t_dst_, t_cnt = _count_pairs(cat(t_src), cat(t_dst), n_seen, cat(t_w))
+    e_indptr, e_sym_, e_cnt = _count_pairs(cat(e_src), cat(e_sym), n_seen, cat(e_w))
+    f_cnt = np.bincount(cat(f_loc), weights=cat(f_w), minlength=n_seen)
+    out = DiscreteHMM(
+        first.n_states,
+        first.n_symbols,
+        pseudo_transition=first.pseudo_transition,
+        pseudo_emission=first.pseudo_emission,
+    )
+    out._set_fitted(
+        m, nt, p, r, seen.astype(np.int64), t_indptr, t_dst_, t_cnt,
+        e_indptr, e_sym_, e_cnt, f_cnt.astype(np.int64),
+        sum(mod.n_sequences_ for mod in models),
+    )  # fmt: skip
+    return out
 
 
 def viterbi(
