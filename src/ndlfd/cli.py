@@ -58,9 +58,9 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
 
     columns, data = read_table(args.input)
     index = {name: i for i, name in enumerate(columns)}
-    time_col = args.time_column
-    if time_col is not None and time_col not in index:
-        if args.time_column_given:
+    time_col = args.time_column if args.time_column is not None else "t"
+    if time_col not in index:
+        if args.time_column is not None:
             raise ValidationError(
                 f"{args.input}: time column {time_col!r} not found; the file has"
                 f" columns {', '.join(columns)}"
@@ -414,10 +414,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help(sys.stderr)
         return EXIT_USAGE
-    if hasattr(args, "time_column"):
-        args.time_column_given = args.time_column is not None
-        if args.time_column is None:
-            args.time_column = "t"
     try:
         return int(args.func(args) or 0)
     except NdlfdError as exc:
