@@ -513,9 +513,7 @@ class DiscreteHMM:
         array([0.125, 0.25 ])
         """
         self._check_fitted()
-        _, pos, is_seen = self._rows_of(states)
-        n = np.where(is_seen, self.transition_totals_[pos], 0).astype(np.float64)
-        return _safe_ratio(np.full(n.shape, self._p), n + self._m * self._p)
+        return self._baseline(states, self.transition_totals_, self._p, self._m)
 
     def emission_baseline(self, states) -> np.ndarray:
         """Per-row constant ``r / (e_i + N_t r)`` of the emission matrix.
@@ -536,9 +534,13 @@ class DiscreteHMM:
         array([0.33333333, 0.5       ])
         """
         self._check_fitted()
+        return self._baseline(states, self.emission_totals_, self._r, self._nt)
+
+    def _baseline(self, states, totals, pseudo, width) -> np.ndarray:
+        """``pseudo / (total_i + width * pseudo)`` per state (total 0 if unseen)."""
         _, pos, is_seen = self._rows_of(states)
-        e = np.where(is_seen, self.emission_totals_[pos], 0).astype(np.float64)
-        return _safe_ratio(np.full(e.shape, self._r), e + self._nt * self._r)
+        n = np.where(is_seen, totals[pos], 0).astype(np.float64)
+        return _safe_ratio(np.full(n.shape, pseudo), n + width * pseudo)
 
     def transition_matrix(self, dense: bool = False):
         """The transition matrix ``A`` (sparse count part, or dense on request).
