@@ -6,13 +6,19 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from ndlfd import ValidationError
+from ndlfd import Demonstration, ValidationError
 from ndlfd.metrics import (
     discrete_frechet,
     dtw_distance,
     endpoint_error,
+    mean_demo_baseline,
     path_difference,
+    path_errors,
+    path_length,
+    path_length_ratio,
     time_aligned_rmse,
+    total_turning,
+    turning_ratio,
 )
 
 
@@ -95,3 +101,95 @@ def test_brute_helper_counts_couplings():
     # Delannoy-like count for a 3x3 grid of monotone couplings is 13
     assert len(_couplings(3, 3)) == 13
     assert list(itertools.islice(_couplings(1, 1), 1)) == [[(0, 0)]]
+
+
+# ---------------------------------------------------------------- smoothness
+polylines = st.integers(1, 12).flatmap(
+    lambda n: st.integers(2, 4).flatmap(
+        lambda d: arrays(np.float64, (n, d), elements=st.integers(-5, 5).map(float))
+    )
+)
+
+
+def test_path_length_and_turning_known_answers():
+    assert path_length([[1, 1]]) == 0.0
+    assert path_length([[0, 0, 0], [1, 2, 2], [1, 2, 2], [1, 2, 0]]) == 5.0
+    # a square traced once: three right angles
+    square = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
+    assert total_turning(square) == pytest.approx(1.5 * np.pi)
+    # going back the way it came is a turn of pi, in 3-D as well
+    assert total_turning([[0, 0, 0], [0, 0, 2], [0, 0, 1]]) == pytest.approx(np.pi)
+    # 45 degrees in 3-D: (1, 0, 0) then (1, 1, 0)
+    assert total_turning([[0, 0, 0], [1, 0, 0], [2, 1, 0]]) == pytest.approx(np.pi / 4)
+    # fewer than two segments, or only repeated points: no turning
+    assert total_turning([[0, 0], [1, 1]]) == 0.0
+    assert total_turning([[0, 0], [0, 0], [0, 0]]) == 0.0
+    # the zero-length segment is skipped: the turn is measured across it
+    assert total_turning([[0, 0], [1, 0], [1, 0], [1, 1]]) == pytest.approx(np.pi / 2)
+    # a short wiggle is ignored above min_segment
+    wiggle = [[0, 0], [1, 0], [1, 0.01], [2, 0.01]]
+    assert total_turning(wiggle) == pytest.approx(np.pi)
+    assert total_turning(wiggle, min_segment=0.1) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_ratios_known_answers_and_degenerate_references():
+    line = [[0, 0], [2, 0]]
+    bent = [[0, 0], [1, 0], [1, 1]]
+    assert path_length_ratio(line, bent) == 1.0
+    assert path_length_ratio(bent, line) == 1.0
+    assert turning_ratio(bent, [[0, 0], [1, 0], [1, 1], [2, 1]]) == pytest.approx(2.0)
+    # a straight or motionless reference: 1 if the other is too, else inf
+    assert turning_ratio(line, line) == 1.0
+    assert turning_ratio(line, bent) == np.inf
+    assert path_length_ratio([[1, 1], [1, 1]], [[0, 0]]) == 1.0
+    assert path_length_ratio([[1, 1], [1, 1]], line) == np.inf
+    with pytest.raises(ValidationError, match="same number of columns"):
+        turning_ratio(line, [[0, 0, 0], [1, 1, 1]])
+    with pytest.raises(ValidationError, match="min_segment"):
+        total_turning(line, min_segment=-1.0)
+
+
+@settings(max_examples=80, deadline=None)
+@given(polylines)
+def test_a_path_against_itself_has_ratio_one(P):
+    assert turning_ratio(P, P) == pytest.approx(1.0)
+    assert path_length_ratio(P, P) == pytest.approx(1.0)
+
+
+@settings(max_examples=80, deadline=None)
+@given(polylines, st.floats(0.01, 100.0), st.integers(0, 2**32 - 1))
+def test_scaling_rotating_and_shifting(P, scale, seed):
+    rng = np.random.default_rng(seed)
+    Q, _ = np.linalg.qr(rng.normal(size=(P.shape[1], P.shape[1])))
+    moved = scale * P @ Q + rng.normal(size=P.shape[1])
+    if path_length(P) > 0:
+        assert path_length_ratio(P, moved) == pytest.approx(scale)
+    assert total_turning(moved) == pytest.approx(total_turning(P), abs=1e-6)
+    # repeating points changes neither length nor turning
+    doubled = np.repeat(P, 2, axis=0)
+    assert path_length(doubled) == pytest.approx(path_length(P))
+    assert total_turning(doubled) == pytest.approx(total_turning(P), abs=1e-9)
+    # reversing a path keeps its length and its turning
+    assert total_turning(P[::-1]) == pytest.approx(total_turning(P), abs=1e-9)
+    assert 0.0 <= total_turning(P) <= np.pi * max(P.shape[0] - 2, 0) + 1e-9
+
+
+# ----------------------------------------------------- baseline and path errors
+def test_mean_demo_baseline_averages_on_normalized_time():
+    a = Demonstration.from_arrays([0, 1], position=[[0, 0], [2, 2]])
+    b = Demonstration.from_arrays([5, 7], position=[[2, 0], [4, 2]])
+    got = mean_demo_baseline([a, b], np.linspace(3, 4, 5))
+    np.testing.assert_allclose(
+        got, np.column_stack([np.linspace(1, 3, 5)] * 2) - [0, 1]
+    )
+    with pytest.raises(ValidationError, match="at least one"):
+        mean_demo_baseline([], [0, 1])
+
+
+def test_path_errors_hand_worked():
+    test = Demonstration.from_arrays([0, 1], position=[[0, 0], [3, 4]])
+    path = Demonstration.from_arrays([0, 2], position=[[0.3, 0.4], [3.3, 4.4]])
+    got = path_errors(test, path)
+    assert got == pytest.approx(
+        {"difference_pct": 10.0, "dtw_mean": 0.25, "frechet": 0.5}
+    )

@@ -1,24 +1,40 @@
-"""Distances between two paths: DTW, discrete Fréchet, time-aligned RMSE, endpoint.
+"""How close a generated path is to a demonstration, and the simplest baseline.
 
-All functions take two paths of shape ``(n, d)`` and ``(k, d)`` (the same ``d``)
-and compare them with the Euclidean distance between points. The dynamic
-programmes run in ``O(n k)`` time and ``O(k)`` memory in a compiled kernel.
+Distances between two paths (DTW, discrete Fréchet, time-aligned RMSE, endpoint
+error) take paths of shape ``(n, d)`` and ``(k, d)`` (the same ``d``) and compare
+them with the Euclidean distance between points; their dynamic programmes run
+in ``O(n k)`` time and ``O(k)`` memory in a compiled kernel. Smoothness is
+compared by ratios of the generated path's arc length and total turning to the
+reference's (:func:`path_length_ratio`, :func:`turning_ratio`).
+:func:`mean_demo_baseline` is the time-aligned mean of demonstrations and
+:func:`path_errors` the error summary the built-in jobs print.
 """
 
 from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit
 
 from ._errors import ValidationError
-from ._validation import check_points, check_times
+from ._validation import check_nonnegative_scalar, check_points, check_times
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .demo import Demonstration
 
 __all__ = [
     "discrete_frechet",
     "dtw_distance",
     "endpoint_error",
+    "mean_demo_baseline",
     "path_difference",
+    "path_errors",
+    "path_length",
+    "path_length_ratio",
     "time_aligned_rmse",
+    "total_turning",
+    "turning_ratio",
 ]
 
 
@@ -94,7 +110,11 @@ def dtw_distance(a, b, *, normalize: bool = False) -> float:
     b : array-like of shape (n_b, n_dims)
         Second path.
     normalize : bool, default=False
-        Divide by ``n_a + n_b`` so paths of different lengths compare fairly.
+        Divide by ``n_a + n_b``, the number of points of both paths, so paths
+        sampled at different rates compare fairly. This is not the length of
+        the warping path (which lies between ``max(n_a, n_b)`` and
+        ``n_a + n_b - 1``): two paths of ``n`` points that align one to one
+        give half their mean point distance.
 
     Returns
     -------
@@ -104,6 +124,11 @@ def dtw_distance(a, b, *, normalize: bool = False) -> float:
     --------
     >>> dtw_distance([[0, 0], [1, 0], [2, 0]], [[0, 0], [2, 0]])
     1.0
+
+    Three point pairs, each 1 apart, sum to 3; normalized by 3 + 3 points:
+
+    >>> dtw_distance([[0, 0], [1, 0], [2, 0]], [[0, 1], [1, 1], [2, 1]], normalize=True)
+    0.5
     """
     A, B = _pair(a, b)
     d = float(_dtw_kernel(A, B))
@@ -232,3 +257,226 @@ def path_difference(t_a, a, t_b, b, *, scale=None) -> float:
             " not move needs an explicit scale)"
         )
     return 100.0 * time_aligned_rmse(t_a, A, t_b, b) / scale
+
+
+def path_length(path) -> float:
+    """Arc length of a polyline: the sum of its segment lengths.
+
+    Parameters
+    ----------
+    path : array-like of shape (n_points, n_dims)
+
+    Returns
+    -------
+    length : float
+        0 for a single point.
+
+    Examples
+    --------
+    >>> path_length([[0, 0], [3, 4], [3, 5]])
+    6.0
+    """
+    P = check_points(path, "path")
+    return float(np.linalg.norm(np.diff(P, axis=0), axis=1).sum())
+
+
+def total_turning(path, *, min_segment: float = 0.0) -> float:
+    """Total absolute turning angle of a polyline, in radians.
+
+    The sum, over consecutive segments, of the unsigned angle between their
+    direction vectors (in any number of dimensions). Segments not longer than
+    ``min_segment`` (by default only segments of length zero, i.e. repeated
+    points) have no direction and are skipped: the angle is taken between the
+    segments on either side of them. A polyline with fewer than two segments
+    left turns by 0.
+
+    The angle between unit vectors ``u`` and ``v`` is computed as
+    ``2 * atan2(|u - v|, |u + v|)``, accurate for nearly parallel and nearly
+    opposite directions alike (a reversal counts as ``pi``).
+
+    Parameters
+    ----------
+    path : array-like of shape (n_points, n_dims)
+    min_segment : float, default=0.0
+        Segments of this length or shorter are skipped.
+
+    Returns
+    -------
+    turning : float
+        In ``[0, pi * (n_points - 2)]``.
+
+    Examples
+    --------
+    Two right-angle turns (the repeated point is skipped):
+
+    >>> total_turning([[0, 0], [1, 0], [1, 0], [1, 1], [0, 1]])
+    3.141592653589793
+    """
+    P = check_points(path, "path")
+    tol = check_nonnegative_scalar(min_segment, "min_segment")
+    seg = np.diff(P, axis=0)
+    length = np.linalg.norm(seg, axis=1)
+    keep = length > tol
+    if np.count_nonzero(keep) < 2:
+        return 0.0
+    U = seg[keep] / length[keep, None]
+    a, b = U[:-1], U[1:]
+    angles = 2.0 * np.arctan2(
+        np.linalg.norm(a - b, axis=1), np.linalg.norm(a + b, axis=1)
+    )
+    return float(angles.sum())
+
+
+def _ratio(num: float, den: float) -> float:
+    if den > 0:
+        return num / den
+    return 1.0 if num == 0 else float("inf")
+
+
+def path_length_ratio(test, generated) -> float:
+    """Arc length of ``generated`` divided by the arc length of ``test``.
+
+    1 means as long as the reference; above 1 the generated path is longer
+    (detours, jitter), below 1 it cuts corners or stops short.
+
+    Parameters
+    ----------
+    test : array-like of shape (n_test, n_dims)
+        The reference path (e.g. a held-out demonstration).
+    generated : array-like of shape (n_generated, n_dims)
+        The path to evaluate.
+
+    Returns
+    -------
+    ratio : float
+        ``path_length(generated) / path_length(test)``; when ``test`` does not
+        move, 1.0 if ``generated`` does not either, else ``inf``.
+
+    Examples
+    --------
+    >>> path_length_ratio([[0, 0], [1, 0]], [[0, 0], [0, 1], [1, 1]])
+    2.0
+    """
+    A, B = _pair(test, generated)
+    return _ratio(path_length(B), path_length(A))
+
+
+def turning_ratio(test, generated, *, min_segment: float = 0.0) -> float:
+    """Total turning of ``generated`` divided by that of ``test``.
+
+    A smoothness ratio: a jittery or zig-zagging path turns far more than the
+    demonstration (ratio above 1), an over-smoothed one less. See
+    :func:`total_turning` for the definition (unsigned angles between
+    consecutive non-degenerate segments, in any dimension).
+
+    Parameters
+    ----------
+    test : array-like of shape (n_test, n_dims)
+        The reference path.
+    generated : array-like of shape (n_generated, n_dims)
+        The path to evaluate.
+    min_segment : float, default=0.0
+        Passed to :func:`total_turning` for both paths.
+
+    Returns
+    -------
+    ratio : float
+        ``total_turning(generated) / total_turning(test)``; when ``test`` is
+        straight, 1.0 if ``generated`` is straight too, else ``inf``.
+
+    Examples
+    --------
+    One right angle against two:
+
+    >>> turning_ratio([[0, 0], [1, 0], [1, 1]], [[0, 0], [1, 0], [1, 1], [0, 1]])
+    2.0
+    """
+    A, B = _pair(test, generated)
+    return _ratio(
+        total_turning(B, min_segment=min_segment),
+        total_turning(A, min_segment=min_segment),
+    )
+
+
+def _unit_times(demo) -> np.ndarray:
+    return _unit_time(np.asarray(demo.t, dtype=float))
+
+
+def mean_demo_baseline(demos, times, group: str = "position") -> np.ndarray:
+    """The simplest learner: the average of the demonstrations on normalized time.
+
+    ``times`` and every demonstration's time stamps are mapped to ``[0, 1]``
+    (first to last sample); each demonstration's ``group`` values are
+    interpolated linearly at the normalized ``times`` and averaged.
+
+    Parameters
+    ----------
+    demos : sequence of Demonstration
+        Training demonstrations (at least one).
+    times : array-like of shape (n_samples,)
+        Time stamps where the baseline is evaluated (strictly increasing).
+    group : str, default="position"
+        The group to average.
+
+    Returns
+    -------
+    values : ndarray of shape (n_samples, n_group_columns)
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> a = Demonstration.from_arrays([0, 1], position=[[0, 0], [2, 2]])
+    >>> b = Demonstration.from_arrays([0, 2], position=[[2, 0], [4, 2]])
+    >>> mean_demo_baseline([a, b], [10, 15, 20])
+    array([[1., 0.],
+           [2., 1.],
+           [3., 2.]])
+    """
+    demos = list(demos)
+    if not demos:
+        raise ValidationError("mean_demo_baseline needs at least one demonstration")
+    tau = _unit_time(check_times(times, name="times"))
+    acc = None
+    for d in demos:
+        s = _unit_times(d)
+        V = d.get(group)
+        Vi = np.column_stack([np.interp(tau, s, V[:, c]) for c in range(V.shape[1])])
+        acc = Vi if acc is None else acc + Vi
+    return acc / len(demos)
+
+
+def path_errors(
+    test: Demonstration, path: Demonstration, group: str = "position"
+) -> dict:
+    """Difference %, mean DTW and discrete Fréchet of ``path`` to ``test``.
+
+    Parameters
+    ----------
+    test : Demonstration
+        The reference demonstration.
+    path : Demonstration
+        The path to evaluate.
+    group : str, default="position"
+        The group compared.
+
+    Returns
+    -------
+    errors : dict
+        ``difference_pct`` (:func:`path_difference`), ``dtw_mean``
+        (:func:`dtw_distance` with ``normalize=True``: divided by the number of
+        points of both paths) and ``frechet`` (:func:`discrete_frechet`).
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> test = Demonstration.from_arrays([0, 1], position=[[0, 0], [3, 4]])
+    >>> path = Demonstration.from_arrays([0, 1], position=[[0.3, 0.4], [3.3, 4.4]])
+    >>> {k: round(v, 6) for k, v in path_errors(test, path).items()}
+    {'difference_pct': 10.0, 'dtw_mean': 0.25, 'frechet': 0.5}
+    """
+    a, b = test.get(group), path.get(group)
+    return {
+        "difference_pct": path_difference(test.t, a, path.t, b),
+        "dtw_mean": dtw_distance(a, b, normalize=True),
+        "frechet": discrete_frechet(a, b),
+    }
