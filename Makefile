@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: all venv test lint format demo bench reproduce clean
+.PHONY: all venv test test-explore lint format demo bench reproduce clean
 
 all: test
 
@@ -27,8 +27,16 @@ format: $(STAMP)
 	$(BIN)/ruff check --fix src tests benchmarks
 	$(BIN)/ruff format src tests benchmarks
 
+# `make test` is deterministic: hypothesis replays the same derandomized examples
+# on every run (tests/conftest.py), so the result depends only on the code.
+# `make test-explore` runs the property tests with fresh random examples to hunt
+# for new counterexamples (kept in .hypothesis/); turn each one found into an
+# explicit @example or known-answer test.
 test: lint
 	$(BIN)/python -m pytest -q
+
+test-explore: $(STAMP)
+	NDLFD_HYPOTHESIS=explore $(BIN)/python -m pytest -q
 
 demo: $(STAMP)
 	$(BIN)/ndlfd demo --out demo-output
