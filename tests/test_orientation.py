@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 from scipy.spatial.transform import Rotation
@@ -15,12 +15,23 @@ from ndlfd.orientation import (
 
 
 def _reference_continuous(Q):
-    """Loop version: compare each row with the previous *output* row."""
-    out = [np.array(Q[0], dtype=float)]
-    for q in Q[1:]:
-        q = np.array(q, dtype=float)
-        out.append(-q if np.dot(q, out[-1]) < 0 else q)
-    return np.array(out)
+    """Loop version: compare each row with the previous *output* row.
+
+    Follows make_continuous's stated tie rule with Python floats: the dot
+    product summed left to right, a tie within 4 eps sum|q_k p_k| of zero.
+    """
+    eps = np.finfo(np.float64).eps
+    out = [[float(v) for v in Q[0]]]
+    for row in Q[1:]:
+        q = [float(v) for v in row]
+        p = out[-1]
+        dot = 0.0
+        magnitude = 0.0
+        for k in range(4):
+            dot = q[k] * p[k] if k == 0 else dot + q[k] * p[k]
+            magnitude = abs(q[k] * p[k]) if k == 0 else magnitude + abs(q[k] * p[k])
+        out.append([-v for v in q] if dot < -4.0 * eps * magnitude else q)
+    return np.array(out, dtype=float)
 
 
 def _smooth_stream(n, seed):
@@ -53,6 +64,11 @@ def test_make_continuous_on_stream_with_sign_flips():
     assert np.all(np.isin(np.round(C / Q, 12), [-1.0, 1.0]) | (Q == 0))
 
 
+# Found by hypothesis: the dot product is -0.5 + 0.25 + 0.25 - 9e-176, zero up
+# to rounding; summed in another order it is exactly 0.0.
+_ROUNDING_TIE = [[0.5, 0.5, 0.5, 0.5], [-1.0, 0.5, 0.5, -1.8e-175]]
+
+
 @settings(max_examples=80, deadline=None)
 @given(
     hnp.arrays(
@@ -61,8 +77,24 @@ def test_make_continuous_on_stream_with_sign_flips():
         elements=st.sampled_from([-1.0, 0.0, 0.5, 1.0]) | st.floats(-1, 1),
     )
 )
+@example(np.array(_ROUNDING_TIE))
+@example(np.array(_ROUNDING_TIE[::-1]))
 def test_make_continuous_matches_reference(Q):
     np.testing.assert_array_equal(make_continuous(Q), _reference_continuous(Q))
+
+
+@pytest.mark.parametrize("Q", [_ROUNDING_TIE, _ROUNDING_TIE[::-1]])
+@pytest.mark.parametrize("scale", [1.0, -1.0, 3.0])
+def test_make_continuous_keeps_a_rounding_tie(Q, scale):
+    # Left to right the dot product is -9e-176 (negative), pairwise it is 0.0:
+    # both are ties, so the second row is kept as given, whatever its sign.
+    Q = np.array(Q) * [[1.0], [scale]]
+    assert np.dot(Q[0], Q[1]) != np.einsum("ij,ij->i", Q[1:], Q[:-1])[0]
+    np.testing.assert_array_equal(make_continuous(Q), Q)
+    np.testing.assert_array_equal(_reference_continuous(Q), Q)
+    # moved a little towards -Q[0], the dot product is below -tol: not a tie
+    Q[1] -= 1e-12 * Q[0]
+    np.testing.assert_array_equal(make_continuous(Q), Q * [[1.0], [-1.0]])
 
 
 def test_scalar_last_round_trip_with_scipy():

@@ -120,13 +120,43 @@ def to_order(Q_wxyz, order: str) -> np.ndarray:
     return np.ascontiguousarray(A[:, inverse])
 
 
-def make_continuous(Q) -> np.ndarray:
-    """Flip signs so that consecutive quaternions have a non-negative dot product.
+#: Tie tolerance of :func:`make_continuous`, in units of the float64 machine
+#: epsilon times ``sum_k |q_k p_k|``: about twice the bound on the rounding
+#: error of a 4-term dot product summed in any order (gamma_4 = 2 eps / (1 - 2 eps)).
+CONTINUITY_TIE_EPS = 4.0
 
-    The first row is kept as given; each following row is negated when its dot
-    product with the (already aligned) previous row is negative. The rotations
-    are unchanged, since ``q`` and ``-q`` are the same rotation. The order of the
-    four components does not matter.
+
+def _signed_dots(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Dot product of each row with the previous one, and its tie tolerance.
+
+    Both are summed in one stated order, left to right over the columns, so any
+    other code that follows the same order gets bit-identical values.
+    """
+    P = A[1:] * A[:-1]
+    raw = ((P[:, 0] + P[:, 1]) + P[:, 2]) + P[:, 3]
+    M = np.abs(P)
+    magnitude = ((M[:, 0] + M[:, 1]) + M[:, 2]) + M[:, 3]
+    return raw, CONTINUITY_TIE_EPS * np.finfo(np.float64).eps * magnitude
+
+
+def make_continuous(Q) -> np.ndarray:
+    """Flip signs so that no two consecutive quaternions point apart.
+
+    The first row is kept as given; each following row ``q`` is negated when its
+    dot product with the (already aligned) previous row ``p`` is below ``-tol``,
+    and kept as given otherwise. The rotations are unchanged, since ``q`` and
+    ``-q`` are the same rotation. The order of the four components does not
+    matter.
+
+    Ties are defined, so the result does not depend on rounding: the dot
+    product is summed left to right, ``((q0 p0 + q1 p1) + q2 p2) + q3 p3``, and
+    ``tol = 4 * eps * (|q0 p0| + |q1 p1| + |q2 p2| + |q3 p3|)`` (``eps`` the
+    float64 machine epsilon; the same left-to-right sum), about twice the bound
+    on the rounding error of a 4-term dot product. A dot product within ``tol``
+    of zero is a tie: zero up to rounding, so ``q`` and ``-q`` are equally close
+    to ``p`` (a half-turn apart), and the row is kept as given. A dot product
+    that is exactly zero is thus a tie whatever order it is summed in (as long
+    as no product underflows); the stated order settles the rest.
 
     Parameters
     ----------
@@ -136,6 +166,7 @@ def make_continuous(Q) -> np.ndarray:
     Returns
     -------
     Q_continuous : ndarray of shape (n_samples, 4), dtype float64
+        Consecutive rows have a dot product ``>= -tol``.
 
     Examples
     --------
@@ -144,18 +175,24 @@ def make_continuous(Q) -> np.ndarray:
     array([[0.6, 0.8],
            [0.6, 0.8],
            [0.8, 0.6]])
+
+    A dot product of zero up to rounding is a tie, and the row is kept:
+
+    >>> make_continuous([[0.5, 0.5, 0.5, 0.5], [-1.0, 0.5, 0.5, -1e-17]])[1, :3]
+    array([-1. ,  0.5,  0.5])
     """
     A = _as_quaternion_array(Q, "quaternions")
     if A.shape[0] < 2:
         return A.copy()
     # Row i is compared with the already aligned row i-1, whose sign is s[i-1]:
-    # dot(q_i, s[i-1] q_{i-1}) = s[i-1] * raw[i], so s[i] = s[i-1] * sign(raw[i]),
-    # and s[i] = +1 when raw[i] == 0 (nothing to align to). Hence s[i] is -1 to
-    # the number of negative raw dots since the last zero dot (or row 0).
-    raw = np.einsum("ij,ij->i", A[1:], A[:-1])
-    negatives = np.concatenate([[0], np.cumsum(raw < 0)])
+    # dot(q_i, s[i-1] q_{i-1}) = s[i-1] * raw[i] exactly (negation is exact and
+    # the tolerance does not depend on the sign), so s[i] = s[i-1] * sign(raw[i])
+    # and s[i] = +1 when raw[i] is a tie (nothing to align to). Hence s[i] is -1
+    # to the number of negative raw dots since the last tie (or row 0).
+    raw, tol = _signed_dots(A)
+    negatives = np.concatenate([[0], np.cumsum(raw < -tol)])
     n = A.shape[0]
-    reset = np.concatenate([[True], raw == 0])
+    reset = np.concatenate([[True], np.abs(raw) <= tol])
     last_reset = np.maximum.accumulate(np.where(reset, np.arange(n), 0))
     odd = (negatives - negatives[last_reset]) % 2 == 1
     sign = np.where(odd, -1.0, 1.0)
