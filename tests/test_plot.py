@@ -6,7 +6,11 @@ pytest.importorskip("matplotlib")
 from ndlfd import ValidationError
 from ndlfd.demo import Demonstration
 from ndlfd.plot import (
+    GEN_COLOR,
     new_figure,
+    plot_band,
+    plot_boxplot,
+    plot_comparison,
     plot_demos,
     plot_keypoint_counts,
     plot_path,
@@ -64,3 +68,47 @@ def test_keypoint_boxplots_have_one_box_per_setting():
     ax = plot_keypoint_counts({"a": [1, 2, 3], "b": [4, 5], "c": [6]})
     assert [t.get_text() for t in ax.get_xticklabels()] == ["a", "b", "c"]
     assert ax.get_ylabel() == "key points per demonstration"
+
+
+def test_boxplot_keeps_empty_and_nonfinite_labels_in_place():
+    ax = plot_boxplot(
+        {"ndlfd": [0.1, np.nan, 0.3], "mean": [], "dmp": [np.inf, 2.0]},
+        ylabel="DTW / range",
+        title="t",
+        log=True,
+    )
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["ndlfd", "mean", "dmp"]
+    assert ax.get_ylabel() == "DTW / range" and ax.get_yscale() == "log"
+    with pytest.raises(ValidationError, match="at least one label"):
+        plot_boxplot({})
+
+
+def test_band_follows_the_normal_of_the_path():
+    _fig, (ax,) = new_figure(1)
+    # a vertical path: the band is as wide as the x standard deviation
+    P = np.array([[0.0, 0.0], [0.0, 1.0], [0.0, 1.0], [0.0, 2.0]])
+    S = np.array([[0.5, 9.0]] * 4)
+    plot_band(ax, P, S, k=2.0)
+    xy = ax.patches[0].get_xy()
+    np.testing.assert_allclose(np.abs(xy[:, 0]), 1.0)
+    np.testing.assert_allclose(xy[:4, 1], P[:, 1])
+    # a path that never moves still gets a band
+    plot_band(ax, np.zeros((3, 2)), np.ones((3, 2)))
+    with pytest.raises(ValidationError, match="2-D paths"):
+        plot_band(ax, np.zeros((3, 3)), np.zeros((3, 3)))
+    with pytest.raises(ValidationError, match="std must be finite"):
+        plot_band(ax, P, -S)
+
+
+def test_comparison_draws_demos_test_paths_and_bands(tmp_path):
+    demos = [_demo(2, s) for s in range(3)]
+    paths = {"mean": demos[0].get("position"), "ndlfd": demos[1].get("position")}
+    stds = {"ndlfd": np.full((30, 2), 0.1), "mean": None}
+    ax = plot_comparison(demos[1:], demos[0], paths, stds=stds, title="fold 0")
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["training demos", "held out", "mean", "ndlfd", "ndlfd ±1 sd"]
+    assert len(ax.patches) == 1
+    ndlfd_line = next(ln for ln in ax.lines if ln.get_label() == "ndlfd")
+    assert ndlfd_line.get_color() == GEN_COLOR
+    save_figure(ax.figure, tmp_path / "c.png")
+    assert (tmp_path / "c.png").read_bytes()[:8] == PNG_MAGIC

@@ -21,6 +21,9 @@ from ._fileformat import atomic_path
 
 __all__ = [
     "new_figure",
+    "plot_band",
+    "plot_boxplot",
+    "plot_comparison",
     "plot_demos",
     "plot_keypoint_counts",
     "plot_path",
@@ -31,6 +34,18 @@ DEMO_COLOR = "#7fa7d6"
 KEY_COLOR = "#1f3f8f"
 GEN_COLOR = "#d62728"
 TEST_COLOR = "#222222"
+#: Colours of compared generators, in order (ndlfd itself is always GEN_COLOR).
+PALETTE = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+)
 
 
 def _matplotlib():
@@ -220,6 +235,196 @@ def plot_keypoint_counts(counts: Mapping[str, Sequence[int]], *, ax=None, title=
     ax.set_ylabel("key points per demonstration")
     if title:
         ax.set_title(title)
+    return ax
+
+
+def plot_boxplot(
+    values: Mapping[str, Sequence[float]],
+    *,
+    ax=None,
+    title: str | None = None,
+    ylabel: str | None = None,
+    log: bool = False,
+):
+    """Box plots of a number, one box per label (e.g. one per generator).
+
+    Non-finite values are left out; a label without finite values gets an
+    empty slot, so boxes keep their place across panels.
+
+    Parameters
+    ----------
+    values : mapping of str to sequence of float
+        Label → values.
+    ax : Axes, optional
+        Where to draw; a new figure is made otherwise.
+    title : str, optional
+        Axes title.
+    ylabel : str, optional
+        Label of the value axis.
+    log : bool, default=False
+        Logarithmic value axis (for errors spanning decades).
+
+    Returns
+    -------
+    ax : Axes
+
+    Examples
+    --------
+    >>> ax = plot_boxplot({"mean": [0.1, 0.2, 0.4], "dmp": [0.3, 0.5]}, log=True)
+    >>> [t.get_text() for t in ax.get_xticklabels()], ax.get_yscale()
+    (['mean', 'dmp'], 'log')
+    """
+    if not values:
+        raise ValidationError("plot_boxplot needs at least one label")
+    if ax is None:
+        _, (ax,) = new_figure(1, size=(2.0 + 1.0 * len(values), 4.0))
+    names = list(values)
+    data = []
+    for k in names:
+        v = np.asarray(values[k], dtype=float).ravel()
+        data.append(v[np.isfinite(v)])
+    ax.boxplot(data, tick_labels=names)
+    if log:
+        ax.set_yscale("log")
+    if ylabel:
+        ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    return ax
+
+
+def _normals(P: np.ndarray) -> np.ndarray:
+    """Unit normals of a 2-D polyline (tangent from central differences)."""
+    T = np.gradient(P, axis=0) if P.shape[0] > 1 else np.zeros_like(P)
+    length = np.linalg.norm(T, axis=1)
+    ok = length > 0
+    if not ok.any():
+        return np.tile([0.0, 1.0], (P.shape[0], 1))
+    T[ok] /= length[ok, None]
+    # a standing point borrows the direction of the nearest moving one before it
+    # (or after it, at the start)
+    idx = np.where(ok, np.arange(P.shape[0]), -1)
+    idx = np.maximum.accumulate(idx)
+    idx[idx < 0] = np.flatnonzero(ok)[0]
+    T = T[idx]
+    return np.column_stack([-T[:, 1], T[:, 0]])
+
+
+def plot_band(
+    ax, values, std, *, k: float = 1.0, color=GEN_COLOR, alpha=0.2, label=None
+):
+    """Shade a band of ``k`` standard deviations around a 2-D path.
+
+    At each point the band reaches, on both sides along the path's normal
+    ``n``, the standard deviation in that direction
+    ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)`` (independent axes), so a band is
+    narrow where the path is certain across its direction.
+
+    Parameters
+    ----------
+    ax : Axes
+        Target (2-D) axes.
+    values : array-like of shape (n_samples, 2)
+        The path.
+    std : array-like of shape (n_samples, 2)
+        Standard deviation of each coordinate at each point.
+    k : float, default=1.0
+        Half-width of the band in standard deviations.
+    color : str
+        Fill colour.
+    alpha : float, default=0.2
+        Fill opacity.
+    label : str, optional
+        Legend label.
+
+    Returns
+    -------
+    ax : Axes
+
+    Examples
+    --------
+    >>> _, (ax,) = new_figure(1)
+    >>> ax = plot_band(ax, [[0, 0], [1, 0], [2, 0]], [[0, 1], [0, 1], [0, 2]])
+    >>> ax.patches[0].get_xy()[:, 1].tolist()
+    [1.0, 1.0, 2.0, -2.0, -1.0, -1.0, 1.0]
+    """
+    P = np.asarray(values, dtype=float)
+    S = np.asarray(std, dtype=float)
+    if P.ndim != 2 or P.shape[1] != 2:
+        raise ValidationError(
+            f"plot_band draws 2-D paths of shape (n_samples, 2); got {P.shape}"
+        )
+    if S.shape != P.shape or not np.isfinite(S).all() or (S < 0).any():
+        raise ValidationError(
+            f"std must be finite, >= 0 and of the path's shape {P.shape}; got an"
+            f" array of shape {S.shape}"
+        )
+    N = _normals(P)
+    w = k * np.sqrt((N[:, 0] * S[:, 0]) ** 2 + (N[:, 1] * S[:, 1]) ** 2)
+    outline = np.concatenate([P + w[:, None] * N, (P - w[:, None] * N)[::-1]])
+    ax.fill(outline[:, 0], outline[:, 1], color=color, alpha=alpha, lw=0, label=label)
+    return ax
+
+
+def plot_comparison(
+    train,
+    test,
+    paths: Mapping[str, np.ndarray],
+    *,
+    stds: Mapping[str, np.ndarray] | None = None,
+    group: str = "position",
+    ax=None,
+    title: str | None = None,
+):
+    """Training demonstrations, a held-out one, and several generated paths.
+
+    Parameters
+    ----------
+    train : sequence of Demonstration
+        Training demonstrations (thin, light).
+    test : Demonstration
+        The held-out demonstration (dashed black).
+    paths : mapping of str to array-like of shape (n_samples, 2)
+        Generator name → generated positions, each in its own colour
+        (``"ndlfd"`` in the generated-path red).
+    stds : mapping of str to array-like of shape (n_samples, 2), optional
+        Generator name → standard deviation, drawn as a 1-sigma band
+        (:func:`plot_band`) under that generator's path.
+    group : str, default="position"
+        The group of the demonstrations to draw.
+    ax : Axes, optional
+        Where to draw; a new figure is made otherwise.
+    title : str, optional
+        Axes title.
+
+    Returns
+    -------
+    ax : Axes
+    """
+    if ax is None:
+        _, (ax,) = new_figure(1)
+    for i, d in enumerate(train):
+        ax.plot(
+            *_xyz(d.get(group))[:2],
+            color=DEMO_COLOR,
+            lw=0.8,
+            label="training demos" if i == 0 else None,
+        )
+    T = test.get(group)
+    ax.plot(T[:, 0], T[:, 1], color=TEST_COLOR, lw=1.4, ls="--", label="held out")
+    ax.plot(T[:1, 0], T[:1, 1], "x", color="black", markersize=8, mew=2)
+    ax.plot(T[-1:, 0], T[-1:, 1], "*", color="black", markersize=11)
+    others = iter(PALETTE * (1 + len(paths) // len(PALETTE)))
+    for name, values in paths.items():
+        color = GEN_COLOR if name == "ndlfd" else next(others)
+        V = np.asarray(values, dtype=float)
+        if stds is not None and stds.get(name) is not None:
+            plot_band(ax, V, stds[name], color=color, label=f"{name} ±1 sd")
+        ax.plot(V[:, 0], V[:, 1], color=color, lw=1.6, label=name)
+    ax.set_aspect("equal", adjustable="datalim")
+    if title:
+        ax.set_title(title)
+    ax.legend(loc="best", fontsize="small")
     return ax
 
 
