@@ -106,7 +106,7 @@ def test_comparison_draws_demos_test_paths_and_bands(tmp_path):
     stds = {"ndlfd": np.full((30, 2), 0.1), "mean": None}
     ax = plot_comparison(demos[1:], demos[0], paths, stds=stds, title="fold 0")
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert labels == ["training demos", "held out", "mean", "ndlfd", "ndlfd ±1 sd"]
+    assert labels == ["training demos", "held out", "mean", "ndlfd ±1 sd", "ndlfd"]
     assert len(ax.patches) == 1
     ndlfd_line = next(ln for ln in ax.lines if ln.get_label() == "ndlfd")
     assert ndlfd_line.get_color() == GEN_COLOR
