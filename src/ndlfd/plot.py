@@ -21,6 +21,7 @@ from ._fileformat import atomic_path
 
 __all__ = [
     "new_figure",
+    "new_grid",
     "plot_band",
     "plot_boxplot",
     "plot_comparison",
@@ -86,6 +87,37 @@ def new_figure(n_axes: int = 1, *, dims: int = 2, size=(6.0, 5.0)):
     fig = Figure(figsize=(size[0] * n_axes, size[1]), layout="constrained")
     kw = {"projection": "3d"} if dims == 3 else {}
     axes = [fig.add_subplot(1, n_axes, i + 1, **kw) for i in range(n_axes)]
+    return fig, axes
+
+
+def new_grid(n_rows: int, n_cols: int, *, size=(4.5, 4.0)):
+    """Create a headless figure with a grid of 2-D axes.
+
+    Parameters
+    ----------
+    n_rows, n_cols : int
+        Grid shape.
+    size : tuple of float, default=(4.5, 4.0)
+        Size of one panel in inches.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : list of list of Axes
+        ``axes[row][col]``.
+
+    Examples
+    --------
+    >>> fig, axes = new_grid(2, 3)
+    >>> len(axes), len(axes[0])
+    (2, 3)
+    """
+    Figure = _matplotlib()
+    fig = Figure(figsize=(size[0] * n_cols, size[1] * n_rows), layout="constrained")
+    axes = [
+        [fig.add_subplot(n_rows, n_cols, r * n_cols + c + 1) for c in range(n_cols)]
+        for r in range(n_rows)
+    ]
     return fig, axes
 
 
