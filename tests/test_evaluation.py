@@ -243,3 +243,27 @@ def test_argument_errors():
         evaluate(
             ["Line"], generators={"mean": lambda: MeanBaseline()}, folds=2, n_jobs=2
         )
+
+
+# ------------------------------------------------------------------------ cli
+def test_cli_evaluate_prints_the_summary_and_writes_the_report(tmp_path, capsys):
+    from ndlfd.cli import main
+
+    out = tmp_path / "ev"
+    argv = ["evaluate", "--shapes", "Line", "--folds", "1", "--no-plot"]
+    argv += ["--generators", "mean,dmp", "--protocols", "time+start", "--out"]
+    assert main([*argv, str(out)]) == 0
+    captured = capsys.readouterr()
+    assert "### single-pattern shapes (1), protocol `time+start`" in captured.out
+    assert "| dmp |" in captured.out
+    assert "2 rows, 0 failed, in" in captured.err
+    assert sorted(p.name for p in out.iterdir()) == ["results.csv", "summary.md"]
+
+
+def test_cli_evaluate_errors_are_one_line(capsys):
+    from ndlfd.cli import main
+
+    assert main(["evaluate", "--shapes", "Circle", "--no-plot", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ndlfd evaluate: error: unknown LASA shape 'Circle'")
+    assert err.count("\n") == 1

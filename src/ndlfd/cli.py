@@ -387,6 +387,77 @@ def _add_jobs(sub) -> None:
     p.set_defaults(func=_cmd_reproduce)
 
 
+# --------------------------------------------------------------------- evaluate
+def _cmd_evaluate(args: argparse.Namespace) -> int:
+    from .evaluation import evaluate
+
+    protocols = _split_names(args.protocols)
+    result = evaluate(
+        _split_names(args.shapes),
+        generators=_split_names(args.generators),
+        protocols=protocols if protocols is not None else ("time", "time+start"),
+        folds=args.folds,
+        n_jobs=args.n_jobs,
+        progress=False if args.quiet else None,
+    )
+    plots = not args.no_plot
+    if plots:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            plots = False
+            print(
+                "ndlfd evaluate: no figures (install them with: pip install"
+                ' "ndlfd[plot]")',
+                file=sys.stderr,
+            )
+    result.write_report(args.out, plots=plots)
+    print(result.to_markdown())
+    if not args.quiet:
+        print(
+            f"{len(result.rows)} rows, {len(result.failures)} failed, in"
+            f" {result.seconds:.0f} s -> {args.out}",
+            file=sys.stderr,
+        )
+    return 0
+
+
+def _add_evaluate(sub) -> None:
+    p = sub.add_parser(
+        "evaluate",
+        help="leave-one-out evaluation on LASA against ProMP, GMR, DMP and the mean",
+        description=(
+            "Hold out each demonstration of each LASA shape in turn, fit ndlfd and"
+            " the baselines on the others, generate for the held-out timing (and"
+            " start), and compare: DTW, Frechet, RMSE and endpoint error per shape"
+            " range, path-length and turning ratios. Prints the summary tables and"
+            " writes results.csv, summary.md and figures to --out. ProMP, GMR and"
+            ' DMP need pip install "ndlfd[eval]".'
+        ),
+    )
+    p.add_argument("--shapes", help="comma-separated LASA shapes (default: all 30)")
+    p.add_argument(
+        "--folds", type=int, help="held-out demonstrations per shape (default: 7)"
+    )
+    p.add_argument(
+        "--protocols",
+        help="comma-separated protocols: time, time+start (default: both)",
+    )
+    p.add_argument(
+        "--generators",
+        help="comma-separated generators: ndlfd, mean, promp, gmr, dmp (default: all)",
+    )
+    p.add_argument(
+        "--n-jobs", type=int, help="worker processes (-1: one per CPU; default 1)"
+    )
+    p.add_argument("--out", default="evaluation", help="report folder (evaluation)")
+    p.add_argument("--no-plot", action="store_true", help="write no figures")
+    p.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress bar or closing line"
+    )
+    p.set_defaults(func=_cmd_evaluate)
+
+
 # ------------------------------------------------------------------------ main
 def build_parser() -> argparse.ArgumentParser:
     """Build the ``ndlfd`` argument parser with all sub-commands."""
@@ -404,6 +475,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_fit(sub)
     _add_generate(sub)
     _add_jobs(sub)
+    _add_evaluate(sub)
     return parser
 
 

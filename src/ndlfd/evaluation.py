@@ -596,7 +596,7 @@ def evaluate(
     protocols: Sequence[str] = ("time", "time+start"),
     folds: int | None = None,
     n_jobs: int | None = None,
-    progress: bool = False,
+    progress: bool | None = False,
 ) -> EvaluationResult:
     """Leave-one-demonstration-out evaluation of generators on LASA shapes.
 
@@ -623,8 +623,8 @@ def evaluate(
         process when None or 1. Workers are started fresh ("spawn": no
         inherited thread pools), so a script calling ``evaluate`` with
         ``n_jobs > 1`` must do so under ``if __name__ == "__main__":``.
-    progress : bool, default=False
-        Show a progress bar (on standard error).
+    progress : bool or None, default=False
+        Show a progress bar on standard error (None: only on a terminal).
 
     Returns
     -------
@@ -680,7 +680,12 @@ def evaluate(
 
     from tqdm import tqdm
 
-    bar = tqdm(total=len(tasks), desc="evaluate", unit="fold", disable=not progress)
+    bar = tqdm(
+        total=len(tasks),
+        desc="evaluate",
+        unit="fold",
+        disable=None if progress is None else not progress,
+    )
     results = []
     try:
         if jobs == 1 or len(tasks) == 1:
