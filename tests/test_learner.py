@@ -30,7 +30,9 @@ def test_hand_worked_three_point_example():
     # centres (.25,.25), (.75,.25), (.75,.75) -> physical (.5,.5), (1.5,.5), (1.5,1.5)
     t = np.array([0.0, 1.0, 2.0])
     d = Demonstration.from_arrays(t, position=[[0, 0], [1, 0.5], [2, 2]])
-    model = KeypointHMM(groups=("position",), levels=2, epsilon=0.0, n_time_bins=3)
+    model = KeypointHMM(
+        groups=("position",), levels=2, epsilon=0.0, n_time_bins=3, generation="paper"
+    )
     model.fit([d, d])
     assert [k.tolist() for k in model.keypoints_] == [[0, 1, 2], [0, 1, 2]]
     assert model.n_states_used_ == 3
@@ -46,7 +48,7 @@ def test_hand_worked_three_point_example():
 def test_matches_manual_composition_of_the_stages(square):
     train, test = square
     kw = dict(levels={"position": 20, "velocity": 10}, epsilon=0.05, n_time_bins=40)
-    model = KeypointHMM(**kw).fit(train)
+    model = KeypointHMM(**kw, generation="paper").fit(train)
     # the pipeline written out by hand from the public pieces
     sel = [d.select("position", "velocity") for d in train]
     scaler = GroupScaler().fit(sel)
@@ -148,7 +150,9 @@ def test_undecodable_timing_is_a_clear_error():
     t = np.linspace(0, 1, 5)
     d = Demonstration.from_arrays(t, position=np.column_stack([t, t**2]))
     # 2 key points per demo only -> only bins 0 and 9 are ever emitted
-    model = KeypointHMM(groups=("position",), epsilon=10.0, n_time_bins=10).fit([d])
+    model = KeypointHMM(
+        groups=("position",), epsilon=10.0, n_time_bins=10, generation="paper"
+    ).fit([d])
     grid = np.linspace(0, 1, 50)
     path = model.generate(grid)  # plain times: only bins seen in training
     assert path.n_samples == 2
@@ -156,7 +160,9 @@ def test_undecodable_timing_is_a_clear_error():
         np.linspace(0, 1, 7),
         position=np.column_stack([np.linspace(0, 1, 7), np.sin(np.arange(7))]),
     )
-    model0 = KeypointHMM(groups=("position",), epsilon=0.0, n_time_bins=10).fit([d])
+    model0 = KeypointHMM(
+        groups=("position",), epsilon=0.0, n_time_bins=10, generation="paper"
+    ).fit([d])
     with pytest.raises(DecodeError, match="cannot generate"):
         model0.generate(other)
 
@@ -244,7 +250,8 @@ def test_budget_mode_and_every_distance(square, distance):
     times = test.t if distance == "sed" else None
     idx = simplify(u, n_points=25, distance=distance, times=times)
     np.testing.assert_array_equal(key_t, test.t[idx])
-    assert model.generate(test).n_samples == 25
+    paper = model.set_params(generation="paper")
+    assert paper.generate(test).n_samples == 25
 
 
 def test_weights_change_the_reduction_not_the_codebook(square):

@@ -120,7 +120,7 @@ def save_npz(
 
 
 def load_npz(
-    path: str | os.PathLike, *, kind: str, version: int
+    path: str | os.PathLike, *, kind: str, version: int | tuple[int, ...]
 ) -> tuple[dict[str, np.ndarray], dict]:
     """Read a file written by :func:`save_npz`, refusing anything else.
 
@@ -130,8 +130,9 @@ def load_npz(
         The file to read.
     kind : str
         The expected kind.
-    version : int
-        The format version this code reads.
+    version : int or tuple of int
+        The format version(s) this code reads (``metadata["version"]`` tells
+        which one a file has).
 
     Returns
     -------
@@ -174,9 +175,11 @@ def load_npz(
         raise ModelFormatError(
             f"{p}: expected an ndlfd {kind} file; got a {meta.get('kind')!r} file"
         )
-    if meta.get("version") != version:
+    accepted = (version,) if isinstance(version, int) else tuple(version)
+    if meta.get("version") not in accepted:
+        wanted = " or ".join(str(v) for v in accepted)
         raise ModelFormatError(
-            f"{p}: expected {kind} format version {version}; got version"
+            f"{p}: expected {kind} format version {wanted}; got version"
             f" {meta.get('version')!r} (written by another ndlfd release)"
         )
     return arrays, meta

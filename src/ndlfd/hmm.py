@@ -46,7 +46,15 @@ from ._validation import (
     check_positive_int,
 )
 
-__all__ = ["DENSE_LIMIT_BYTES", "DiscreteHMM", "estimate", "merge", "viterbi"]
+__all__ = [
+    "DENSE_LIMIT_BYTES",
+    "DiscreteHMM",
+    "Posterior",
+    "estimate",
+    "merge",
+    "posterior",
+    "viterbi",
+]
 
 #: Largest dense matrix (in bytes) that ``dense=True`` accessors build: 256 MiB.
 DENSE_LIMIT_BYTES = 256 * 2**20
@@ -1094,3 +1102,6 @@ def viterbi(
             f"cannot decode symbol {o} at step {fail}: {why} (start={mode!r})"
         )
     return tb["gid"][path], float(logp)
+
+
+from ._posterior import Posterior, posterior  # noqa: E402  (needs DiscreteHMM)

@@ -15,6 +15,14 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from . import hmm
+from ._blend import (
+    align_to_skeleton,
+    blend,
+    condition_weights,
+    fade_ramp,
+    segment_states,
+    skeleton_times,
+)
 from ._errors import DecodeError, NotFittedError, ValidationError
 from ._fileformat import load_npz, save_npz
 from ._registry import Registry
@@ -27,6 +35,7 @@ from ._validation import (
 from .codebook import Codebook, TimeBins
 from .demo import Demonstration, with_velocity
 from .normalize import GroupScaler
+from .orientation import normalize_quaternions
 
 __all__ = ["DEFAULT_LEVELS", "KeypointHMM"]
 
@@ -35,7 +44,9 @@ __all__ = ["DEFAULT_LEVELS", "KeypointHMM"]
 DEFAULT_LEVELS = {"position": 20, "velocity": 10, "orientation": 10, "force": 10}
 
 _FORMAT_KIND = "KeypointHMM"
-_FORMAT_VERSION = 1
+#: Version 2 adds the normalized training values the blended generation needs;
+#: version-1 files still load and generate with ``generation="paper"``.
+_FORMAT_VERSION = 2
 
 NORMALIZATIONS = Registry("normalization")
 for _name in ("group", "per-dimension", "none"):
@@ -43,6 +54,26 @@ for _name in ("group", "per-dimension", "none"):
 STARTS = Registry("start")
 for _name in ("learned", "state1"):
     STARTS.add(_name, _name)
+
+
+def _decode_viterbi(model, symbols, start):
+    return hmm.viterbi(model, symbols, start=start)
+
+
+def _decode_map(model, symbols, start):
+    post = hmm.posterior(model, symbols, start=start)
+    best = np.argmax(post.probabilities, axis=1)  # ties: the lowest state
+    logp = float(np.sum(np.log(post.probabilities[np.arange(best.size), best])))
+    return post.states[best], logp
+
+
+#: Decoders: a function ``(model, symbols, start) -> (states, log_probability)``.
+#: ``"viterbi"`` is the most likely state sequence; ``"map"`` the most likely
+#: state at each step on its own (posterior argmax; the log-probability is the
+#: sum of the chosen states' log posteriors).
+DECODERS = Registry("decoder")
+DECODERS.add("viterbi", _decode_viterbi)
+DECODERS.add("map", _decode_map)
 
 
 def _as_demo_list(demos) -> list[Demonstration]:
@@ -96,7 +127,20 @@ class KeypointHMM:
     pseudo_emission : float, default=0.0
         Emission pseudo-count.
     start : {"learned", "state1"}, default="learned"
-        Viterbi start mode (``"state1"`` reproduces MATLAB ``hmmviterbi``).
+        Start distribution of the decoder (``"state1"`` reproduces MATLAB
+        ``hmmviterbi``).
+    generation : {"blend", "paper"}, default="blend"
+        How a path is generated. ``"blend"`` decodes the key points and their
+        times jointly (a segment model over all time bins), aligns the training
+        demonstrations to the decoded key points and blends them (see
+        :mod:`ndlfd._blend`); it follows the demonstrations' shape, can be
+        conditioned on a start and goal, and gives an uncertainty band.
+        ``"paper"`` is the paper's procedure: one observation per time bin (or
+        per key point of a test demonstration), codebook cell centres and
+        straight lines between them.
+    decoder : {"viterbi", "map"}, default="viterbi"
+        ``"viterbi"``: the most likely state sequence; ``"map"``: the most
+        likely state at each step (posterior argmax, :func:`ndlfd.hmm.posterior`).
     derive_velocity : bool, default=True
         Derive a missing velocity group from position and time.
     n_jobs : int, optional
@@ -153,6 +197,8 @@ class KeypointHMM:
         pseudo_transition=None,
         pseudo_emission=0.0,
         start="learned",
+        generation="blend",
+        decoder="viterbi",
         derive_velocity=True,
         n_jobs=None,
         random_state=None,
@@ -168,6 +214,8 @@ class KeypointHMM:
         self.pseudo_transition = pseudo_transition
         self.pseudo_emission = pseudo_emission
         self.start = start
+        self.generation = generation
+        self.decoder = decoder
         self.derive_velocity = derive_velocity
         self.n_jobs = n_jobs
         self.random_state = random_state
@@ -200,6 +248,8 @@ class KeypointHMM:
     def _check_params(self) -> None:
         NORMALIZATIONS.get(self.normalization)
         STARTS.get(self.start)
+        GENERATIONS.get(self.generation)
+        DECODERS.get(self.decoder)
         DISTANCES.get(self.distance)
         if self.n_points is None:
             check_nonnegative_scalar(self.epsilon, "epsilon")
@@ -364,7 +414,43 @@ class KeypointHMM:
         seen = np.zeros(self.n_time_bins, dtype=bool)
         seen[np.concatenate(symbols)] = True
         self.symbols_seen_ = seen
+        self._fit_segments(U, [d.t for d in prepared])
         return self
+
+    def _fit_segments(self, U_list, t_list) -> None:
+        """Statistics of the blended generation (see :mod:`ndlfd._blend`)."""
+        self.train_values_ = [np.asarray(u, np.float64) for u in U_list]
+        self.train_tau_ = [self.time_bins_.normalize(t) for t in t_list]
+        key_states, key_bins = [], []
+        for u, tau, idx in zip(U_list, self.train_tau_, self.keypoints_, strict=True):
+            key_states.append(self.codebook_.encode(u[idx]))
+            key_bins.append(self.time_bins_.transform(tau)[idx])
+        all_states = np.concatenate(key_states)
+        ids, inv = np.unique(all_states, return_inverse=True)
+        values = np.concatenate(
+            [u[i] for u, i in zip(U_list, self.keypoints_, strict=True)]
+        )
+        sums = np.zeros((ids.size, values.shape[1]))
+        np.add.at(sums, inv.reshape(-1), values)
+        self.centroid_states_ = ids
+        self.centroids_ = sums / np.bincount(inv.reshape(-1))[:, None]
+        self._key_states = key_states
+        self._key_bins = key_bins
+        self.segment_model_ = self._segment_model(np.arange(len(U_list)))
+
+    def _segment_model(self, demos: np.ndarray) -> hmm.DiscreteHMM:
+        nt = self.n_time_bins
+        seqs = [
+            segment_states(self._key_bins[j], self._key_states[j], nt) for j in demos
+        ]
+        return hmm.estimate(
+            seqs,
+            [np.arange(nt)] * len(seqs),
+            self.codebook_.n_states,
+            nt,
+            pseudo_transition=self.pseudo_transition,
+            pseudo_emission=self.pseudo_emission,
+        )
 
     # ---------------------------------------------------------------- generate
     def timing(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -423,7 +509,12 @@ class KeypointHMM:
         return t[first], sym[first], t
 
     def decode(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, float]:
-        """Most likely codebook states for a new timing (Viterbi).
+        """Decoded key points of a new timing: their times and codebook states.
+
+        With ``generation="blend"`` the key points come from decoding every time
+        bin with the segment model (a key point where the decoded state
+        changes); with ``"paper"`` from decoding the observations of
+        :meth:`timing`.
 
         Parameters
         ----------
@@ -432,62 +523,306 @@ class KeypointHMM:
 
         Returns
         -------
-        key_times : ndarray of shape (n_obs,)
-        states : ndarray of shape (n_obs,), dtype int64
+        key_times : ndarray of shape (n_keys,)
+        states : ndarray of shape (n_keys,), dtype int64
         log_probability : float
         """
-        key_t, states, logp, _ = self._decode(times_or_demo)
-        return key_t, states, logp
+        self._check_fitted()
+        if self.generation == "paper":
+            key_t, states, logp, _ = self._decode_paper(times_or_demo)
+            return key_t, states, logp
+        all_t = self._times_of(times_or_demo)
+        plan = self._plan(all_t, None, None)
+        return self._key_times(all_t, plan["key_tau"]), plan["states"], plan["logp"]
 
-    def _decode(self, times_or_demo):
-        key_t, symbols, all_t = self.timing(times_or_demo)
+    def _run_decoder(self, model, symbols):
         try:
-            states, logp = hmm.viterbi(self.model_, symbols, start=self.start)
+            return DECODERS.get(self.decoder)(model, symbols, self.start)
         except DecodeError as exc:
             raise DecodeError(
                 f"cannot generate a path for this timing: {exc}. Use fewer time"
                 " bins, more demonstrations, or pseudo_emission > 0."
             ) from None
+
+    def _decode_paper(self, times_or_demo):
+        key_t, symbols, all_t = self.timing(times_or_demo)
+        states, logp = self._run_decoder(self.model_, symbols)
         return key_t, states, logp, all_t
 
-    def generate(self, times_or_demo, *, dense: bool = False) -> Demonstration:
-        """Generate a path for a new timing.
+    def generate(
+        self,
+        times_or_demo,
+        *,
+        dense: bool = False,
+        start=None,
+        goal=None,
+        return_std: bool = False,
+    ):
+        """Generate a path for a new timing, optionally from a start to a goal.
 
         Parameters
         ----------
         times_or_demo : Demonstration or array-like of shape (n_samples,)
-            A new execution (its key points' times are decoded) or its time
-            stamps; see :meth:`timing`.
+            The new execution's time stamps (at least two), or a demonstration
+            whose time stamps are used (with ``generation="paper"`` its key
+            points' times are decoded, the paper's procedure).
         dense : bool, default=False
-            Interpolate the generated key points linearly to every time stamp of
-            the new execution (quaternions are renormalized afterwards).
+            Return every time stamp of the new execution instead of the
+            generated key points only.
+        start, goal : mapping of str to array-like, optional
+            Where the robot starts and must end, in physical units, e.g.
+            ``{"position": [x, y]}``. The demonstrations whose start (goal) is
+            near are followed (a Gaussian kernel whose width is the typical
+            distance between neighbouring demonstrations' starts), and the path
+            begins (ends) exactly there: the remaining offset is faded out over
+            the motion by a minimum-jerk ramp. With ``generation="paper"`` only
+            the offset is applied.
+        return_std : bool, default=False
+            Also return the per-sample standard deviation of the learned
+            positions at each time: the spread of the codebook centroids under
+            the posterior state probabilities of the segment model
+            (:func:`ndlfd.hmm.posterior`), in physical units. Only with
+            ``generation="blend"``.
 
         Returns
         -------
         path : Demonstration
-            The generated key points (codebook centres mapped back to physical
-            units) at their times, or the dense path when ``dense=True``.
+            The generated key points at their times, or the dense path when
+            ``dense=True``. A velocity group is the derivative of the generated
+            positions (``numpy.gradient`` over the path's time stamps).
+        std : ndarray of shape (n_samples, n_columns)
+            Only with ``return_std=True``.
+
+        Examples
+        --------
+        >>> from ndlfd import synth
+        >>> train, test = synth.make_dataset("square", n_demos=10, random_state=0)
+        >>> model = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(train)
+        >>> path = model.generate(test.t, dense=True, start={"position": [0.5, 0.0]})
+        >>> path.get("position")[0]
+        array([0.5, 0. ])
+        >>> bool(np.all(path.t == test.t))
+        True
         """
-        key_t, states, _, all_t = self._decode(times_or_demo)
+        self._check_fitted()
+        start = self._condition(start, "start")
+        goal = self._condition(goal, "goal")
+        how = GENERATIONS.get(self.generation)
+        return how(self, times_or_demo, dense, start, goal, return_std)
+
+    def _generate_blend(self, times_or_demo, dense, start, goal, return_std):
+        all_t = self._times_of(times_or_demo)
+        plan = self._plan(all_t, start, goal)
+        tq = self.time_bins_.normalize(all_t)
+        key_tau = plan["key_tau"]
+        U = blend(
+            [self.train_values_[j] for j in plan["demos"]],
+            [self.train_tau_[j] for j in plan["demos"]],
+            plan["index"],
+            plan["weights"],
+            np.concatenate([tq, key_tau]),
+            quat_cols=self._quat_cols(),
+        )[0]
+        X = self._renormalize(self.scaler_.inverse_transform(U))
+        X = self._pin(X, np.concatenate([tq, key_tau]), start, goal, tq.size)
+        X = self._derive_velocity(X, tq, key_tau, all_t)
+        if dense:
+            path = Demonstration(
+                all_t, X[: tq.size], self.columns_, self.column_groups_
+            )
+            band_tau = tq
+        else:
+            key_t = self._key_times(all_t, key_tau)
+            path = Demonstration(
+                key_t, X[tq.size :], self.columns_, self.column_groups_
+            )
+            band_tau = key_tau
+        if not return_std:
+            return path
+        return path, self._band(plan["model"], band_tau)
+
+    def _times_of(self, times_or_demo) -> np.ndarray:
+        if isinstance(times_or_demo, Demonstration):
+            t = times_or_demo.t
+        else:
+            t = check_times(times_or_demo, name="times")
+        if t.size < 2:
+            raise ValidationError(
+                f"a timing needs at least two time stamps; got {t.size}"
+            )
+        return t
+
+    def _key_times(self, all_t, key_tau):
+        return all_t[0] + key_tau * (all_t[-1] - all_t[0])
+
+    def _condition(self, values, what: str) -> dict | None:
+        """Check a start/goal mapping; return it as {group: float array}."""
+        if values is None:
+            return None
+        if not isinstance(values, Mapping) or not values:
+            raise ValidationError(
+                f"{what} must be a mapping of group to values, e.g."
+                f" {{'position': [x, y]}}; got {values!r}"
+            )
+        out = {}
+        for g, v in values.items():
+            cols = [i for i, cg in enumerate(self.column_groups_) if cg == g]
+            if not cols:
+                raise ValidationError(
+                    f"{what} names group {g!r}, which is not learned; the learned"
+                    f" groups are {', '.join(self.groups_)}"
+                )
+            arr = np.asarray(v, dtype=np.float64).reshape(-1)
+            if arr.size != len(cols) or not np.all(np.isfinite(arr)):
+                raise ValidationError(
+                    f"{what}[{g!r}] must hold {len(cols)} finite value(s); got"
+                    f" {np.asarray(v).tolist()!r}"
+                )
+            out[g] = arr
+        return out
+
+    def _cols(self, group: str) -> list[int]:
+        return [i for i, g in enumerate(self.column_groups_) if g == group]
+
+    def _quat_cols(self):
+        cols = self._cols("orientation")
+        return cols if len(cols) == 4 else None
+
+    def _weights_for(self, cond, end: int) -> np.ndarray:
+        J = len(self.train_values_)
+        if cond is None:
+            return np.ones(J)
+        cols = [c for g in cond for c in self._cols(g)]
+        target = self.scaler_.transform(
+            self._physical_row(cond)[None, :], weighted=False
+        )[0, cols]
+        pts = np.array([u[end, cols] for u in self.train_values_])
+        return condition_weights(pts, target)
+
+    def _physical_row(self, cond) -> np.ndarray:
+        row = self.scaler_.data_min_.copy()
+        for g, v in cond.items():
+            row[self._cols(g)] = v
+        return row
+
+    def _plan(self, all_t, start, goal) -> dict:
+        """Decode the skeleton and align the demonstrations to it."""
+        if not hasattr(self, "train_values_"):
+            raise ValidationError(
+                "this model has no training values (a format-1 file); use"
+                " generation='paper' or fit it again"
+            )
+        w = self._weights_for(start, 0) * self._weights_for(goal, -1)
+        w = w / w.max()
+        demos = np.flatnonzero(w >= _KEEP_WEIGHT)
+        model = (
+            self.segment_model_ if demos.size == w.size else self._segment_model(demos)
+        )
+        states, logp = self._run_decoder(model, np.arange(self.n_time_bins))
+        change = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
+        skel = states[change]
+        if skel.size == 1:
+            skel = np.repeat(skel, 2)  # a start and an end in one state
+        C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
+        index = [align_to_skeleton(self.train_values_[j], C) for j in demos]
+        key_tau = skeleton_times([self.train_tau_[j] for j in demos], index, w[demos])
+        return {
+            "states": skel,
+            "logp": logp,
+            "demos": demos,
+            "weights": w[demos],
+            "index": index,
+            "key_tau": key_tau,
+            "model": model,
+        }
+
+    def _derive_velocity(self, X, tq, key_tau, all_t) -> np.ndarray:
+        """Velocity columns as the derivative of the generated positions.
+
+        ``X`` holds the dense rows (at ``all_t``) followed by the key rows (at
+        normalized times ``key_tau``), whose velocity is interpolated from the
+        dense derivative.
+        """
+        pos, vel = self._cols("position"), self._cols("velocity")
+        if pos and len(pos) == len(vel):
+            n = all_t.size
+            V = np.gradient(X[:n, pos], all_t, axis=0)
+            X[:n, vel] = V
+            X[n:, vel] = np.column_stack([np.interp(key_tau, tq, c) for c in V.T])
+        return X
+
+    def _band(self, model, tq) -> np.ndarray:
+        """Posterior spread of the centroids at each output time."""
+        post = hmm.posterior(model, np.arange(self.n_time_bins), start=self.start)
+        C = self.centroids_[np.searchsorted(self.centroid_states_, post.states)]
+        gamma = post.probabilities
+        gamma = gamma / gamma.sum(axis=1, keepdims=True)
+        mean = gamma @ C
+        var = np.einsum("bs,bsd->bd", gamma, (C[None, :, :] - mean[:, None, :]) ** 2)
+        sd = np.sqrt(var) * self.scaler_._divisor()
+        centres = (np.arange(self.n_time_bins) + 0.5) / self.n_time_bins
+        return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
+
+    def _generate_paper(self, times_or_demo, dense, start, goal, return_std):
+        if return_std:
+            raise ValidationError(
+                "return_std needs generation='blend'; the paper's generation has"
+                " no uncertainty band"
+            )
+        key_t, states, _, all_t = self._decode_paper(times_or_demo)
         X = self.scaler_.inverse_transform(self.codebook_.decode(states))
         X = self._renormalize(X)
-        path = Demonstration(key_t, X, self.columns_, self.column_groups_)
-        if not dense:
-            return path
-        Xd = np.column_stack(
-            [np.interp(all_t, key_t, X[:, c]) for c in range(X.shape[1])]
-        )
-        return Demonstration(all_t, self._renormalize(Xd), path.columns, path.groups)
+        if dense:
+            X = np.column_stack(
+                [np.interp(all_t, key_t, X[:, c]) for c in range(X.shape[1])]
+            )
+            X = self._renormalize(X)
+            key_t = all_t
+        if start is not None or goal is not None:
+            span = all_t[-1] - all_t[0]
+            tq = (key_t - all_t[0]) / span if span > 0 else np.zeros_like(key_t)
+            X = self._pin(X, tq, start, goal)
+        return Demonstration(key_t, X, self.columns_, self.column_groups_)
+
+    def _pin(self, X, tq, start, goal, n_dense=None) -> np.ndarray:
+        """Shift the path onto ``start`` and ``goal`` with a faded offset.
+
+        The offsets are measured on the first and last of the first ``n_dense``
+        rows (the path at normalized times 0 and 1) and applied to every row at
+        its normalized time ``tq``.
+        """
+        if start is None and goal is None:
+            return X
+        n = X.shape[0] if n_dense is None else n_dense
+        ramp = fade_ramp(tq)
+        X = X.copy()
+        for cond, fade, row in ((start, 1.0 - ramp, 0), (goal, ramp, n - 1)):
+            for g, v in (cond or {}).items():
+                cols = self._cols(g)
+                X[:, cols] += (v - X[row, cols])[None, :] * fade[:, None]
+                X[row, cols] = v  # exact, not up to the rounding of the sum
+        return X
 
     def _renormalize(self, X: np.ndarray) -> np.ndarray:
-        cols = [i for i, g in enumerate(self.column_groups_) if g == "orientation"]
-        if len(cols) == 4:
-            q = X[:, cols]
-            norm = np.linalg.norm(q, axis=1, keepdims=True)
-            norm[norm == 0] = 1.0
-            X = X.copy()
-            X[:, cols] = q / norm
+        cols = self._quat_cols()
+        if cols is None:
+            return X
+        X = X.copy()
+        X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
         return X
+
+    def _load_training(self, arrays, path) -> None:
+        from ._errors import ModelFormatError
+
+        counts = np.asarray(arrays["train_counts"], np.int64)
+        if counts.shape != (self.n_demos_,) or np.any(counts < 1):
+            raise ModelFormatError(f"{path}: train_counts do not match the key points")
+        values = _split_rows(arrays, "train_values", counts, len(self.columns_), path)
+        tau = _split_rows(arrays, "train_tau", counts, None, path)
+        for k, n in zip(self.keypoints_, counts, strict=True):
+            if k.size == 0 or k.min() < 0 or k.max() >= n:
+                raise ModelFormatError(f"{path}: key points out of range")
+        self._fit_segments(values, tau)  # tau is already normalized: unchanged
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:
@@ -506,6 +841,9 @@ class KeypointHMM:
             "keypoints": np.concatenate(self.keypoints_),
             "keypoint_counts": self.n_keypoints_,
             "symbols_seen": self.symbols_seen_,
+            "train_values": np.concatenate(self.train_values_),
+            "train_tau": np.concatenate(self.train_tau_),
+            "train_counts": np.array([u.shape[0] for u in self.train_values_]),
         }
         arrays.update(self.model_.to_arrays(prefix="hmm_"))
         params = self.get_params()
@@ -536,9 +874,11 @@ class KeypointHMM:
         """
         from ._errors import ModelFormatError
 
-        arrays, meta = load_npz(path, kind=_FORMAT_KIND, version=_FORMAT_VERSION)
+        arrays, meta = load_npz(path, kind=_FORMAT_KIND, version=(1, _FORMAT_VERSION))
         try:
             params = dict(meta["params"])
+            if meta["version"] == 1:  # written before the blended generation
+                params.update(generation="paper", decoder="viterbi")
             columns = tuple(meta["columns"])
             col_groups = tuple(meta["column_groups"])
             if isinstance(params.get("groups"), list):
@@ -586,6 +926,8 @@ class KeypointHMM:
             self.n_clipped_ = int(meta["n_clipped"])
             self.n_demos_ = int(counts.size)
             self.symbols_seen_ = seen
+            if meta["version"] >= 2:
+                self._load_training(arrays, path)
         except ModelFormatError:
             raise
         except (KeyError, TypeError, ValueError) as exc:
@@ -593,6 +935,30 @@ class KeypointHMM:
                 f"{path}: not a valid KeypointHMM file ({type(exc).__name__}: {exc})"
             ) from None
         return self
+
+
+#: Demonstrations whose start/goal weight falls below this fraction of the
+#: largest are left out of the conditioned skeleton and blend.
+_KEEP_WEIGHT = 0.1
+
+#: Generations: ``KeypointHMM`` methods ``(self, times_or_demo, dense, start,
+#: goal, return_std)``.
+GENERATIONS = Registry("generation")
+GENERATIONS.add("blend", KeypointHMM._generate_blend)
+GENERATIONS.add("paper", KeypointHMM._generate_paper)
+
+
+def _split_rows(arrays, key, counts, width, path):
+    from ._errors import ModelFormatError
+
+    a = np.asarray(arrays[key], np.float64)
+    shape = (int(counts.sum()),) + (() if width is None else (width,))
+    if a.shape != shape or not np.all(np.isfinite(a)):
+        raise ModelFormatError(
+            f"{path}: {key} has shape {a.shape}, expected {shape} with finite"
+            " values (tampered file?)"
+        )
+    return np.split(a, np.cumsum(counts)[:-1])
 
 
 _PARAM_NAMES = (
@@ -607,6 +973,8 @@ _PARAM_NAMES = (
     "pseudo_transition",
     "pseudo_emission",
     "start",
+    "generation",
+    "decoder",
     "derive_velocity",
     "n_jobs",
     "random_state",

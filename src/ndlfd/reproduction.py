@@ -292,6 +292,7 @@ def _model(groups, levels, settings: ReproductionSettings, distance: str):
         n_time_bins=settings.n_time_bins,
         distance=distance,
         normalization="group",
+        generation="paper",  # the paper's procedure, as reproduced
     )
 
 

@@ -30,7 +30,7 @@ def build():
     from ndlfd import KeypointHMM, synth
 
     train, _ = synth.make_dataset("square", n_demos=6, random_state=11)
-    return KeypointHMM(**PARAMS).fit(train)
+    return KeypointHMM(**PARAMS, generation="paper").fit(train)
 
 
 def main() -> None:

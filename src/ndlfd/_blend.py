@@ -1,0 +1,270 @@
+"""The default generation: decode a skeleton, align the demonstrations to it, blend.
+
+Three steps, each exact and cheap:
+
+1. **Segment model.** While a training demonstration runs from one key point to
+   the next it stays in the *segment* that starts at the first of them: its
+   state at time bin ``b`` is the state of its last key point at or before
+   ``b``. Every bin is then an observation of the segment the demonstration is
+   in, so a bin without a key point is not an observation of a key-point state,
+   and decoding all bins ``0..N_t-1`` with the ordinary sparse Viterbi (or the
+   posterior) gives the key points *and their times* jointly: a key point is
+   where the decoded state changes. No hopping between demonstrations is forced
+   (each chain emits every bin).
+2. **Alignment.** The decoded key points, at the centroids of the training
+   values encoded to their states, are a skeleton. Each training
+   demonstration is aligned to it by a monotone dynamic programme (the sample
+   of the demonstration matched to each skeleton point, ends pinned, least
+   total squared distance in normalized units).
+3. **Blend.** Between consecutive skeleton points every demonstration's
+   matched segment is time-warped onto the skeleton's times (the weighted mean
+   of the matched samples' normalized times) and the segments are averaged
+   with the demonstrations' weights. The path follows the demonstrations'
+   shape between key points; averaging after alignment keeps corners sharp
+   where a time-aligned mean cuts them.
+
+Conditioning on a start or goal weights the demonstrations by a Gaussian
+kernel on the distance of their first (last) sample to the requested value;
+the skeleton is decoded from the demonstrations that carry weight, and the
+blended path is shifted onto the requested start and goal with an offset faded
+out by a minimum-jerk ramp, so it begins and ends there up to rounding.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "align_to_skeleton",
+    "blend",
+    "condition_weights",
+    "fade_ramp",
+    "segment_states",
+    "skeleton_times",
+]
+
+
+#: Kernel width in units of the median nearest-neighbour distance between the
+#: demonstrations' starts (goals). Chosen on held-out LASA (time + start): 1, 2,
+#: 4 and 8 gave DTW 1.01, 0.98, 0.97 and 0.97 times the faded mean on the
+#: single shapes and 0.133, 0.135, 0.136 and 0.152 on Multi_Models; narrower
+#: kernels copy the nearest demonstration, wider ones start to mix routes.
+BANDWIDTH_FACTOR = 4.0
+
+
+def segment_states(key_bins: np.ndarray, key_states: np.ndarray, n_bins: int):
+    """State of the segment a demonstration is in at each time bin.
+
+    Parameters
+    ----------
+    key_bins : ndarray of shape (n_keys,), dtype int64
+        Time bin of each key point (non-decreasing, the first is 0).
+    key_states : ndarray of shape (n_keys,), dtype int64
+        Codebook state of each key point.
+    n_bins : int
+        Number of time bins.
+
+    Returns
+    -------
+    states : ndarray of shape (n_bins,), dtype int64
+        ``states[b]`` is the state of the last key point whose bin is ``<= b``.
+
+    Examples
+    --------
+    >>> segment_states(np.array([0, 2, 2, 4]), np.array([7, 8, 9, 5]), 5)
+    array([7, 7, 9, 9, 5])
+    """
+    pos = np.searchsorted(key_bins, np.arange(n_bins), side="right") - 1
+    return np.asarray(key_states, np.int64)[np.maximum(pos, 0)]
+
+
+@njit(cache=True, nogil=True)
+def _align_kernel(U, C, strict):  # pragma: no cover - compiled
+    n, d = U.shape
+    k = C.shape[0]
+    prev = np.full(n, np.inf)
+    cur = np.full(n, np.inf)
+    back = np.full((k, n), -1, dtype=np.int32)
+    s = 0.0
+    for c in range(d):
+        diff = U[0, c] - C[0, c]
+        s += diff * diff
+    prev[0] = s
+    for i in range(1, k):
+        best = np.inf
+        arg = -1
+        for p in range(n):
+            # best predecessor p' < p (strict) or p' <= p; ties keep the earliest
+            q = p - 1 if strict else p
+            if q >= 0 and prev[q] < best:
+                best = prev[q]
+                arg = q
+            if arg < 0:
+                cur[p] = np.inf
+                continue
+            s = 0.0
+            for c in range(d):
+                diff = U[p, c] - C[i, c]
+                s += diff * diff
+            cur[p] = best + s
+            back[i, p] = arg
+        prev, cur = cur, prev
+    out = np.empty(k, dtype=np.int64)
+    out[k - 1] = n - 1
+    for i in range(k - 1, 0, -1):
+        out[i - 1] = back[i, out[i]]
+    return out, prev[n - 1]
+
+
+def align_to_skeleton(U: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """Samples of a demonstration matched to the skeleton points.
+
+    Parameters
+    ----------
+    U : ndarray of shape (n_samples, n_dims)
+        The demonstration (normalized units).
+    C : ndarray of shape (n_keys, n_dims)
+        The skeleton points, ``n_keys >= 2``.
+
+    Returns
+    -------
+    index : ndarray of shape (n_keys,), dtype int64
+        Non-decreasing sample indices with ``index[0] = 0`` and ``index[-1] =
+        n_samples - 1`` that minimize ``sum_i |U[index[i]] - C[i]|^2``;
+        strictly increasing when ``n_keys <= n_samples``. Ties go to the
+        earliest sample.
+
+    Examples
+    --------
+    >>> U = np.array([[0.0], [1.0], [2.0], [3.0], [4.0]])
+    >>> align_to_skeleton(U, np.array([[0.0], [2.9], [4.0]]))
+    array([0, 3, 4])
+    """
+    U = np.ascontiguousarray(U, dtype=np.float64)
+    C = np.ascontiguousarray(C, dtype=np.float64)
+    strict = C.shape[0] <= U.shape[0]
+    index, _ = _align_kernel(U, C, strict)
+    return index
+
+
+def fade_ramp(s: np.ndarray) -> np.ndarray:
+    """Minimum-jerk ramp ``10 s^3 - 15 s^4 + 6 s^5`` from 0 at ``s=0`` to 1 at ``s=1``.
+
+    Examples
+    --------
+    >>> fade_ramp(np.array([0.0, 0.5, 1.0]))
+    array([0. , 0.5, 1. ])
+    """
+    s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
+    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Gaussian-kernel weights of demonstrations for a requested start or goal.
+
+    The bandwidth is :data:`BANDWIDTH_FACTOR` times the median, over the
+    demonstrations, of the distance from each one's point to the nearest other
+    one's: demonstrations of one route lie within it of each other, routes
+    that start apart fall out.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_demos, n_dims)
+        Each demonstration's first (or last) sample, normalized units.
+    target : ndarray of shape (n_dims,)
+        The requested start (or goal), normalized units.
+
+    Returns
+    -------
+    weights : ndarray of shape (n_demos,)
+        In ``(0, 1]``, the largest is 1.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 0.0], [0.1, 0.0], [5.0, 5.0], [5.1, 5.0]])
+    >>> np.round(condition_weights(pts, np.array([5.0, 5.05])), 3)
+    array([0.   , 0.   , 1.   , 0.969])
+    """
+    points = np.asarray(points, dtype=np.float64)
+    d = np.linalg.norm(points - target, axis=1)
+    if points.shape[0] < 2:
+        return np.ones(points.shape[0])
+    pair = np.linalg.norm(points[:, None, :] - points[None, :, :], axis=2)
+    np.fill_diagonal(pair, np.inf)
+    h = BANDWIDTH_FACTOR * float(np.median(pair.min(axis=1)))
+    if not h > 0:
+        h = float(np.max(pair[np.isfinite(pair)], initial=0.0)) or 1.0
+    logw = -0.5 * (d / h) ** 2
+    return np.exp(logw - logw.max())
+
+
+def skeleton_times(tau_list, index_list, weights) -> np.ndarray:
+    """Normalized time of each skeleton point (weighted mean of the matches').
+
+    The weighted mean of the matched samples' normalized times.
+
+    Parameters
+    ----------
+    tau_list : list of ndarray of shape (n_j,)
+        Normalized times of the demonstrations.
+    index_list : list of ndarray of shape (n_keys,)
+        Each one's samples matched to the skeleton points.
+    weights : ndarray of shape (n_demos,)
+        Non-negative, not all zero.
+
+    Returns
+    -------
+    key_tau : ndarray of shape (n_keys,)
+
+    Examples
+    --------
+    >>> tau = np.linspace(0.0, 1.0, 5)
+    >>> skeleton_times([tau, tau], [np.array([0, 1, 4]), np.array([0, 3, 4])],
+    ...                np.array([1.0, 1.0]))
+    array([0. , 0.5, 1. ])
+    """
+    w = np.asarray(weights, dtype=np.float64)
+    keys = np.array([tau[idx] for tau, idx in zip(tau_list, index_list, strict=True)])
+    return (w / w.sum()) @ keys
+
+
+def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
+    """Weighted average of demonstrations time-warped onto a common skeleton.
+
+    Parameters
+    ----------
+    U_list : list of ndarray of shape (n_j, n_dims)
+        Demonstrations, normalized units.
+    tau_list : list of ndarray of shape (n_j,)
+        Their normalized times (0 to 1).
+    index_list : list of ndarray of shape (n_keys,)
+        Each one's samples matched to the skeleton points.
+    weights : ndarray of shape (n_demos,)
+        Non-negative, not all zero.
+    tq : ndarray of shape (n_out,)
+        Normalized output times.
+    quat_cols : sequence of int, optional
+        Four quaternion columns, sign-aligned to the heaviest demonstration
+        before averaging.
+
+    Returns
+    -------
+    mean : ndarray of shape (n_out, n_dims)
+    key_tau : ndarray of shape (n_keys,)
+        Normalized time of each skeleton point (the weighted mean of the
+        matched samples' times).
+    """
+    w = np.asarray(weights, dtype=np.float64)
+    key_tau = skeleton_times(tau_list, index_list, w)
+    warped = []
+    for tau, idx, U in zip(tau_list, index_list, U_list, strict=True):
+        tj = np.interp(tq, key_tau, tau[idx])
+        warped.append(np.column_stack([np.interp(tj, tau, col) for col in U.T]))
+    W = np.stack(warped)  # (n_demos, n_out, n_dims)
+    if quat_cols is not None and len(quat_cols) == 4:
+        ref = W[int(np.argmax(w))][:, quat_cols]
+        for j in range(W.shape[0]):
+            flip = np.sum(W[j][:, quat_cols] * ref, axis=1) < 0
+            W[j][np.ix_(flip, quat_cols)] *= -1.0
+    return np.tensordot(w, W, axes=1), key_tau
