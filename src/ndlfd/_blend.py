@@ -256,6 +256,7 @@ def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
         matched samples' times).
     """
     w = np.asarray(weights, dtype=np.float64)
+    w = w / w.sum()
     key_tau = skeleton_times(tau_list, index_list, w)
     warped = []
     for tau, idx, U in zip(tau_list, index_list, U_list, strict=True):
