@@ -14,7 +14,7 @@ from ndlfd._simplify import simplify
 from ndlfd.codebook import Codebook, TimeBins
 from ndlfd.demo import Demonstration
 from ndlfd.learner import KeypointHMM
-from ndlfd.metrics import path_difference
+from ndlfd.metrics import dtw_distance, path_difference
 from ndlfd.normalize import GroupScaler
 
 
@@ -264,3 +264,140 @@ def test_weights_change_the_reduction_not_the_codebook(square):
     assert heavy.codebook_.n_states == plain.codebook_.n_states
     with pytest.raises(ValidationError, match="weights names group"):
         KeypointHMM(weights={"force": 1.0}).fit(train)
+
+
+# ------------------------------------------------------------ blended generation
+def _two_routes(n=200, per_route=4, seed=0):
+    """Demonstrations from (0, 1) over the top or from (0, -1) underneath to (2, 0)."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 2.0, n)
+    s = t / 2.0
+    demos = []
+    for sign in (1.0, -1.0):
+        for _ in range(per_route):
+            x = 2.0 * s + rng.normal(0, 0.01)
+            y = sign * (1.0 - s) * (1.0 + np.sin(np.pi * s)) + rng.normal(0, 0.01)
+            demos.append(
+                Demonstration.from_arrays(
+                    t * rng.uniform(0.9, 1.1), position=np.column_stack([x, y])
+                )
+            )
+    return demos
+
+
+def test_identical_demonstrations_are_reproduced_exactly():
+    t = np.linspace(0.0, 3.0, 40)
+    P = np.column_stack([np.sin(t), t**2])
+    d = Demonstration.from_arrays(t, position=P)
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10).fit([d] * 3)
+    path, std = model.generate(t, dense=True, return_std=True)
+    np.testing.assert_array_equal(path.t, t)
+    np.testing.assert_allclose(path.X, P, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(std, 0.0, atol=1e-12)
+
+
+def test_start_and_goal_are_honoured_and_velocity_is_the_derivative(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=40).fit(train)
+    start, goal = [0.3, -0.2], [0.1, 0.4]
+    path = model.generate(
+        test.t, dense=True, start={"position": start}, goal={"position": goal}
+    )
+    P = path.get("position")
+    np.testing.assert_array_equal(P[0], start)
+    np.testing.assert_array_equal(P[-1], goal)
+    np.testing.assert_allclose(
+        path.get("velocity"), np.gradient(P, test.t, axis=0), rtol=0, atol=1e-12
+    )
+    # key points: the first and last are at the ends of the timing, pinned too
+    keys = model.generate(test.t, start={"position": start}, goal={"position": goal})
+    assert keys.t[0] == test.t[0] and keys.t[-1] == test.t[-1]
+    np.testing.assert_allclose(keys.get("position")[[0, -1]], [start, goal], atol=1e-12)
+
+
+def test_the_last_sample_is_at_the_end_of_the_timing(square):
+    train, _ = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=20).fit(train)
+    grid = np.linspace(0.0, 3.0, 61)
+    assert model.generate(grid, dense=True).t[-1] == 3.0
+    assert model.generate(grid).t[-1] == 3.0
+
+
+def test_a_conditioned_path_follows_the_matching_route():
+    demos = _two_routes()
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=30)
+    model.fit(demos)
+    t = np.linspace(0.0, 2.0, 200)
+    routes = {
+        1.0: np.mean([d.get("position") for d in demos[:4]], axis=0),
+        -1.0: np.mean([d.get("position") for d in demos[4:]], axis=0),
+    }
+    for sign, mine in routes.items():
+        path = model.generate(t, dense=True, start={"position": [0.0, sign]})
+        P = path.get("position")
+        other = routes[-sign]
+        assert dtw_distance(P, mine, normalize=True) < 0.02
+        assert dtw_distance(P, other, normalize=True) > 0.5
+        # the mean of both routes (what an unconditioned average gives) is far
+        both = (mine + other) / 2
+        assert dtw_distance(P, both, normalize=True) > 0.25
+
+
+def test_band_is_the_posterior_spread_of_the_centroids():
+    demos = _two_routes(per_route=2)
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10)
+    model.fit(demos)
+    t = np.linspace(0.0, 2.0, 50)
+    _, std = model.generate(t, dense=True, return_std=True)
+    assert std.shape == (50, 2)
+    # independent check at one bin: posterior of the segment model by hand
+    post = hmm.posterior(model.segment_model_, np.arange(10))
+    C = model.centroids_[np.searchsorted(model.centroid_states_, post.states)]
+    g = post.probabilities[4] / post.probabilities[4].sum()
+    mu = g @ C
+    sd_u = np.sqrt(g @ (C - mu) ** 2)
+    sd = sd_u * (model.scaler_.data_max_ - model.scaler_.data_min_)
+    tau = (t - t[0]) / (t[-1] - t[0])
+    at = np.flatnonzero(np.isclose(tau, 0.45))  # bin 4's centre
+    if at.size:
+        np.testing.assert_allclose(std[at[0]], sd, rtol=1e-9)
+    # two routes apart in y: the band's y spread is about the routes' distance
+    assert std[:, 1].max() > 0.5
+    with pytest.raises(ValidationError, match="return_std"):
+        model.set_params(generation="paper").generate(t, return_std=True)
+
+
+def test_decoders_and_generations_are_named_options(square):
+    train, test = square
+    with pytest.raises(OptionError, match=r"decoder.*'viterbi', 'map'"):
+        KeypointHMM(decoder="beam").fit(train)
+    with pytest.raises(OptionError, match=r"generation.*'blend', 'paper'"):
+        KeypointHMM(generation="dmp").fit(train)
+    m = KeypointHMM(epsilon=0.05, n_time_bins=20, decoder="map").fit(train)
+    key_t, states, _ = m.decode(test.t)
+    assert np.all(np.diff(key_t) > 0) and states.size == key_t.size
+    assert m.generate(test.t, dense=True).n_samples == test.n_samples
+
+
+def test_bad_start_and_goal(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=20).fit(train)
+    with pytest.raises(ValidationError, match="mapping of group"):
+        model.generate(test.t, start=[0, 0])
+    with pytest.raises(ValidationError, match="not learned"):
+        model.generate(test.t, start={"force": [0, 0]})
+    with pytest.raises(ValidationError, match=r"2 finite value"):
+        model.generate(test.t, goal={"position": [0, np.nan]})
+    with pytest.raises(ValidationError, match="at least two"):
+        model.generate([1.0])
+
+
+def test_paper_dense_path_is_linear_interpolation_of_its_key_points(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=40, generation="paper").fit(train)
+    keys = model.generate(test)
+    dense = model.generate(test, dense=True)
+    for c in range(keys.X.shape[1]):
+        np.testing.assert_allclose(
+            dense.X[:, c], np.interp(test.t, keys.t, keys.X[:, c]), atol=1e-12
+        )

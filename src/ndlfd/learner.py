@@ -653,7 +653,9 @@ class KeypointHMM:
         return t
 
     def _key_times(self, all_t, key_tau):
-        return all_t[0] + key_tau * (all_t[-1] - all_t[0])
+        t = all_t[0] + key_tau * (all_t[-1] - all_t[0])
+        t[-1] = all_t[-1]  # exact, not up to the rounding of the product
+        return t
 
     def _condition(self, values, what: str) -> dict | None:
         """Check a start/goal mapping; return it as {group: float array}."""
@@ -726,6 +728,8 @@ class KeypointHMM:
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
         index = [align_to_skeleton(self.train_values_[j], C) for j in demos]
         key_tau = skeleton_times([self.train_tau_[j] for j in demos], index, w[demos])
+        # every alignment pins the ends to samples at tau 0 and 1: exact ends
+        key_tau[0], key_tau[-1] = 0.0, 1.0
         return {
             "states": skel,
             "logp": logp,

@@ -1,0 +1,127 @@
+"""The blended generation's pieces, against brute force and hand-worked cases."""
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ndlfd._blend import (
+    align_to_skeleton,
+    blend,
+    condition_weights,
+    fade_ramp,
+    segment_states,
+    skeleton_times,
+)
+from ndlfd.metrics import dtw_distance
+
+
+def brute_align(U, C):
+    """All index tuples (ends pinned, monotone); the cheapest, earliest on ties."""
+    n, k = len(U), len(C)
+    strict = k <= n
+    best, arg = np.inf, None
+    inner = (
+        itertools.combinations(range(1, n - 1), k - 2)
+        if strict
+        else itertools.combinations_with_replacement(range(n), k - 2)
+    )
+    for mid in inner:
+        idx = (0, *mid, n - 1)
+        if strict and len(set(idx)) < k:
+            continue
+        cost = sum(float(np.sum((U[i] - C[j]) ** 2)) for j, i in enumerate(idx))
+        if cost < best:
+            best, arg = cost, idx
+    return np.array(arg), best
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.integers(2, 7),
+    st.integers(2, 5),
+    st.integers(1, 2),
+    st.integers(0, 2**31),
+)
+def test_alignment_is_the_cheapest_monotone_match(n, k, d, seed):
+    rng = np.random.default_rng(seed)
+    # integer values: costs are exact, so ties are real ties
+    U = rng.integers(0, 4, size=(n, d)).astype(float)
+    C = rng.integers(0, 4, size=(k, d)).astype(float)
+    got = align_to_skeleton(U, C)
+    _, best = brute_align(U, C)
+    cost = sum(float(np.sum((U[i] - C[j]) ** 2)) for j, i in enumerate(got))
+    assert cost == best
+    assert got[0] == 0 and got[-1] == n - 1
+    assert np.all(np.diff(got) > 0) if k <= n else np.all(np.diff(got) >= 0)
+
+
+def test_segment_states_hand_worked():
+    # key points at bins 0, 2, 2, 4: the later of two in one bin wins
+    got = segment_states(np.array([0, 2, 2, 4]), np.array([7, 8, 9, 5]), 6)
+    np.testing.assert_array_equal(got, [7, 7, 9, 9, 5, 5])
+
+
+def test_fade_ramp_is_minimum_jerk():
+    s = np.linspace(0, 1, 101)
+    r = fade_ramp(s)
+    np.testing.assert_allclose(r, 10 * s**3 - 15 * s**4 + 6 * s**5, atol=1e-15)
+    assert r[0] == 0 and r[-1] == 1 and np.all(np.diff(r) >= 0)
+    np.testing.assert_allclose(r + fade_ramp(1 - s), 1.0, atol=1e-15)
+
+
+def test_condition_weights_separate_two_routes():
+    rng = np.random.default_rng(0)
+    a = rng.normal([0, 0], 0.02, size=(4, 2))
+    b = rng.normal([1, 1], 0.02, size=(3, 2))
+    w = condition_weights(np.vstack([a, b]), np.array([1.0, 1.0]))
+    assert w.max() == 1.0
+    assert np.all(w[4:] > 0.5) and np.all(w[:4] < 1e-10)
+    assert condition_weights(a[:1], np.zeros(2)).tolist() == [1.0]
+
+
+def test_blend_of_one_curve_at_different_speeds_is_the_curve():
+    # the same shape traversed with three different timings: a time-aligned
+    # mean cuts the corner, the aligned blend does not
+    s = np.linspace(0, 1, 401)
+    shape = np.column_stack(
+        [np.minimum(2 * s, 1.0), np.maximum(2 * s - 1, 0.0)]
+    )  # an L: right, then up
+    taus, values = [], []
+    for warp in (0.6, 1.0, 1.7):
+        tau = s
+        progress = s**warp  # how far along the shape at time tau
+        values.append(np.column_stack([np.interp(progress, s, c) for c in shape.T]))
+        taus.append(tau)
+    keys = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
+    index = [align_to_skeleton(u, keys) for u in values]
+    tq = np.linspace(0, 1, 401)
+    out, key_tau = blend(values, taus, index, np.ones(3), tq)
+    mean = np.mean(values, axis=0)
+    assert dtw_distance(out, shape, normalize=True) < 2e-3
+    assert dtw_distance(mean, shape, normalize=True) > 1e-2
+    np.testing.assert_allclose(out[[0, -1]], [[0, 0], [1, 1]], atol=1e-12)
+    np.testing.assert_array_equal(key_tau, skeleton_times(taus, index, np.ones(3)))
+
+
+def test_blend_with_one_weight_copies_that_demonstration():
+    rng = np.random.default_rng(1)
+    tau = np.linspace(0, 1, 50)
+    U = [np.cumsum(rng.normal(size=(50, 2)), axis=0) for _ in range(3)]
+    index = [np.array([0, 20, 49])] * 3
+    out, _ = blend(U, [tau] * 3, index, np.array([0.0, 1.0, 0.0]), tau)
+    np.testing.assert_allclose(out, U[1], atol=1e-12)
+
+
+@pytest.mark.parametrize("flip", [False, True])
+def test_blend_sign_aligns_quaternions(flip):
+    tau = np.linspace(0, 1, 5)
+    q = np.tile([0.6, 0.8, 0.0, 0.0], (5, 1))
+    other = -q if flip else q
+    out, _ = blend(
+        [q, other], [tau, tau], [np.array([0, 4])] * 2, np.ones(2), tau,
+        quat_cols=[0, 1, 2, 3],
+    )  # fmt: skip
+    np.testing.assert_allclose(out, q, atol=1e-15)
