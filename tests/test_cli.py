@@ -199,6 +199,37 @@ def test_fit_generate_round_trip(tmp_path):
     assert r.returncode == 0, r.stderr
     dense = read_csv(tmp_path / "dense.csv")
     assert dense.n_samples == 101 and dense.group_names == ("position", "velocity")
+    assert dense.t[-1] == 2.0  # the last sample is at the end of the duration
+    r = run(
+        "generate",
+        tmp_path / "m.ndlfd",
+        "--duration",
+        "3",
+        "--samples",
+        "61",
+        "--dense",
+        "--start",
+        "0.5,-0.25",
+        "--goal",
+        "0.25,0.5",
+        "-o",
+        tmp_path / "pinned.csv",
+    )
+    assert r.returncode == 0, r.stderr
+    pinned = read_csv(tmp_path / "pinned.csv")
+    expected = model.generate(
+        np.linspace(0.0, 3.0, 61),
+        dense=True,
+        start={"position": [0.5, -0.25]},
+        goal={"position": [0.25, 0.5]},
+    )
+    np.testing.assert_allclose(pinned.X, expected.X, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(
+        pinned.get("position")[[0, -1]], [[0.5, -0.25], [0.25, 0.5]], atol=1e-12
+    )
+    r = run("generate", tmp_path / "m.ndlfd", "--duration", "3", "--start", "0,x",
+            "-o", tmp_path / "bad.csv")  # fmt: skip
+    assert r.returncode == 2 and "--start must be comma-separated" in r.stderr
 
 
 def test_fit_and_generate_errors(tmp_path):

@@ -261,7 +261,14 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         if n < 2:
             raise ValidationError(f"--samples must be >= 2; got {n}")
         timing = np.linspace(0.0, args.duration, n)
-    path = model.generate(timing, dense=args.dense)
+    start = _parse_floats(args.start, "--start")
+    goal = _parse_floats(args.goal, "--goal")
+    path = model.generate(
+        timing,
+        dense=args.dense,
+        start=None if start is None else {"position": start},
+        goal=None if goal is None else {"position": goal},
+    )
     write_csv(path, args.output)
     if not args.quiet:
         print(
@@ -331,6 +338,17 @@ def _add_generate(sub) -> None:
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     p.add_argument("--like", help="a test demonstration whose timing is used")
+    p.add_argument(
+        "--start",
+        metavar="X,Y[,Z]",
+        help="where the robot starts (position): the path begins there and"
+        " follows the demonstrations that start nearby",
+    )
+    p.add_argument(
+        "--goal",
+        metavar="X,Y[,Z]",
+        help="where the path must end (position)",
+    )
     p.add_argument("--duration", type=float, help="duration of a uniform time grid")
     p.add_argument(
         "--samples", type=int, help="samples of the uniform time grid (1000)"
