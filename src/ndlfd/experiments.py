@@ -11,16 +11,14 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-import numpy as np
-
 from . import synth
 from ._errors import MissingExtraError
 from .demo import Demonstration
 from .io import write_csv
 from .learner import KeypointHMM
-from .metrics import discrete_frechet, dtw_distance, path_difference
+from .metrics import mean_demo_baseline, path_errors
 
-__all__ = ["mean_demo_baseline", "path_errors", "run_demo"]
+__all__ = ["run_demo"]
 
 #: Settings of the built-in jobs, per dataset (epsilon in normalized units).
 #: The square's 10 % training noise needs a coarser tolerance than LASA's smooth
@@ -46,62 +44,6 @@ def _silent(_: str) -> None:
     pass
 
 
-def mean_demo_baseline(demos, times, group: str = "position") -> np.ndarray:
-    """The simplest learner: the average of the demonstrations on normalized time.
-
-    Each demonstration's ``group`` values are interpolated at the normalized
-    times of ``times`` and averaged.
-
-    Parameters
-    ----------
-    demos : sequence of Demonstration
-        Training demonstrations.
-    times : array-like of shape (n_samples,)
-        Time stamps where the baseline is evaluated.
-    group : str, default="position"
-        The group to average.
-
-    Returns
-    -------
-    values : ndarray of shape (n_samples, n_group_columns)
-    """
-    t = np.asarray(times, dtype=float)
-    tau = (t - t[0]) / (t[-1] - t[0]) if t[-1] > t[0] else np.zeros_like(t)
-    acc = None
-    for d in demos:
-        s = (d.t - d.t[0]) / (d.t[-1] - d.t[0])
-        V = d.get(group)
-        Vi = np.column_stack([np.interp(tau, s, V[:, c]) for c in range(V.shape[1])])
-        acc = Vi if acc is None else acc + Vi
-    return acc / len(demos)
-
-
-def path_errors(test: Demonstration, path: Demonstration, group="position") -> dict:
-    """Difference %, mean DTW and discrete Fréchet of ``path`` to ``test``.
-
-    Parameters
-    ----------
-    test : Demonstration
-        The reference demonstration.
-    path : Demonstration
-        The path to evaluate.
-    group : str, default="position"
-        The group compared.
-
-    Returns
-    -------
-    errors : dict
-        ``difference_pct`` (:func:`ndlfd.metrics.path_difference`), ``dtw_mean``
-        (DTW divided by the number of points of both paths) and ``frechet``.
-    """
-    a, b = test.get(group), path.get(group)
-    return {
-        "difference_pct": path_difference(test.t, a, path.t, b),
-        "dtw_mean": dtw_distance(a, b, normalize=True),
-        "frechet": discrete_frechet(a, b),
-    }
-
-
 def _try_plot():
     """The plot module when matplotlib is installed, else None."""
     try:
@@ -118,10 +60,10 @@ def _learn_and_generate(train, test, settings: dict):
     model = KeypointHMM(**settings).fit(train)
     t_fit = time.perf_counter() - t0
     t0 = time.perf_counter()
-    keys = model.generate(test)
-    dense = model.generate(test, dense=True)
+    keys = model.generate(test.t)
+    dense, std = model.generate(test.t, dense=True, return_std=True)
     t_gen = time.perf_counter() - t0
-    return model, keys, dense, t_fit, t_gen
+    return model, keys, dense, std, t_fit, t_gen
 
 
 def run_demo(
@@ -168,7 +110,7 @@ def run_demo(
         echo('(LASA skipped: install it with pip install "ndlfd[lasa]")')
     summary = {}
     for name, tr, te, settings in jobs:
-        model, keys, dense, t_fit, t_gen = _learn_and_generate(tr, te, settings)
+        model, keys, dense, std, t_fit, t_gen = _learn_and_generate(tr, te, settings)
         base = mean_demo_baseline(tr, te.t)
         base_demo = Demonstration(
             te.t, base, te.select("position").columns, ("position",) * base.shape[1]
@@ -184,16 +126,24 @@ def run_demo(
             "generated_keypoints": keys.n_samples,
             **path_errors(te, dense),
             "baseline_difference_pct": path_errors(te, base_demo)["difference_pct"],
+            "baseline_dtw_mean": path_errors(te, base_demo)["dtw_mean"],
         }
         summary[name] = row
         write_csv(keys, out / f"{name}_generated_keypoints.csv")
         write_csv(dense, out / f"{name}_generated_dense.csv")
         if plotting is not None:
             fig, (ax,) = plotting.new_figure(1)
+            plotting.plot_band(
+                ax,
+                dense.get("position"),
+                std[:, list(model.column_groups_).index("position") :][:, :2],
+                k=1.0,
+                label="band (1 sd)",
+            )
             plotting.plot_demos(
                 tr,
                 keypoints=model.keypoints_,
-                generated=keys,
+                generated=dense,
                 test=te,
                 ax=ax,
                 max_demos=15,
@@ -204,8 +154,10 @@ def run_demo(
             f"{name:>12}: {len(tr)} demos, key points {row['keypoints_min']}-"
             f"{row['keypoints_max']}, {row['states_used']} of {row['n_states']}"
             f" states used, fit {t_fit * 1e3:.0f} ms, generate {t_gen * 1e3:.1f} ms,"
-            f" difference to test {row['difference_pct']:.2f} %"
-            f" (mean-demo baseline {row['baseline_difference_pct']:.2f} %)"
+            f" DTW to the held-out test {row['dtw_mean']:.4g}"
+            f" (mean of the demonstrations {row['baseline_dtw_mean']:.4g}),"
+            f" difference {row['difference_pct']:.2f} %"
+            f" (mean {row['baseline_difference_pct']:.2f} %)"
         )
     echo(f"wrote generated paths{' and figures' if plotting else ''} to {out}/")
     return summary
