@@ -248,7 +248,7 @@ def test_fit_and_generate_errors(tmp_path):
 def test_demo_quick(tmp_path):
     r = run("demo", "--quick", "--out", tmp_path / "out")
     assert r.returncode == 0, r.stderr
-    assert "square" in r.stdout and "difference to test" in r.stdout
+    assert "square" in r.stdout and "DTW to the held-out test" in r.stdout
     names = {p.name for p in (tmp_path / "out").iterdir()}
     assert {
         "square_generated_keypoints.csv",
