@@ -535,5 +535,6 @@ def simplify_many(
 
     if workers == 1 or len(jobs) < 2:
         return [one(job) for job in jobs]
-    with ThreadPoolExecutor(max_workers=min(workers, len(jobs))) as pool:
-        return list(pool.map(one, jobs))
+    # the persistent pool: starting threads per call costs more than a short
+    # demonstration's reduction (one() never submits to the pool itself)
+    return list(_pool(min(workers, len(jobs))).map(one, jobs))
