@@ -13,35 +13,60 @@ import numpy as np
 EPS = np.finfo(np.float64).eps
 
 
-def coincident(P, a, b):
-    """Whether the endpoints count as coincident (the documented tolerance)."""
-    scale = np.abs(P).max() if P.size else 0.0
-    return np.linalg.norm(P[b] - P[a]) <= 8 * EPS * scale
+def _w2(P, weights):
+    """Squared column weights (ones when there are none)."""
+    return np.ones(P.shape[1]) if weights is None else np.asarray(weights) ** 2
 
 
-def line_distances(P, a, b, times=None):
+def _inner(x, y, w2):
+    """Weighted inner product along the last axis: sum_k w_k² x_k y_k.
+
+    The weighted distance is measured in this metric, never by scaling the
+    columns of the data first (which is how the fast code does it).
+    """
+    return np.sum(x * y * w2, axis=-1)
+
+
+def _norm(x, w2):
+    return np.sqrt(_inner(x, x, w2))
+
+
+def coincident(P, a, b, weights=None):
+    """Whether the endpoints count as coincident (the documented tolerance).
+
+    With weights the scale is the largest weighted coordinate,
+    ``max_k w_k max_i |P_ik|``.
+    """
+    w = np.ones(P.shape[1]) if weights is None else np.asarray(weights, float)
+    scale = (np.abs(P).max(axis=0) * w).max() if P.size else 0.0
+    return _norm(P[b] - P[a], _w2(P, weights)) <= 8 * EPS * scale
+
+
+def line_distances(P, a, b, times=None, weights=None):
+    w2 = _w2(P, weights)
     v = P[a + 1 : b] - P[a]
     u = P[b] - P[a]
-    if coincident(P, a, b):
-        return np.linalg.norm(v, axis=1)
-    t = v @ u / (u @ u)
+    if coincident(P, a, b, weights):
+        return _norm(v, w2)
+    t = _inner(v, u, w2) / _inner(u, u, w2)
     r = v - t[:, None] * u
-    return np.linalg.norm(r, axis=1)
+    return _norm(r, w2)
 
 
-def segment_distances(P, a, b, times=None):
+def segment_distances(P, a, b, times=None, weights=None):
+    w2 = _w2(P, weights)
     v = P[a + 1 : b] - P[a]
     u = P[b] - P[a]
-    if coincident(P, a, b):
-        return np.linalg.norm(v, axis=1)
-    t = np.clip(v @ u / (u @ u), 0.0, 1.0)
-    return np.linalg.norm(v - t[:, None] * u, axis=1)
+    if coincident(P, a, b, weights):
+        return _norm(v, w2)
+    t = np.clip(_inner(v, u, w2) / _inner(u, u, w2), 0.0, 1.0)
+    return _norm(v - t[:, None] * u, w2)
 
 
-def sed_distances(P, a, b, times):
+def sed_distances(P, a, b, times, weights=None):
     s = (times[a + 1 : b] - times[a]) / (times[b] - times[a])
     chord = P[a] + s[:, None] * (P[b] - P[a])
-    return np.linalg.norm(P[a + 1 : b] - chord, axis=1)
+    return _norm(P[a + 1 : b] - chord, _w2(P, weights))
 
 
 def paper_matrix(p1, pi, pn):
@@ -56,16 +81,22 @@ def paper_matrix(p1, pi, pn):
     return A
 
 
-def paper_distances(P, a, b, times=None):
+def paper_distances(P, a, b, times=None, weights=None):
+    """The paper's formula; with weights, on the weighted coordinates w_k P_ik.
+
+    The formula is defined on coordinates, not by a metric, so weighting it
+    means weighting the coordinates of the three points in A_d.
+    """
     d = P.shape[1]
     if d == 1:
-        return line_distances(P, a, b)
-    if coincident(P, a, b):
-        return np.linalg.norm(P[a + 1 : b] - P[a], axis=1)
-    base = np.linalg.norm(P[b] - P[a])
+        return line_distances(P, a, b, weights=weights)
+    if coincident(P, a, b, weights):
+        return _norm(P[a + 1 : b] - P[a], _w2(P, weights))
+    w = np.ones(d) if weights is None else np.asarray(weights, float)
+    base = _norm(P[b] - P[a], _w2(P, weights))
     return np.array(
         [
-            abs(np.linalg.det(paper_matrix(P[a], P[i], P[b]))) / base
+            abs(np.linalg.det(paper_matrix(w * P[a], w * P[i], w * P[b]))) / base
             for i in range(a + 1, b)
         ]
     )
@@ -79,22 +110,24 @@ DISTANCE_FUNCTIONS = {
 }
 
 
-def _tol(P):
-    return 1e-9 * (1.0 + (np.abs(P).max() if P.size else 0.0))
+def _tol(P, weights=None):
+    w = 1.0 if weights is None else max(1.0, float(np.max(weights)))
+    return 1e-9 * (1.0 + w * (np.abs(P).max() if P.size else 0.0))
 
 
-def farthest(P, a, b, distance, times=None):
+def farthest(P, a, b, distance, times=None, weights=None):
     """(index, distance) of the first point reaching the max (within tol)."""
-    dist = DISTANCE_FUNCTIONS[distance](P, a, b, times)
+    dist = DISTANCE_FUNCTIONS[distance](P, a, b, times, weights=weights)
     m = dist.max()
-    j = int(np.flatnonzero(dist >= m - _tol(P))[0])
+    j = int(np.flatnonzero(dist >= m - _tol(P, weights))[0])
     return a + 1 + j, float(m)
 
 
-def dp_reference(P, epsilon, distance="line", times=None, splits=None):
+def dp_reference(P, epsilon, distance="line", times=None, splits=None, weights=None):
     """Recursive textbook Douglas–Peucker; returns sorted kept indices.
 
     ``splits``, if a list, receives ``(depth, a, b, far)`` for every split.
+    ``weights`` measures every distance in the weighted metric (see _inner).
     """
     P = np.asarray(P, dtype=float)
     n = P.shape[0]
@@ -105,8 +138,8 @@ def dp_reference(P, epsilon, distance="line", times=None, splits=None):
     def rec(a, b, depth):
         if b - a < 2:
             return
-        i, m = farthest(P, a, b, distance, times)
-        if m > epsilon + _tol(P):
+        i, m = farthest(P, a, b, distance, times, weights)
+        if m > epsilon + _tol(P, weights):
             keep.add(i)
             if splits is not None:
                 splits.append((depth, a, b, i))

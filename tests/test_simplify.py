@@ -243,13 +243,33 @@ def test_line_invariant_to_rotation_and_translation(n, d, seed, frac):
     assert simplify(P @ Q.T + shift, eps).tolist() == base.tolist()
 
 
+# weights that keep weighted integer data exact (multiples of 1/4, or integers)
+WEIGHTS = [0.0, 0.25, 0.5, 1.0, 2.0, 3.0]
+
+
 @SETTINGS
-@given(cases(modes=["line", "segment", "paper"]), st.sampled_from(EPSILONS))
-def test_weights_scale_columns(case, eps):
-    P, mode, _ = case
-    w = np.linspace(0.0, 2.0, P.shape[1])
-    got = simplify(P, eps, distance=mode, weights=w)
-    assert got.tolist() == simplify(P * w, eps, distance=mode).tolist()
+@given(cases(), st.sampled_from(EPSILONS), st.data())
+def test_weights_measure_in_the_weighted_metric(case, eps, data):
+    P, mode, times = case
+    d = P.shape[1]
+    w = data.draw(arrays(np.float64, (d,), elements=st.sampled_from(WEIGHTS)))
+    got = simplify(P, eps, distance=mode, weights=w, times=times)
+    want = dp_reference(P, eps, mode, times, weights=w)
+    assert got.tolist() == want.tolist()
+
+
+def test_weights_known_answer():
+    # unweighted, point 1 is 2 from the chord y = 0 and point 2 is 1.5 from it
+    P = np.array([[0.0, 0.0], [1.0, 2.0], [5.0, -1.5], [10.0, 0.0]])
+    assert simplify(P, 1.9).tolist() == [0, 1, 2, 3]
+    # y weighted by 1/2: distances 1 and 0.75 from the same chord
+    assert simplify(P, 1.0, weights=[1.0, 0.5]).tolist() == [0, 3]
+    assert simplify(P, 0.99, weights=[1.0, 0.5]).tolist() == [0, 1, 2, 3]
+    # x weighted by 0, y by 3: the chord 0-3 has length 0 in the weighted
+    # metric (coincident endpoints), so point 1 is 3 * 2 = 6 from P_0; then
+    # the chord 1-3 runs along y and point 2 lies on it.
+    assert simplify(P, 5.9, weights=[0.0, 3.0]).tolist() == [0, 1, 3]
+    assert simplify(P, 6.0, weights=[0.0, 3.0]).tolist() == [0, 3]
 
 
 @pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9])
@@ -267,6 +287,98 @@ def test_long_integer_walks_cross_block_boundaries(d, mode):
     if mode == "line":
         got = simplify(P, n_points=40, distance=mode, times=t)
         assert got.tolist() == budget_reference(P, 40, mode, t).tolist()
+
+
+@st.composite
+def block_crossing_paths(draw, d):
+    """Integer paths over several 256-point blocks of the scans, full of ties.
+
+    Walks folded into a small box (so distances repeat), points drawn from
+    {-1, 0, 1}^d, and a folded 2-D walk placed in two of d columns (the others
+    zero, so ties stay as common as in 2-D), in every dimension family of the
+    line kernels (2-D, 3-D, column tuples for 4-8, transposed data for 1 and
+    9+). Drawn from a seed: drawing thousands of values one by one is slow.
+    """
+    n = draw(st.integers(300, 1600))
+    kind = draw(st.sampled_from(["box", "grid", "flat"]))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    if kind == "grid":
+        return rng.integers(-1, 2, size=(n, d)).astype(float)
+    walk = np.cumsum(rng.integers(-1, 2, size=(n, d if kind == "box" else 2)), axis=0)
+    walk = np.abs((walk + 2) % 8 - 4).astype(float)
+    if kind == "box":
+        return walk
+    P = np.zeros((n, d))
+    cols = rng.choice(d, size=min(d, 2), replace=False)
+    P[:, cols] = walk[:, : cols.size]
+    return P
+
+
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9])
+@settings(max_examples=8, deadline=None)
+@given(
+    data=st.data(),
+    eps=st.sampled_from([0.5, 1.0, 1.5, 2.5]),
+    mode=st.sampled_from(["line", "segment"]),
+)
+def test_ties_across_blocks_go_to_the_first_index(d, data, eps, mode):
+    # equal distances in different blocks of a scan: the first index wins
+    P = data.draw(block_crossing_paths(d), label="P")
+    got = simplify(P, eps, distance=mode, n_jobs=1)
+    assert got.tolist() == dp_reference(P, eps, mode).tolist()
+
+
+def _loop(n, d, radius, centre, angle, rng):
+    """A closed loop of n points (n odd) on a circle in a random plane of R^d.
+
+    Point (n - 1) / 2 is the only point farthest from P_0 (the antipode).
+    """
+    basis, _ = np.linalg.qr(rng.normal(size=(d, 2)))
+    theta = angle + 2 * np.pi * np.arange(n) / (n - 1)
+    P = centre + radius * (np.cos(theta)[:, None] * basis[:, 0])
+    P += radius * (np.sin(theta)[:, None] * basis[:, 1])
+    P[-1] = P[0]
+    return P
+
+
+@SETTINGS
+@given(
+    st.integers(2, 10).map(lambda h: 2 * h + 1),
+    st.integers(2, 6),
+    st.integers(0, 2**32 - 1),
+    st.integers(-3, 3),
+    st.sampled_from(["line", "segment"]),
+)
+def test_loops_closed_up_to_ulps_keep_their_far_point(n, d, seed, ulps, mode):
+    # endpoints a few ulps apart are coincident (|u| <= 8 eps max|P|): the
+    # loop is measured from P_0, and the antipode is its first key point. Were
+    # the one-ulp gap taken as a direction, the "line" through the endpoints
+    # would be noise and the far point could lie on it.
+    rng = np.random.default_rng(seed)
+    radius = 2.0 ** rng.integers(-20, 20)
+    centre = rng.normal(size=d) * radius * rng.choice([0.0, 1.0, 10.0])
+    P = _loop(n, d, radius, centre, rng.uniform(0, 2 * np.pi), rng)
+    k = int(np.argmax(np.abs(P[0])))
+    P[-1, k] = P[0, k] + ulps * np.spacing(P[0, k])
+    mid = (n - 1) // 2
+    # the arcs are within the radius of their chords (the diameter)
+    assert simplify(P, 1.5 * radius, distance=mode).tolist() == [0, mid, n - 1]
+    assert simplify(P, n_points=3, distance=mode).tolist() == [0, mid, n - 1]
+    assert dp_reference(P, 1.5 * radius, mode).tolist() == [0, mid, n - 1]
+
+
+def test_loop_one_ulp_open_known_answer():
+    # unit circle from 45 degrees, end moved one ulp along x: measured from
+    # the x direction the bottom point (0, -1) would be 1.71 away and the
+    # antipode only 1.41; measured from P_0 (coincident endpoints) the
+    # antipode is the farthest, at distance 2.
+    theta = np.pi / 4 + 2 * np.pi * np.arange(9) / 8
+    P = np.column_stack([np.cos(theta), np.sin(theta)])
+    P[-1] = P[0]
+    P[-1, 0] = np.nextafter(P[0, 0], 2.0)
+    for mode in ("line", "segment", "paper"):
+        assert simplify(P, 1.5, distance=mode).tolist() == [0, 4, 8]
+        assert simplify(P, n_points=3, distance=mode).tolist() == [0, 4, 8]
 
 
 # -------------------------------------------------------------- worst case
