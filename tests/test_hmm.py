@@ -1,5 +1,6 @@
 from __future__ import annotations
 
+import itertools
 import sys
 from pathlib import Path
 
@@ -536,6 +537,58 @@ def test_merge_of_chunks_equals_estimate_on_all(case, p, r):
         got = viterbi(merged, obs, start=start)
         np.testing.assert_array_equal(got[0], expected[0])
         assert got[1] == expected[1]
+
+
+def _assert_same_model(got, want):
+    a, b = want.to_arrays(), got.to_arrays()
+    assert a.keys() == b.keys()
+    for k in a:
+        np.testing.assert_array_equal(b[k], a[k], err_msg=k)
+        assert b[k].dtype == a[k].dtype, k
+    assert got.n_sequences_ == want.n_sequences_
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(2, 9).flatmap(
+        lambda m: st.tuples(
+            st.just(m),
+            st.lists(
+                st.integers(1, 6).flatmap(
+                    lambda n: st.tuples(
+                        st.lists(st.integers(0, m - 1), min_size=n, max_size=n),
+                        st.lists(st.integers(0, 2), min_size=n, max_size=n),
+                    )
+                ),
+                min_size=3,
+                max_size=9,
+            ),
+        )
+    ),
+    st.data(),
+    st.sampled_from([None, 0.0, 0.5]),
+    st.sampled_from([0.0, 0.25]),
+)
+def test_merge_of_three_or_more_chunks_equals_estimate_on_all(case, data, p, r):
+    m, seqs = case
+    n = len(seqs)
+    n_chunks = data.draw(st.integers(3, n), label="n_chunks")
+    inner = data.draw(st.permutations(range(1, n)), label="cuts")
+    cuts = [0, *sorted(inner[: n_chunks - 1]), n]
+    states = [s for s, _ in seqs]
+    symbols = [o for _, o in seqs]
+    kw = dict(pseudo_transition=p, pseudo_emission=r)
+    whole = estimate(states, symbols, m, 3, **kw)
+    parts = [
+        estimate(states[lo:hi], symbols[lo:hi], m, 3, **kw)
+        for lo, hi in itertools.pairwise(cuts)
+    ]
+    assert len(parts) == n_chunks >= 3
+    _assert_same_model(merge(parts), whole)
+    # counts add up whatever the order and grouping of the chunks
+    _assert_same_model(merge(parts[::-1]), whole)
+    _assert_same_model(merge([merge(parts[:2]), *parts[2:]]), whole)
+    _assert_same_model(merge([parts[0], merge(parts[1:])]), whole)
 
 
 def test_merge_errors():
