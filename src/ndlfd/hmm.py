@@ -654,8 +654,11 @@ class DiscreteHMM:
 
         Examples
         --------
+        Two demonstrations start in state 0 (``F = (2, 0)``, ``D = 2``) and the
+        default ``p = 1/m = 1/2``: ``pi = (2.5 / 3, 0.5 / 3)``.
+
         >>> estimate([[0, 1], [0, 0]], [[0, 0], [0, 0]], 2, 1).initial_distribution()
-        array([0.8, 0.2])
+        array([0.83333333, 0.16666667])
         """
         self._check_fitted()
         m, p = self._m, self._p
