@@ -342,14 +342,15 @@ def _fmt_m(m: int) -> str:
     return f"{m:,}" if m < 10**9 else f"{float(m):.0e}"
 
 
-def write_section(text: str) -> None:
+def write_section(text: str, start: str = START, end: str = END) -> None:
+    """Replace the text between the markers in RESULTS.md (or append it)."""
     from ndlfd._fileformat import atomic_path
 
-    block = f"{START}\n{text.rstrip()}\n{END}"
+    block = f"{start}\n{text.rstrip()}\n{end}"
     old = RESULTS.read_text() if RESULTS.exists() else "# Benchmark results\n"
-    if START in old and END in old:
-        head, rest = old.split(START, 1)
-        _, tail = rest.split(END, 1)
+    if start in old and end in old:
+        head, rest = old.split(start, 1)
+        _, tail = rest.split(end, 1)
         new = head + block + tail
     else:
         new = old.rstrip() + "\n\n" + block + "\n"

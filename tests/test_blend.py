@@ -125,3 +125,32 @@ def test_blend_sign_aligns_quaternions(flip):
         quat_cols=[0, 1, 2, 3],
     )  # fmt: skip
     np.testing.assert_allclose(out, q, atol=1e-15)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 30), st.integers(0, 2**31))
+def test_row_interpolation_matches_numpy_interp(n, seed):
+    from ndlfd._blend import _interp_rows
+
+    rng = np.random.default_rng(seed)
+    tau = np.sort(rng.uniform(0, 1, n)) if n > 1 else np.zeros(1)
+    if n > 1:
+        tau = np.unique(tau)
+    U = rng.normal(size=(tau.size, 3))
+    at = np.concatenate([np.sort(rng.uniform(-0.1, 1.1, 20)), rng.uniform(0, 1, 5)])
+    got = _interp_rows(U, tau, at)
+    ref = np.column_stack([np.interp(at, tau, c) for c in U.T])
+    # the same two-point formula; numpy may compute it in another order
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12)
+
+
+def test_align_many_on_threads_equals_one_by_one():
+    from ndlfd._blend import align_many
+
+    rng = np.random.default_rng(3)
+    U = [rng.normal(size=(int(rng.integers(5, 60)), 3)) for _ in range(9)]
+    C = rng.normal(size=(5, 3))
+    serial = [align_to_skeleton(u, C) for u in U]
+    for n_jobs in (None, 1, 2):
+        got = align_many(U, C, n_jobs)
+        assert all(np.array_equal(a, b) for a, b in zip(got, serial, strict=True))

@@ -32,10 +32,13 @@ out by a minimum-jerk ramp, so it begins and ends there up to rounding.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 from numba import njit
 
 __all__ = [
+    "align_many",
     "align_to_skeleton",
     "blend",
     "condition_weights",
@@ -85,7 +88,7 @@ def _align_kernel(U, C, strict):  # pragma: no cover - compiled
     k = C.shape[0]
     prev = np.full(n, np.inf)
     cur = np.full(n, np.inf)
-    back = np.full((k, n), -1, dtype=np.int32)
+    back = np.empty((k, n), dtype=np.int32)  # read only along finite paths
     s = 0.0
     for c in range(d):
         diff = U[0, c] - C[0, c]
@@ -115,6 +118,34 @@ def _align_kernel(U, C, strict):  # pragma: no cover - compiled
     for i in range(k - 1, 0, -1):
         out[i - 1] = back[i, out[i]]
     return out, prev[n - 1]
+
+
+def align_many(U_list, C: np.ndarray, n_jobs=None) -> list[np.ndarray]:
+    """:func:`align_to_skeleton` for many demonstrations, on threads.
+
+    The compiled kernel releases the GIL; the threads come from the persistent
+    pool that :func:`ndlfd.simplify_many` uses.
+
+    Parameters
+    ----------
+    U_list : list of ndarray of shape (n_j, n_dims)
+        The demonstrations (normalized units).
+    C : ndarray of shape (n_keys, n_dims)
+        The skeleton points.
+    n_jobs : int, optional
+        Threads; ``None`` means one per CPU.
+
+    Returns
+    -------
+    indices : list of ndarray of shape (n_keys,)
+    """
+    from ._simplify import _pool
+
+    workers = min(n_jobs or os.cpu_count() or 1, len(U_list))
+    if workers <= 1:
+        return [align_to_skeleton(U, C) for U in U_list]
+    C = np.ascontiguousarray(C, dtype=np.float64)
+    return list(_pool(workers).map(lambda U: align_to_skeleton(U, C), U_list))
 
 
 def align_to_skeleton(U: np.ndarray, C: np.ndarray) -> np.ndarray:
@@ -229,6 +260,33 @@ def skeleton_times(tau_list, index_list, weights) -> np.ndarray:
     return (w / w.sum()) @ keys
 
 
+@njit(cache=True, nogil=True)
+def _interp_rows(U, tau, at):  # pragma: no cover - compiled
+    """``np.interp`` of every column of ``U`` (sampled at ``tau``) at ``at``.
+
+    A forward scan, restarted when ``at`` steps back; values outside
+    ``[tau[0], tau[-1]]`` take the end rows, as ``np.interp`` does.
+    """
+    n, d = U.shape
+    out = np.empty((at.shape[0], d))
+    if n == 1:
+        for r in range(at.shape[0]):
+            out[r, :] = U[0, :]
+        return out
+    j = 0
+    for r in range(at.shape[0]):
+        x = at[r]
+        if x < tau[j]:
+            j = 0
+        while j < n - 2 and tau[j + 1] <= x:
+            j += 1
+        f = (x - tau[j]) / (tau[j + 1] - tau[j])
+        f = min(max(f, 0.0), 1.0)
+        for c in range(d):
+            out[r, c] = U[j, c] + f * (U[j + 1, c] - U[j, c])
+    return out
+
+
 def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
     """Weighted average of demonstrations time-warped onto a common skeleton.
 
@@ -258,11 +316,12 @@ def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
     w = np.asarray(weights, dtype=np.float64)
     w = w / w.sum()
     key_tau = skeleton_times(tau_list, index_list, w)
-    warped = []
-    for tau, idx, U in zip(tau_list, index_list, U_list, strict=True):
-        tj = np.interp(tq, key_tau, tau[idx])
-        warped.append(np.column_stack([np.interp(tj, tau, col) for col in U.T]))
-    W = np.stack(warped)  # (n_demos, n_out, n_dims)
+    W = np.stack(
+        [
+            _interp_rows(U, tau, np.interp(tq, key_tau, tau[idx]))
+            for tau, idx, U in zip(tau_list, index_list, U_list, strict=True)
+        ]
+    )  # (n_demos, n_out, n_dims)
     if quat_cols is not None and len(quat_cols) == 4:
         ref = W[int(np.argmax(w))][:, quat_cols]
         for j in range(W.shape[0]):

@@ -16,7 +16,7 @@ import numpy as np
 
 from . import hmm
 from ._blend import (
-    align_to_skeleton,
+    align_many,
     blend,
     condition_weights,
     fade_ramp,
@@ -726,7 +726,7 @@ class KeypointHMM:
         if skel.size == 1:
             skel = np.repeat(skel, 2)  # a start and an end in one state
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
-        index = [align_to_skeleton(self.train_values_[j], C) for j in demos]
+        index = align_many([self.train_values_[j] for j in demos], C, self.n_jobs)
         key_tau = skeleton_times([self.train_tau_[j] for j in demos], index, w[demos])
         # every alignment pins the ends to samples at tau 0 and 1: exact ends
         key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -761,9 +761,12 @@ class KeypointHMM:
         C = self.centroids_[np.searchsorted(self.centroid_states_, post.states)]
         gamma = post.probabilities
         gamma = gamma / gamma.sum(axis=1, keepdims=True)
-        mean = gamma @ C
-        var = np.einsum("bs,bsd->bd", gamma, (C[None, :, :] - mean[:, None, :]) ** 2)
-        sd = np.sqrt(var) * self.scaler_._divisor()
+        sd = np.empty((gamma.shape[0], C.shape[1]))
+        for b, g in enumerate(gamma):  # two passes over the states with mass
+            nz = np.flatnonzero(g)
+            dev = C[nz] - g[nz] @ C[nz]
+            sd[b] = np.sqrt(g[nz] @ (dev * dev))
+        sd *= self.scaler_._divisor()
         centres = (np.arange(self.n_time_bins) + 0.5) / self.n_time_bins
         return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
 
