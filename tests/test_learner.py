@@ -10,6 +10,7 @@ from ndlfd import (
     hmm,
     synth,
 )
+from ndlfd._blend import fade_ramp
 from ndlfd._simplify import simplify
 from ndlfd.codebook import Codebook, TimeBins
 from ndlfd.demo import Demonstration
@@ -401,3 +402,68 @@ def test_paper_dense_path_is_linear_interpolation_of_its_key_points(square):
         np.testing.assert_allclose(
             dense.X[:, c], np.interp(test.t, keys.t, keys.X[:, c]), atol=1e-12
         )
+
+
+def _reaches(n_demos=8, seed=2):
+    """3-D minimum-jerk reaches with a turning orientation, 50-125 Hz, 2.6-3.1 s."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(seed)
+    demos = []
+    for k in range(n_demos):
+        duration = rng.uniform(2.6, 3.1)
+        t = np.arange(0.0, duration, 1.0 / (50, 100, 125)[k % 3])
+        s = fade_ramp(t / t[-1])
+        a = np.array([0.4, -0.2, 0.3]) + rng.normal(0, 0.01, 3)
+        b = np.array([0.7, 0.25, 0.1]) + rng.normal(0, 0.01, 3)
+        P = a + s[:, None] * (b - a)
+        angles = np.column_stack([0.8 * s, 0.3 * s, np.zeros_like(s)])
+        q = Rotation.from_euler("xyz", angles + rng.normal(0, 0.01, 3)).as_quat()
+        demos.append(
+            Demonstration.from_arrays(
+                t, position=P, orientation=q, quaternion_order="xyzw"
+            )
+        )
+    return demos
+
+
+def test_a_reach_with_orientation_is_smooth_not_a_staircase():
+    # defaults on a 3-D reach: no standing still, the demonstrations' speed,
+    # a start among the demonstrations' starts, unit quaternions
+    demos = _reaches()
+    model = KeypointHMM(groups=("position", "velocity", "orientation")).fit(demos[1:])
+    grid = np.linspace(0.0, 3.0, 300)
+    path = model.generate(grid, dense=True)
+    P = path.get("position")
+    steps = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    interior = steps[5:-5]  # a minimum-jerk reach is at rest only at its ends
+    assert np.all(interior > 1e-5)
+    speed = steps / np.diff(grid)
+    demo_peak = np.median(
+        [
+            np.max(np.linalg.norm(np.diff(d.get("position"), axis=0), axis=1)
+                   / np.diff(d.t)) * d.duration / 3.0
+            for d in demos[1:]
+        ]
+    )  # fmt: skip
+    assert 0.8 < speed.max() / demo_peak < 1.25
+    starts = np.array([d.get("position")[0] for d in demos[1:]])
+    assert np.linalg.norm(P[0] - starts.mean(axis=0)) < 2 * np.max(
+        np.linalg.norm(starts - starts.mean(axis=0), axis=1)
+    )
+    np.testing.assert_allclose(
+        np.linalg.norm(path.get("orientation"), axis=1), 1.0, atol=1e-12
+    )
+    # the held-out reach: as close as the mean of the demonstrations (the
+    # endpoints' 1 cm scatter bounds both)
+    held_out = _resample(demos[0], grid)
+    mean = np.mean([_resample(d, grid) for d in demos[1:]], axis=0)
+    err = np.linalg.norm(P - held_out, axis=1).mean()
+    assert err < 1.1 * np.linalg.norm(mean - held_out, axis=1).mean()
+
+
+def _resample(demo, grid):
+    tau = (demo.t - demo.t[0]) / demo.duration
+    at = (grid - grid[0]) / (grid[-1] - grid[0])
+    P = demo.get("position")
+    return np.column_stack([np.interp(at, tau, c) for c in P.T])
