@@ -53,10 +53,12 @@ def _parse_floats(text: str | None, what: str) -> list[float] | None:
 
 # --------------------------------------------------------------------- simplify
 def _cmd_simplify(args: argparse.Namespace) -> int:
-    from ._simplify import simplify
-    from .io import read_table, write_table
+    from pathlib import Path
 
-    columns, data = read_table(args.input)
+    from ._simplify import simplify
+    from .io import _check_time_column, _read_table_lines, write_table
+
+    columns, data, lines = _read_table_lines(args.input)
     index = {name: i for i, name in enumerate(columns)}
     time_col = args.time_column if args.time_column is not None else "t"
     if time_col not in index:
@@ -66,6 +68,8 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
                 f" columns {', '.join(columns)}"
             )
         time_col = None
+    else:  # the same check and message as every other reader of a time column
+        _check_time_column(Path(args.input), time_col, data[:, index[time_col]], lines)
     wanted = _split_names(args.columns)
     if wanted is None:
         wanted = [c for c in columns if c != time_col]
@@ -150,7 +154,8 @@ def _add_simplify(sub) -> None:
     p.add_argument(
         "--time-column",
         default=None,
-        help="name of the time column (default: 't' when present); used by 'sed'",
+        help="name of the time column, strictly increasing (default: 't' when"
+        " present); used by 'sed'",
     )
     p.add_argument("--weights", help="comma-separated non-negative column weights")
     p.add_argument(

@@ -315,6 +315,22 @@ def _wrap(p: Path, exc: ValidationError, lines: np.ndarray | None = None):
     return DataFileError(f"{p}: {msg}")
 
 
+def _check_time_column(p: Path, name: str, t: np.ndarray, lines: np.ndarray) -> None:
+    """Refuse a time column that repeats or decreases, naming the file's line.
+
+    Every reader of a time column (:func:`read_csv`, ``ndlfd simplify``) uses
+    this, so they refuse the same files with the same message.
+    """
+    bad = np.flatnonzero(np.diff(t) <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise DataFileError(
+            f"{p}, line {lines[i]}: time column {name!r} must be strictly"
+            f" increasing; got {float(t[i])!r} after {float(t[i - 1])!r} on line"
+            f" {lines[i - 1]}"
+        )
+
+
 def read_csv(
     path: str | os.PathLike,
     *,
@@ -389,14 +405,7 @@ def read_csv(
             )
         tj = header.index(time_column)
         t = data[:, tj]
-        bad = np.flatnonzero(np.diff(t) <= 0)
-        if bad.size:
-            i = int(bad[0]) + 1
-            raise DataFileError(
-                f"{p}, line {lines[i]}: time column {time_column!r} must be strictly"
-                f" increasing; got {float(t[i])!r} after {float(t[i - 1])!r} on line"
-                f" {lines[i - 1]}"
-            )
+        _check_time_column(p, time_column, t, lines)
     free = [j for j, c in enumerate(header) if j != tj and c not in drop]
     layout: dict[str, list[tuple[int, str]]] = {}
     if groups is None:
