@@ -1,12 +1,13 @@
-"""Forward–backward on the sparse supervised HMM: posterior state probabilities.
+"""Decoding the supervised discrete HMM: exact sparse Viterbi and the posterior.
 
-The model's transition matrix is a per-row constant (the pseudo-count
-baseline) plus a sparse correction on the counted transitions, so one step of
-the forward or backward recursion is a rank-one term plus a sparse
-matrix–vector product over the states seen in training: ``O(n_seen +
-counted transitions)`` per step, never ``O(m)`` or ``O(m²)``. All unseen
-states behave alike (same rows, same emissions) and are carried as one class
-holding their total probability.
+Both use the model's structure: the transition matrix is a per-row constant
+(the pseudo-count baseline) plus a sparse correction on the counted
+transitions. Viterbi's best predecessor of ``j`` is the better of the states
+with a counted transition into ``j`` and the best state under the baseline
+alone; one forward or backward step of the posterior is a rank-one term plus a
+sparse matrix-vector product. A step costs ``O(n_seen + counted transitions)``,
+never ``O(m)`` or ``O(m^2)``. All unseen states behave alike and are carried as
+one class.
 """
 
 from __future__ import annotations
@@ -17,9 +18,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from ._errors import DecodeError, ValidationError
+from ._hmm_kernels import viterbi_sparse
+from ._hmm_model import _STARTS, DiscreteHMM, _safe_ratio
 from ._validation import check_int_sequence
 
-__all__ = ["Posterior", "posterior"]
+__all__ = ["Posterior", "posterior", "viterbi"]
 
 
 class Posterior(NamedTuple):
@@ -51,8 +54,6 @@ def _tables(model, start: str):
     (total + width * p)``, split into the row's baseline ``p / (total + width
     * p)`` and the counted part ``count / (total + width * p)``.
     """
-    from .hmm import _safe_ratio
-
     raw = model._raw
     m, nt, p, r = model._m, model._nt, model._p, model._r
     seen = raw["states"]
@@ -149,8 +150,6 @@ def posterior(model, symbols, *, start: str = "learned") -> Posterior:
     >>> round(post.log_likelihood, 6)  # log(1 * 1 * (1/2 * 1 + 1/2 * 1))
     0.0
     """
-    from .hmm import _STARTS, DiscreteHMM
-
     if not isinstance(model, DiscreteHMM):
         raise ValidationError(
             f"model must be a fitted DiscreteHMM; got {type(model).__name__}"
@@ -200,3 +199,99 @@ def posterior(model, symbols, *, start: str = "learned") -> Posterior:
         gamma[t] = alpha[t] * beta
         gamma_u[t] = alpha_u[t] * beta_u
     return Posterior(model.states_.copy(), gamma, gamma_u, float(np.log(scale).sum()))
+
+
+def viterbi(
+    model: DiscreteHMM, symbols, *, start: str = "learned"
+) -> tuple[np.ndarray, float]:
+    """Most likely state path of a symbol sequence (MATLAB ``hmmviterbi``).
+
+    Log space, exact. Ties go to the lowest state index, both for predecessors and
+    for the final state.
+
+    Parameters
+    ----------
+    model : DiscreteHMM
+        A fitted model.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    start : {"learned", "state1"}, default="learned"
+        ``"learned"``: ``delta_1(j) = log pi[j] + log B[j, o_1]`` with the learned
+        start distribution. ``"state1"``: MATLAB's convention, the chain is in state
+        0 before the first emission, so ``delta_1(j) = log A[0, j] + log
+        B[j, o_1]``.
+
+    Returns
+    -------
+    path : ndarray of shape (n_steps,), dtype int64
+        State ids. A state never seen in training appears as the lowest unseen id
+        (all unseen states are indistinguishable).
+    log_probability : float
+        Log-probability of the path jointly with the symbols.
+
+    Raises
+    ------
+    DecodeError
+        If at some step no reachable state can emit the symbol.
+
+    Notes
+    -----
+    A step costs ``O(candidates + counted transitions into them)``, where the
+    candidates are the seen states that emitted the step's symbol (``r == 0``)
+    or all seen states plus the unseen class (``r > 0``). Back-pointers take
+    4 bytes per candidate and step, so with ``r > 0`` decoding holds
+    ``n_steps * (n_seen + 1)`` of them; the symbol index takes
+    ``n_symbols + 1`` integers. Nothing of size ``n_states`` is allocated.
+
+    Examples
+    --------
+    >>> from ndlfd.hmm import estimate
+    >>> hmm = estimate([[0, 1, 2], [0, 2, 2]], [[0, 1, 2], [0, 1, 2]], 3, 3)
+    >>> path, logp = viterbi(hmm, [0, 1, 2])
+    >>> path
+    array([0, 1, 2])
+    >>> viterbi(hmm, [0, 1, 2], start="state1")[0]
+    array([0, 1, 2])
+    """
+    if not isinstance(model, DiscreteHMM):
+        raise ValidationError(
+            f"model must be a fitted DiscreteHMM; got {type(model).__name__}"
+        )
+    model._check_fitted()
+    mode = _STARTS.get(start)
+    obs = check_int_sequence(symbols, "symbols", low=0, high=model._nt)
+    if obs.size == 0:
+        raise ValidationError("symbols must hold at least one symbol; got length 0")
+    tb = model._kernel_tables()
+    s_base, s_idx, s_logp = tb["start"][mode]
+    path, logp, fail = viterbi_sparse(
+        obs,
+        tb["gid"],
+        tb["has_unseen"],
+        tb["in_indptr"],
+        tb["in_src"],
+        tb["in_logp"],
+        tb["row_base"],
+        tb["unseen_trans"],
+        tb["em_indptr"],
+        tb["em_state"],
+        tb["em_logp"],
+        tb["em_base"],
+        tb["unseen_emit"],
+        tb["emit_all"],
+        s_base,
+        s_idx,
+        s_logp,
+    )
+    if fail >= 0:
+        o = int(obs[fail])
+        never = not tb["emit_all"] and tb["em_indptr"][o + 1] == tb["em_indptr"][o]
+        why = (
+            "it was never emitted in training and pseudo_emission is 0"
+            if never
+            else "no state that emits it is reachable from the states before it"
+        )
+        raise DecodeError(
+            f"cannot decode symbol {o} at step {fail}: {why} (start={mode!r})"
+        )
+    return tb["gid"][path], float(logp)
