@@ -263,7 +263,7 @@ def test_weights_change_the_reduction_not_the_codebook(square):
     assert heavy.n_keypoints_.sum() > plain.n_keypoints_.sum()
     assert heavy.n_clipped_ == 0
     assert heavy.codebook_.n_states == plain.codebook_.n_states
-    with pytest.raises(ValidationError, match="weights names group"):
+    with pytest.raises(ValidationError, match="weights name unknown group"):
         KeypointHMM(weights={"force": 1.0}).fit(train)
 
 

@@ -318,26 +318,9 @@ class KeypointHMM:
         return out
 
     def _column_weights(self) -> np.ndarray | None:
-        if self.weights is None:
-            return None
-        if not isinstance(self.weights, Mapping):
-            raise ValidationError(
-                f"weights must be a mapping of group to weight; got {self.weights!r}"
-            )
-        unknown = [g for g in self.weights if g not in self.column_groups_]
-        if unknown:
-            raise ValidationError(
-                f"weights names group(s) {', '.join(map(repr, unknown))} that are"
-                f" not learned; the learned groups are"
-                f" {', '.join(dict.fromkeys(self.column_groups_))}"
-            )
-        w = np.array(
-            [
-                check_nonnegative_scalar(self.weights.get(g, 1.0), f"weights[{g!r}]")
-                for g in self.column_groups_
-            ]
-        )
-        return w
+        """The scaler's per-column weights for the reduction (None if all 1)."""
+        w = self.scaler_.column_weights_
+        return None if np.all(w == 1.0) else w
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "model_"):
@@ -386,8 +369,14 @@ class KeypointHMM:
         self.columns_ = tuple(columns)
         self.column_groups_ = tuple(col_groups)
         self.groups_ = groups
-        self.scaler_ = GroupScaler(mode=self.normalization).fit(prepared)
-        U = [self.scaler_.transform(d) for d in prepared]
+        if self.weights is not None and not isinstance(self.weights, Mapping):
+            raise ValidationError(
+                f"weights must be a mapping of group to weight; got {self.weights!r}"
+            )
+        self.scaler_ = GroupScaler(mode=self.normalization, weights=self.weights)
+        self.scaler_.fit(prepared)
+        # the codebook and the blend see [0, 1] values; weights act in reduction
+        U = [self.scaler_.transform(d, weighted=False) for d in prepared]
         self.keypoints_ = self._reduce(U, [d.t for d in prepared])
         self.codebook_ = Codebook.from_groups(
             self._levels_by_group(groups), self.column_groups_
@@ -486,7 +475,7 @@ class KeypointHMM:
                     f"the demonstration's columns {d.columns} differ from the"
                     f" learned columns {self.columns_}"
                 )
-            u = self.scaler_.transform(d)
+            u = self.scaler_.transform(d, weighted=False)
             idx = simplify(
                 u,
                 None if self.n_points is not None else self.epsilon,
@@ -915,7 +904,12 @@ class KeypointHMM:
             self.column_groups_ = col_groups
             self.groups_ = tuple(params["groups"])
             self.scaler_ = GroupScaler.from_ranges(
-                mins, maxs, col_groups, columns=columns, mode=self.normalization
+                mins,
+                maxs,
+                col_groups,
+                columns=columns,
+                mode=self.normalization,
+                weights=self.weights,
             )
             self.codebook_ = Codebook([int(x) for x in levels])
             self.time_bins_ = TimeBins(self.n_time_bins)
