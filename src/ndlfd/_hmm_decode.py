@@ -47,6 +47,20 @@ class Posterior(NamedTuple):
     log_likelihood: float
 
 
+def _checked(model, symbols, start) -> tuple[str, np.ndarray]:
+    """The start mode and the symbols of a decoding call, checked."""
+    if not isinstance(model, DiscreteHMM):
+        raise ValidationError(
+            f"model must be a fitted DiscreteHMM; got {type(model).__name__}"
+        )
+    model._check_fitted()
+    mode = _STARTS.get(start)
+    obs = check_int_sequence(symbols, "symbols", low=0, high=model._nt)
+    if obs.size == 0:
+        raise ValidationError("symbols must hold at least one symbol; got length 0")
+    return mode, obs
+
+
 def _tables(model, start: str):
     """Probability-space pieces of the model over the seen states.
 
@@ -150,15 +164,7 @@ def posterior(model, symbols, *, start: str = "learned") -> Posterior:
     >>> round(post.log_likelihood, 6)  # log(1 * 1 * (1/2 * 1 + 1/2 * 1))
     0.0
     """
-    if not isinstance(model, DiscreteHMM):
-        raise ValidationError(
-            f"model must be a fitted DiscreteHMM; got {type(model).__name__}"
-        )
-    model._check_fitted()
-    mode = _STARTS.get(start)
-    obs = check_int_sequence(symbols, "symbols", low=0, high=model._nt)
-    if obs.size == 0:
-        raise ValidationError("symbols must hold at least one symbol; got length 0")
+    mode, obs = _checked(model, symbols, start)
     base, delta, unseen_row, n_unseen, pi, pi_u, em = _tables(model, mode)
     delta_t = delta.T.tocsr()
     n_steps, n_seen = obs.size, pi.size
@@ -253,15 +259,7 @@ def viterbi(
     >>> viterbi(hmm, [0, 1, 2], start="state1")[0]
     array([0, 1, 2])
     """
-    if not isinstance(model, DiscreteHMM):
-        raise ValidationError(
-            f"model must be a fitted DiscreteHMM; got {type(model).__name__}"
-        )
-    model._check_fitted()
-    mode = _STARTS.get(start)
-    obs = check_int_sequence(symbols, "symbols", low=0, high=model._nt)
-    if obs.size == 0:
-        raise ValidationError("symbols must hold at least one symbol; got length 0")
+    mode, obs = _checked(model, symbols, start)
     tb = model._kernel_tables()
     s_base, s_idx, s_logp = tb["start"][mode]
     path, logp, fail = viterbi_sparse(
