@@ -61,8 +61,11 @@ def test_check_points_hint_for_1d():
 
 @given(st.lists(st.floats(-1e6, 1e6), min_size=2, max_size=30, unique=True))
 def test_check_times_accepts_sorted_unique(values):
-    t = check_times(sorted(values))
-    assert np.all(np.diff(t) > 0)
+    values = sorted(values)
+    t = check_times(values)
+    assert t.dtype == np.float64 and t.shape == (len(values),)
+    assert t.tolist() == values  # unchanged
+    assert check_times(tuple(values), n=len(values)).tolist() == values
 
 
 @pytest.mark.parametrize(
@@ -83,6 +86,13 @@ def test_check_times_length():
         check_times([0, 1], n=3)
 
 
+def test_check_nonnegative_scalar_accepts():
+    for value, want in ((0, 0.0), (2, 2.0), (0.25, 0.25), (np.float32(0.5), 0.5)):
+        got = check_nonnegative_scalar(value, "epsilon")
+        assert type(got) is float and got == want
+    assert check_nonnegative_scalar(np.int64(3), "epsilon") == 3.0
+
+
 @pytest.mark.parametrize("bad", [-1, np.nan, np.inf, "1", None, True])
 def test_check_nonnegative_scalar_rejects(bad):
     with pytest.raises(ValidationError, match="finite number >= 0"):
@@ -90,7 +100,11 @@ def test_check_nonnegative_scalar_rejects(bad):
 
 
 def test_check_positive_int():
-    assert check_positive_int(np.int64(4), "k") == 4
+    got = check_positive_int(np.int64(4), "k")
+    assert type(got) is int and got == 4
+    assert check_positive_int(2, "k", minimum=2) == 2
+    with pytest.raises(ValidationError, match="integer >= 2; got 1"):
+        check_positive_int(1, "k", minimum=2)
     for bad in (0, -3, 1.0, "2", True):
         with pytest.raises(ValidationError, match="integer >= 1"):
             check_positive_int(bad, "k")
@@ -119,9 +133,17 @@ def test_check_int_sequence():
 def test_check_random_state():
     g = np.random.default_rng(1)
     assert check_random_state(g) is g
+    # an int seeds a fresh default_rng: the same stream as numpy's own
     a = check_random_state(5).random(3)
+    np.testing.assert_array_equal(a, np.random.default_rng(5).random(3))
+    np.testing.assert_array_equal(check_random_state(np.int64(5)).random(3), a)
+    # a legacy RandomState seeds a Generator from one draw: reproducible
     b = check_random_state(np.random.RandomState(0)).random(3)
-    assert a.shape == b.shape == (3,)
+    seed = np.random.RandomState(0).randint(0, 2**31 - 1)
+    np.testing.assert_array_equal(b, np.random.default_rng(seed).random(3))
+    # None: fresh entropy, so two generators differ
+    assert isinstance(check_random_state(None), np.random.Generator)
+    assert check_random_state(None).random() != check_random_state(None).random()
     with pytest.raises(ValidationError, match="random_state"):
         check_random_state("seed")
 
