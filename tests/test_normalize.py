@@ -42,6 +42,12 @@ def test_group_mode_keeps_proportions_per_dimension_does_not():
     U = GroupScaler().fit_transform(demo)
     P = U[:, :3]
     spans = P.max(axis=0) - P.min(axis=0)
+    # one range for the group (x's 20): the spans keep the data's proportions
+    raw = demo.get("position")
+    raw_spans = raw.max(axis=0) - raw.min(axis=0)
+    assert spans[0] == 1.0
+    np.testing.assert_allclose(spans, raw_spans / 20.0, rtol=4 * np.finfo(float).eps)
+    # 200 samples miss cos = -1 by a little: y and z span just under 10
     np.testing.assert_allclose(spans, [1.0, 0.5, 0.5], atol=1e-3)
     V = GroupScaler(mode="per-dimension").fit_transform(demo)
     np.testing.assert_allclose(V.max(axis=0) - V.min(axis=0), 1.0)
