@@ -2,8 +2,10 @@
 
 Written for clarity, not speed: recursion, plain numpy distances (projection,
 ``np.linalg.det`` for the paper formula). Near-ties are resolved with a small
-tolerance ``tol`` so rounding in these plain formulas does not matter on the
-integer-valued test data, whose distinct distances differ by far more.
+tolerance ``tol`` (1e-9 of the data's largest coordinate) so rounding in these
+plain formulas does not matter on the integer-valued test data, whose distinct
+distances differ by far more; float data are compared only where the distances
+keep a stated margin from each other and from epsilon.
 """
 
 from __future__ import annotations
@@ -111,8 +113,9 @@ DISTANCE_FUNCTIONS = {
 
 
 def _tol(P, weights=None):
+    """Near-tie tolerance, relative to the data's scale (so scale-invariant)."""
     w = 1.0 if weights is None else max(1.0, float(np.max(weights)))
-    return 1e-9 * (1.0 + w * (np.abs(P).max() if P.size else 0.0))
+    return 1e-9 * w * (np.abs(P).max() if P.size else 0.0)
 
 
 def farthest(P, a, b, distance, times=None, weights=None):
