@@ -384,8 +384,8 @@ class EvaluationResult:
     def to_markdown(self) -> str:
         """The summary as Markdown tables, one per group and protocol.
 
-        Each cell shows the median over successful folds and, in brackets, the
-        mean.
+        Each cell shows the median over the successful folds of every shape
+        of the group and, in brackets, their mean.
 
         Returns
         -------
@@ -494,7 +494,8 @@ class EvaluationResult:
             f" {', '.join(self.generators)}; {len(self.rows)} rows,"
             f" {len(self.failures)} failed, {self.seconds:.0f} s.",
             "",
-            "Each cell: median over folds (mean in brackets). Distances are"
+            "Each cell: the median over every fold of the group's shapes (the"
+            " mean in brackets). Distances are"
             " divided by the shape's range (the diagonal of the bounding box of"
             " all its demonstrations); DTW is first divided by the number of"
             " points of both paths. Length and turning ratios compare the"
