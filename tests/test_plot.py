@@ -83,17 +83,29 @@ def test_boxplot_keeps_empty_and_nonfinite_labels_in_place():
         plot_boxplot({})
 
 
-def test_band_follows_the_normal_of_the_path():
+def test_band_is_the_union_of_ellipses_and_strips():
     _fig, (ax,) = new_figure(1)
-    # a vertical path: the band is as wide as the x standard deviation
+    # a vertical path: the strip is as wide as the x standard deviation, the
+    # ellipses at the ends reach k * std_y beyond them
     P = np.array([[0.0, 0.0], [0.0, 1.0], [0.0, 1.0], [0.0, 2.0]])
-    S = np.array([[0.5, 9.0]] * 4)
-    plot_band(ax, P, S, k=2.0)
-    xy = ax.patches[0].get_xy()
-    np.testing.assert_allclose(np.abs(xy[:, 0]), 1.0)
-    np.testing.assert_allclose(xy[:4, 1], P[:, 1])
+    S = np.array([[0.5, 0.25]] * 4)
+    plot_band(ax, P, S, k=2.0, label="band")
+    (patch,) = ax.patches
+    assert patch.get_label() == "band"
+    np.testing.assert_allclose(patch.get_path().get_extents().bounds, [-1, -0.5, 2, 3])
+    # a piece at every point and along every segment, each counter-clockwise
+    polys = patch.get_path().to_polygons()
+    assert len(polys) == 4 + 3
+    for poly in polys:
+        x, y = poly[:, 0], poly[:, 1]
+        assert np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y) >= 0
+    # the path that crosses itself is covered without holes: its centre is in
+    loop = np.array([[0, 0], [2, 2], [2, 0], [0, 2]], dtype=float)
+    plot_band(ax, loop, np.full((4, 2), 0.3))
+    assert ax.patches[1].get_path().contains_point((1.0, 1.0))
     # a path that never moves still gets a band
     plot_band(ax, np.zeros((3, 2)), np.ones((3, 2)))
+    assert ax.patches[2].get_path().contains_point((0.5, 0.5))
     with pytest.raises(ValidationError, match="2-D paths"):
         plot_band(ax, np.zeros((3, 3)), np.zeros((3, 3)))
     with pytest.raises(ValidationError, match="std must be finite"):

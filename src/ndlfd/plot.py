@@ -325,21 +325,11 @@ def plot_boxplot(
     return ax
 
 
-def _normals(P: np.ndarray) -> np.ndarray:
-    """Unit normals of a 2-D polyline (tangent from central differences)."""
-    T = np.gradient(P, axis=0) if P.shape[0] > 1 else np.zeros_like(P)
-    length = np.linalg.norm(T, axis=1)
-    ok = length > 0
-    if not ok.any():
-        return np.tile([0.0, 1.0], (P.shape[0], 1))
-    T[ok] /= length[ok, None]
-    # a standing point borrows the direction of the nearest moving one before it
-    # (or after it, at the start)
-    idx = np.where(ok, np.arange(P.shape[0]), -1)
-    idx = np.maximum.accumulate(idx)
-    idx[idx < 0] = np.flatnonzero(ok)[0]
-    T = T[idx]
-    return np.column_stack([-T[:, 1], T[:, 0]])
+def _ccw(poly: np.ndarray) -> np.ndarray:
+    """``poly`` (..., m, 2) with every polygon turned counter-clockwise."""
+    x, y = poly[..., 0], poly[..., 1]
+    area = np.sum(x * np.roll(y, -1, axis=-1) - np.roll(x, -1, axis=-1) * y, axis=-1)
+    return np.where((area < 0)[..., None, None], poly[..., ::-1, :], poly)
 
 
 def plot_band(
@@ -347,10 +337,12 @@ def plot_band(
 ):
     """Shade a band of ``k`` standard deviations around a 2-D path.
 
-    At each point the band reaches, on both sides along the path's normal
-    ``n``, the standard deviation in that direction
-    ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)`` (independent axes), so a band is
-    narrow where the path is certain across its direction.
+    The band is the union of, at every point, the ellipse with semi-axes
+    ``k * std`` (independent coordinates) and, along every segment, the strip
+    reaching on both sides along the segment's normal ``n`` to the standard
+    deviation in that direction, ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)``. It is
+    drawn as one patch, so overlapping pieces do not darken each other and a
+    path that crosses itself leaves no holes.
 
     Parameters
     ----------
@@ -377,9 +369,12 @@ def plot_band(
     --------
     >>> _, (ax,) = new_figure(1)
     >>> ax = plot_band(ax, [[0, 0], [1, 0], [2, 0]], [[0, 1], [0, 1], [0, 2]])
-    >>> ax.patches[0].get_xy()[:, 1].tolist()
-    [1.0, 1.0, 2.0, -2.0, -1.0, -1.0, 1.0]
+    >>> [float(v) for v in ax.patches[0].get_path().get_extents().bounds]
+    [0.0, -2.0, 2.0, 4.0]
     """
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
     P = np.asarray(values, dtype=float)
     S = np.asarray(std, dtype=float)
     if P.ndim != 2 or P.shape[1] != 2:
@@ -391,10 +386,39 @@ def plot_band(
             f"std must be finite, >= 0 and of the path's shape {P.shape}; got an"
             f" array of shape {S.shape}"
         )
-    N = _normals(P)
-    w = k * np.sqrt((N[:, 0] * S[:, 0]) ** 2 + (N[:, 1] * S[:, 1]) ** 2)
-    outline = np.concatenate([P + w[:, None] * N, (P - w[:, None] * N)[::-1]])
-    ax.fill(outline[:, 0], outline[:, 1], color=color, alpha=alpha, lw=0, label=label)
+    # the ellipse around every point (16-gons)
+    phi = np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
+    circle = np.column_stack([np.cos(phi), np.sin(phi)])
+    pieces = [P[:, None, :] + k * S[:, None, :] * circle[None, :, :]]
+    if P.shape[0] > 1:
+        # the strip along every segment, as wide as the std across it
+        seg = np.diff(P, axis=0)
+        length = np.linalg.norm(seg, axis=1, keepdims=True)
+        N = np.column_stack([-seg[:, 1], seg[:, 0]]) / np.where(length > 0, length, 1)
+        w0 = k * np.linalg.norm(N * S[:-1], axis=1, keepdims=True)
+        w1 = k * np.linalg.norm(N * S[1:], axis=1, keepdims=True)
+        quads = np.stack(
+            [P[:-1] + w0 * N, P[1:] + w1 * N, P[1:] - w1 * N, P[:-1] - w0 * N], axis=1
+        )
+        pieces.append(quads)
+    verts, codes = [], []
+    for poly in pieces:
+        poly = _ccw(poly)
+        m = poly.shape[1]
+        code = np.full(m + 1, MplPath.LINETO, dtype=MplPath.code_type)
+        code[0], code[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
+        verts.append(np.concatenate([poly, poly[:, :1]], axis=1).reshape(-1, 2))
+        codes.append(np.tile(code, poly.shape[0]))
+    patch = PathPatch(
+        MplPath(np.concatenate(verts), np.concatenate(codes)),
+        facecolor=color,
+        edgecolor="none",
+        alpha=alpha,
+        label=label,
+    )
+    ax.add_patch(patch)
+    ax.update_datalim(patch.get_path().vertices)
+    ax.autoscale_view()
     return ax
 
 
