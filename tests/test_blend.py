@@ -154,3 +154,14 @@ def test_align_many_on_threads_equals_one_by_one():
     for n_jobs in (None, 1, 2):
         got = align_many(U, C, n_jobs)
         assert all(np.array_equal(a, b) for a, b in zip(got, serial, strict=True))
+
+
+def test_alignment_to_a_subset_of_candidates_is_the_best_on_that_subset():
+    rng = np.random.default_rng(5)
+    U = rng.integers(0, 5, size=(40, 2)).astype(float)
+    C = rng.integers(0, 5, size=(4, 2)).astype(float)
+    got = align_to_skeleton(U, C, max_candidates=9)
+    cand = np.unique(np.linspace(0, 39, 9).astype(np.int64))
+    ref, _ = brute_align(U[cand], C)
+    np.testing.assert_array_equal(got, cand[ref])
+    np.testing.assert_array_equal(align_to_skeleton(U, C, 100), align_to_skeleton(U, C))

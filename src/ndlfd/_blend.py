@@ -120,7 +120,9 @@ def _align_kernel(U, C, strict):  # pragma: no cover - compiled
     return out, prev[n - 1]
 
 
-def align_many(U_list, C: np.ndarray, n_jobs=None) -> list[np.ndarray]:
+def align_many(
+    U_list, C: np.ndarray, n_jobs=None, max_candidates: int | None = None
+) -> list[np.ndarray]:
     """:func:`align_to_skeleton` for many demonstrations, on threads.
 
     The compiled kernel releases the GIL; the threads come from the persistent
@@ -134,6 +136,8 @@ def align_many(U_list, C: np.ndarray, n_jobs=None) -> list[np.ndarray]:
         The skeleton points.
     n_jobs : int, optional
         Threads; ``None`` means one per CPU.
+    max_candidates : int, optional
+        See :func:`align_to_skeleton`.
 
     Returns
     -------
@@ -143,12 +147,16 @@ def align_many(U_list, C: np.ndarray, n_jobs=None) -> list[np.ndarray]:
 
     workers = min(n_jobs or os.cpu_count() or 1, len(U_list))
     if workers <= 1:
-        return [align_to_skeleton(U, C) for U in U_list]
+        return [align_to_skeleton(U, C, max_candidates) for U in U_list]
     C = np.ascontiguousarray(C, dtype=np.float64)
-    return list(_pool(workers).map(lambda U: align_to_skeleton(U, C), U_list))
+    return list(
+        _pool(workers).map(lambda U: align_to_skeleton(U, C, max_candidates), U_list)
+    )
 
 
-def align_to_skeleton(U: np.ndarray, C: np.ndarray) -> np.ndarray:
+def align_to_skeleton(
+    U: np.ndarray, C: np.ndarray, max_candidates: int | None = None
+) -> np.ndarray:
     """Samples of a demonstration matched to the skeleton points.
 
     Parameters
@@ -157,6 +165,10 @@ def align_to_skeleton(U: np.ndarray, C: np.ndarray) -> np.ndarray:
         The demonstration (normalized units).
     C : ndarray of shape (n_keys, n_dims)
         The skeleton points, ``n_keys >= 2``.
+    max_candidates : int, optional
+        Match only to this many samples, evenly spread (always with the first
+        and the last): the cost is ``O(n_keys * max_candidates * n_dims)``
+        instead of ``O(n_keys * n_samples * n_dims)``.
 
     Returns
     -------
@@ -172,11 +184,17 @@ def align_to_skeleton(U: np.ndarray, C: np.ndarray) -> np.ndarray:
     >>> align_to_skeleton(U, np.array([[0.0], [2.9], [4.0]]))
     array([0, 3, 4])
     """
-    U = np.ascontiguousarray(U, dtype=np.float64)
+    U = np.asarray(U, dtype=np.float64)
     C = np.ascontiguousarray(C, dtype=np.float64)
+    n = U.shape[0]
+    cand = None
+    if max_candidates is not None and n > max_candidates:
+        cand = np.unique(np.r_[np.linspace(0, n - 1, max_candidates).astype(np.int64)])
+        U = U[cand]
+    U = np.ascontiguousarray(U)
     strict = C.shape[0] <= U.shape[0]
     index, _ = _align_kernel(U, C, strict)
-    return index
+    return index if cand is None else cand[index]
 
 
 def fade_ramp(s: np.ndarray) -> np.ndarray:

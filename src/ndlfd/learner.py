@@ -715,7 +715,12 @@ class KeypointHMM:
         if skel.size == 1:
             skel = np.repeat(skel, 2)  # a start and an end in one state
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
-        index = align_many([self.train_values_[j] for j in demos], C, self.n_jobs)
+        index = align_many(
+            [self.train_values_[j] for j in demos],
+            C,
+            self.n_jobs,
+            _ALIGN_CANDIDATES,
+        )
         key_tau = skeleton_times([self.train_tau_[j] for j in demos], index, w[demos])
         # every alignment pins the ends to samples at tau 0 and 1: exact ends
         key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -945,6 +950,11 @@ _KEEP_WEIGHT = 0.1
 #: Generations: ``KeypointHMM`` methods ``(self, times_or_demo, dense, start,
 #: goal, return_std)``.
 GENERATIONS = Registry("generation")
+
+#: Samples of a demonstration the skeleton is matched to (evenly spread, ends
+#: included). On held-out LASA (1,000 samples) 128, 250, 500 and all gave the
+#: same DTW medians to 0.1 %; the cost is linear in it.
+_ALIGN_CANDIDATES = 256
 GENERATIONS.add("blend", KeypointHMM._generate_blend)
 GENERATIONS.add("paper", KeypointHMM._generate_paper)
 
