@@ -18,12 +18,20 @@ BIN = Path(sys.executable).parent / "ndlfd"
 
 def _shell_examples() -> list[list[str]]:
     text = README.read_text(encoding="utf-8")
-    return [shlex.split(m) for m in re.findall(r"^\$ (ndlfd .+)$", text, re.M)]
+    lines = re.findall(r"^\$ (ndlfd .+)$", text, re.M)
+    return [shlex.split(m, comments=True) for m in lines]
 
 
 def test_readme_shell_examples_run(tmp_path):
     examples = _shell_examples()
-    assert [e[1] for e in examples] == ["simplify", "fit", "generate", "reproduce"]
+    assert [e[1] for e in examples] == [
+        "simplify",
+        "fit",
+        "generate",
+        "generate",
+        "evaluate",
+        "reproduce",
+    ]
     # the files the examples name
     rng = np.random.default_rng(0)
     walk = np.column_stack(
@@ -38,6 +46,8 @@ def test_readme_shell_examples_run(tmp_path):
     for args in examples:
         if args[1] == "reproduce":
             args = [*args, "--quick"]  # the full run is checked by its own test
+        if args[1] == "evaluate":  # the full run is docs/evaluation.md
+            args = [*args, "--shapes", "Line", "--folds", "1", "--no-plot"]
         r = subprocess.run(
             [str(BIN), *args[1:]],
             cwd=tmp_path,
@@ -50,4 +60,7 @@ def test_readme_shell_examples_run(tmp_path):
     assert read_csv(tmp_path / "keypoints.csv").n_samples < 500
     path = read_csv(tmp_path / "path.csv")
     assert path.n_samples == 400 and path.t[-1] == 8.0
+    here = read_csv(tmp_path / "from-here.csv").get("position")[0]
+    np.testing.assert_array_equal(here, [0.5, 0.0])
+    assert (tmp_path / "evaluation" / "summary.md").exists()
     assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
