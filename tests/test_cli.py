@@ -1,3 +1,4 @@
+import copy
 import os
 import subprocess
 import sys
@@ -405,6 +406,19 @@ def test_fit_start_changes_the_decoder_not_the_fit(fit_setup):
     model = _fit(folder, tmp / "s1.ndlfd", "--start", "state1")
     assert model.start == "state1" and default.start == "learned"
     _assert_same_fit(model, default)
+
+
+def test_fit_generation_and_decoder_change_generation_not_the_fit(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = _fit(
+        folder, tmp / "paper.ndlfd", "--generation", "paper", "--decoder", "map"
+    )
+    assert model.generation == "paper" and default.generation == "blend"
+    assert model.decoder == "map" and default.decoder == "viterbi"
+    _assert_same_fit(model, default)
+    grid = np.linspace(0.0, 2.0, 50)
+    paper = copy.deepcopy(default).set_params(generation="paper", decoder="map")
+    np.testing.assert_array_equal(model.generate(grid).X, paper.generate(grid).X)
 
 
 def test_fit_distance(fit_setup):

@@ -229,6 +229,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         weights=_parse_mapping(args.weights, "--weights", float),
         pseudo_emission=args.pseudo_emission,
         start=args.start,
+        generation=args.generation,
+        decoder=args.decoder,
     )
     t0 = time.perf_counter()
     model.fit(demos)
@@ -286,7 +288,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
 
 def _add_fit(sub) -> None:
     from ._simplify import DISTANCES
-    from .learner import NORMALIZATIONS, STARTS, KeypointHMM
+    from .learner import DECODERS, GENERATIONS, NORMALIZATIONS, STARTS, KeypointHMM
 
     p = sub.add_parser(
         "fit",
@@ -328,6 +330,19 @@ def _add_fit(sub) -> None:
         "--pseudo-emission", type=float, default=0.0, help="emission pseudo-count"
     )
     p.add_argument("--start", default="learned", choices=STARTS.names)
+    p.add_argument(
+        "--generation",
+        default="blend",
+        choices=GENERATIONS.names,
+        help="blend (default: decoded key points, demonstrations aligned and"
+        " blended) or paper (the paper's procedure)",
+    )
+    p.add_argument(
+        "--decoder",
+        default="viterbi",
+        choices=DECODERS.names,
+        help="viterbi (most likely sequence) or map (most likely state per step)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
     p.set_defaults(func=_cmd_fit)
 
