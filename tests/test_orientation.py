@@ -114,13 +114,36 @@ def test_check_quaternions_refuses_non_unit_naming_the_row():
     Q = np.tile([1.0, 0, 0, 0], (5, 1))
     Q[3] = [0.9, 0, 0, 0]
     with pytest.raises(
-        ValidationError, match=r"unit norm \(within atol=1e-06\); got norm 0.9 at row 3"
+        ValidationError,
+        match=r"unit norm \(rows within 0.001 of it are renormalized\); got norm"
+        r" 0.9 at row 3",
     ):
         check_quaternions(Q)
-    Q[3] = [1 + 1e-7, 0, 0, 0]  # within tolerance
-    assert check_quaternions(Q).shape == (5, 4)
+    Q[3] = [1 + 1e-7, 0, 0, 0]  # within tolerance: kept as it is
+    np.testing.assert_array_equal(check_quaternions(Q), Q)
     with pytest.raises(ValidationError, match="at row 3"):
-        check_quaternions(Q, atol=1e-9)
+        check_quaternions(Q, atol=1e-9, renormalize_tol=0.0)
+
+
+def test_quaternions_logged_to_four_decimals_are_renormalized_with_one_warning():
+    from scipy.spatial.transform import Rotation
+
+    from ndlfd import NdlfdWarning
+
+    q = Rotation.from_euler("xyz", np.random.default_rng(0).normal(size=(50, 3)))
+    logged = np.round(q.as_quat(scalar_first=True), 4)  # norms off by up to ~2e-4
+    off = np.abs(np.linalg.norm(logged, axis=1) - 1) > 1e-6
+    assert off.any()
+    with pytest.warns(NdlfdWarning, match=rf"renormalized {off.sum()} of 50") as rec:
+        out = check_quaternions(logged)
+    assert len(rec) == 1
+    norms = np.linalg.norm(out, axis=1)
+    np.testing.assert_allclose(norms[off], 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(out[~off], logged[~off])  # within 1e-6: kept
+    bad = logged.copy()
+    bad[7] *= 1.002  # beyond the repair tolerance: still an error
+    with pytest.raises(ValidationError, match="at row 7"):
+        check_quaternions(bad)
 
 
 @pytest.mark.parametrize(

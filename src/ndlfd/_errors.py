@@ -11,6 +11,7 @@ __all__ = [
     "MissingExtraError",
     "ModelFormatError",
     "NdlfdError",
+    "NdlfdWarning",
     "NotFittedError",
     "OptionError",
     "ValidationError",
@@ -47,3 +48,11 @@ class ModelFormatError(NdlfdError):
 
 class MissingExtraError(NdlfdError, ImportError):
     """An optional dependency is missing; the message says how to install it."""
+
+
+class NdlfdWarning(UserWarning):
+    """Data that ndlfd accepted after a repair the user should know about.
+
+    For example quaternions logged with a few decimals (renormalized) or time
+    stamps with large jitter (velocity derived over a time window).
+    """

@@ -12,14 +12,17 @@ reduced or interpolated, consecutive quaternions are sign-aligned
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from ._errors import ValidationError
+from ._errors import NdlfdWarning, ValidationError
 from ._registry import Registry
 from ._validation import check_points
 
 __all__ = [
     "QUATERNION_ORDERS",
+    "RENORMALIZE_TOL",
     "check_quaternions",
     "make_continuous",
     "normalize_quaternions",
@@ -42,10 +45,25 @@ def _as_quaternion_array(Q, name: str) -> np.ndarray:
     return A
 
 
+#: Quaternions whose norm is off by at most this are renormalized (with one
+#: warning that gives the count): logging four decimals gives up to ~2e-4.
+RENORMALIZE_TOL = 1e-3
+
+
 def check_quaternions(
-    Q, order: str = "wxyz", *, atol: float = 1e-6, name: str = "quaternions"
+    Q,
+    order: str = "wxyz",
+    *,
+    atol: float = 1e-6,
+    renormalize_tol: float = RENORMALIZE_TOL,
+    name: str = "quaternions",
 ) -> np.ndarray:
     """Check a stream of unit quaternions and return it scalar-first.
+
+    Rows whose norm is within ``atol`` of 1 are kept as they are; rows within
+    ``renormalize_tol`` (quaternions logged with a few decimals) are divided
+    by their norm, with one :class:`~ndlfd.NdlfdWarning` that gives the count;
+    a row further off is an error.
 
     Parameters
     ----------
@@ -55,21 +73,24 @@ def check_quaternions(
         ``"wxyz"`` is scalar-first (ndlfd's order); ``"xyzw"`` is scalar-last
         (scipy's :class:`~scipy.spatial.transform.Rotation`).
     atol : float, default=1e-6
-        Largest accepted deviation of a row's norm from 1.
+        Largest deviation of a row's norm from 1 accepted without a change.
+    renormalize_tol : float, default=1e-3
+        Largest deviation of a row's norm from 1 that is repaired by
+        renormalizing (:data:`RENORMALIZE_TOL`).
     name : str, default="quaternions"
         The argument's name, used in messages.
 
     Returns
     -------
     Q_wxyz : ndarray of shape (n_samples, 4), dtype float64
-        The same quaternions in scalar-first order (not renormalized, not
-        sign-aligned: see :func:`normalize_quaternions`, :func:`make_continuous`).
+        The same quaternions in scalar-first order, rows off by more than
+        ``atol`` renormalized (not sign-aligned: see :func:`make_continuous`).
 
     Raises
     ------
     ValidationError
-        Wrong shape, NaN/inf, or a row whose norm is off by more than ``atol``
-        (the message names the first such row).
+        Wrong shape, NaN/inf, or a row whose norm is off by more than
+        ``renormalize_tol`` (the message names the first such row).
     OptionError
         An unknown ``order``.
 
@@ -81,16 +102,38 @@ def check_quaternions(
     Traceback (most recent call last):
     ...
     ndlfd._errors.ValidationError: quaternions must have unit norm ... at row 0: ...
+
+    Four logged decimals are repaired, with a warning:
+
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     q = check_quaternions([[0.7071, 0.7071, 0.0, 0.0]])
+    >>> float(np.linalg.norm(q)), len(caught)
+    (1.0, 1)
     """
     perm = QUATERNION_ORDERS.get(order)
     A = _as_quaternion_array(Q, name)
     norms = np.sqrt(np.einsum("ij,ij->i", A, A))
-    bad = np.flatnonzero(np.abs(norms - 1.0) > atol)
+    dev = np.abs(norms - 1.0)
+    bad = np.flatnonzero(dev > max(atol, renormalize_tol))
     if bad.size:
         i = int(bad[0])
         raise ValidationError(
-            f"{name} must have unit norm (within atol={atol:g}); got norm"
-            f" {norms[i]:.6g} at row {i}: {A[i].tolist()}"
+            f"{name} must have unit norm (rows within {renormalize_tol:g} of it"
+            f" are renormalized); got norm {norms[i]:.6g} at row {i}:"
+            f" {A[i].tolist()}"
+        )
+    fix = dev > atol
+    if np.any(fix):
+        A = A.copy()
+        A[fix] /= norms[fix, None]
+        warnings.warn(
+            f"{name}: renormalized {int(fix.sum())} of {A.shape[0]} quaternions"
+            f" whose norm was off by more than {atol:g} (at most"
+            f" {float(dev.max()):.2g}; up to {renormalize_tol:g} is repaired)",
+            NdlfdWarning,
+            stacklevel=2,
         )
     return np.ascontiguousarray(A[:, list(perm)])
 
