@@ -358,7 +358,8 @@ def test_velocity_savgol_smoothing():
         (
             {"smoothing": "kalman"},
             OptionError,
-            r"unknown smoothing 'kalman'; expected one of: 'none', 'savgol'",
+            r"unknown smoothing 'kalman'; expected one of: 'auto', 'none', 'savgol',"
+            r" 'window'",
         ),
         (
             {"smoothing": "savgol", "window_length": 4},
@@ -403,3 +404,61 @@ def test_velocity_of_a_line_is_exact(steps, a, b):
     d = with_velocity(Demonstration.from_arrays(t, position=x))
     tol = 16 * np.finfo(float).eps * np.abs(x).max() / np.diff(t).min()
     np.testing.assert_allclose(d.get("velocity")[:, 0], a, rtol=0, atol=tol)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(0, 2**31),
+    st.floats(0.15, 0.45),
+    st.integers(200, 1500),
+)
+def test_velocity_on_jittery_time_stamps_follows_the_true_derivative(seed, amp, n):
+    # a smooth reach sampled at true times k*dt, logged with stamps jittered by
+    # up to amp*dt: neighbouring differences divide by jittered steps, the
+    # window fit does not
+    from ndlfd import NdlfdWarning
+    from ndlfd.demo import timing_jitter
+
+    rng = np.random.default_rng(seed)
+    dt = 3.0 / n
+    t_true = np.arange(n) * dt
+    s = t_true / t_true[-1]
+    P = np.column_stack([0.4 * (10 * s**3 - 15 * s**4 + 6 * s**5), np.sin(2 * s)])
+    ds = (30 * s**2 - 60 * s**3 + 30 * s**4) / t_true[-1]
+    V = np.column_stack([0.4 * ds, 2 * np.cos(2 * s) / t_true[-1]])
+    stamps = t_true + rng.uniform(-amp, amp, n) * dt
+    assert np.all(np.diff(stamps) > 0) and timing_jitter(stamps) > 0.1
+    demo = Demonstration.from_arrays(stamps, position=P)
+    with pytest.warns(NdlfdWarning, match="jittery"):
+        got = with_velocity(demo).get("velocity")
+    naive = with_velocity(demo, smoothing="none").get("velocity")
+    speed = np.abs(V).max()
+    err = np.abs(got - V).max()
+    # the fit's error: the stamps' jitter over the window's spread, times the
+    # speed (measured at most 0.51 amp for a +-4-step window), plus its bias
+    assert err < 0.65 * amp * speed
+    assert err < 0.5 * np.abs(naive - V).max()
+
+
+def test_exact_irregular_stamps_keep_the_exact_derivative_without_warning():
+    t, P, _ = _circle(400, 3)  # random steps, exact stamps, smooth motion
+    auto = with_velocity(Demonstration.from_arrays(t, position=P))  # no warning
+    exact = with_velocity(Demonstration.from_arrays(t, position=P), smoothing="none")
+    np.testing.assert_array_equal(auto.X, exact.X)
+
+
+def test_window_derivative_is_exact_on_lines_and_matches_a_slow_fit():
+    from ndlfd.demo import window_derivative
+
+    rng = np.random.default_rng(0)
+    t = np.cumsum(rng.uniform(0.2, 1.0, 60))
+    X = np.column_stack([2.5 * t - 1, -t + 3])
+    np.testing.assert_allclose(window_derivative(t, X, 1.3), [[2.5, -1.0]] * 60,
+                               rtol=0, atol=1e-12)  # fmt: skip
+    Y = np.column_stack([np.sin(t), t**2])
+    got = window_derivative(t, Y, 1.3)
+    for i in (0, 1, 30, 59):  # np.polyfit over the same window (>= neighbours)
+        inside = np.abs(t - t[i]) <= 1.3
+        inside[max(i - 1, 0) : i + 2] = True
+        ref = [np.polyfit(t[inside], y[inside], 1)[0] for y in Y.T]
+        np.testing.assert_allclose(got[i], ref, rtol=1e-9, atol=1e-12)
