@@ -143,7 +143,7 @@ class WrongShape(MeanBaseline):
         return super().generate(times)[:, :1]
 
 
-def test_failures_are_recorded_not_dropped():
+def test_failures_are_recorded_not_dropped(tmp_path):
     result = evaluate(
         ["Sine"],
         generators={
@@ -167,7 +167,8 @@ def test_failures_are_recorded_not_dropped():
     assert len(result.failures) == 5
     failed = {e["generator"]: e["failed"] for e in result.summary()}
     assert failed == {"broken": 1, "nostart": 1, "narrow": 1, "mean": 0}
-    assert "RuntimeError: no luck" in result._report_text(plots=False)
+    md = (result.write_report(tmp_path, plots=False) / "summary.md").read_text()
+    assert "- Sine fold 0, time, broken: RuntimeError: no luck\n" in md
     assert "1/1" in result.to_markdown()
 
 

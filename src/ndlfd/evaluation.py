@@ -61,6 +61,7 @@ import numpy as np
 from ._errors import ValidationError
 from ._fileformat import atomic_path
 from ._registry import Registry
+from ._report import Report, fmt_number, image, markdown, markdown_table
 from ._validation import check_positive_int
 from .baselines import (
     BASELINES,
@@ -265,14 +266,6 @@ def _mean(values) -> float:
     return float(np.mean(v)) if v.size else math.nan
 
 
-def _fmt(x: float) -> str:
-    if x is None or (isinstance(x, float) and math.isnan(x)):
-        return "–"
-    if math.isinf(x):
-        return "inf"
-    return f"{x:.3g}"
-
-
 @dataclass
 class EvaluationResult:
     """The rows of an evaluation, with summaries, tables and a report.
@@ -391,9 +384,12 @@ class EvaluationResult:
         -------
         text : str
         """
+        return markdown(self._summary_blocks())
+
+    def _summary_blocks(self) -> list[str]:
         summary = self.summary()
-        parts = []
         header = ["generator", *METRICS.values(), "failed"]
+        blocks = []
         for group in self._groups():
             for protocol in self.protocols:
                 entries = [
@@ -402,34 +398,16 @@ class EvaluationResult:
                     if e["group"] == group and e["protocol"] == protocol
                 ]
                 n_shapes = entries[0]["n_shapes"] if entries else 0
-                parts.append(
-                    f"### {GROUPS[group]} ({n_shapes}), protocol `{protocol}`\n"
-                )
-                lines = [
-                    "| " + " | ".join(header) + " |",
-                    "|" + "|".join(["---"] + ["---:"] * (len(header) - 1)) + "|",
+                blocks += [
+                    f"### {GROUPS[group]} ({n_shapes}), protocol `{protocol}`",
+                    markdown_table(
+                        header,
+                        [_summary_row(e) for e in entries],
+                        align="l" + "r" * (len(header) - 1),
+                    ),
+                    _ratio_sentence(entries),
                 ]
-                for e in entries:
-                    cells = [
-                        f"{_fmt(e[f'{m}_median'])} ({_fmt(e[f'{m}_mean'])})"
-                        for m in METRICS
-                    ]
-                    lines.append(
-                        "| "
-                        + " | ".join(
-                            [e["generator"], *cells, f"{e['failed']}/{e['rows']}"]
-                        )
-                        + " |"
-                    )
-                parts.append("\n".join(lines) + "\n")
-                ref = [e for e in entries if e["generator"] == REFERENCE]
-                if ref and np.isfinite(ref[0]["dtw_ratio_to_best"]):
-                    parts.append(
-                        f"{REFERENCE} DTW / best other generator's DTW (median"
-                        " over shapes of the ratio of per-shape medians):"
-                        f" **{ref[0]['dtw_ratio_to_best']:.3g}**\n"
-                    )
-        return "\n".join(parts)
+        return blocks
 
     def to_csv(self, path: str | os.PathLike) -> Path:
         """Write every row as CSV (header row first), atomically.
@@ -476,24 +454,22 @@ class EvaluationResult:
         -------
         folder : Path
         """
-        out = Path(folder)
-        out.mkdir(parents=True, exist_ok=True)
-        self.to_csv(out / "results.csv")
-        with atomic_path(out / "summary.md", suffix=".md") as tmp:
-            tmp.write_text(self._report_text(plots), encoding="utf-8")
+        report = Report(folder)
+        self.to_csv(report.folder / "results.csv")
+        report.write("summary.md", self._report_blocks(plots))
         if plots:
-            self._draw(out)
-        return out
+            report.figure(self._boxplot_figure(), "boxplot_dtw.png")
+            for shape, example in self.examples.items():
+                report.figure(self._shape_figure(shape, example), f"shapes/{shape}.png")
+        return report.folder
 
-    def _report_text(self, plots: bool) -> str:
-        lines = [
+    def _report_blocks(self, plots: bool) -> list[str]:
+        blocks = [
             "# LASA leave-one-demonstration-out evaluation",
-            "",
             f"{len(self.shapes)} shapes x {self.n_folds} folds (held-out"
             f" demonstrations), protocols {', '.join(self.protocols)}, generators"
             f" {', '.join(self.generators)}; {len(self.rows)} rows,"
             f" {len(self.failures)} failed, {self.seconds:.0f} s.",
-            "",
             "Each cell: the median over every fold of the group's shapes (the"
             " mean in brackets). Distances are"
             " divided by the shape's range (the diagonal of the bounding box of"
@@ -501,27 +477,26 @@ class EvaluationResult:
             " points of both paths. Length and turning ratios compare the"
             " generated path's arc length and total turning with the held-out"
             " demonstration's (1 is ideal). Seconds: fit plus generate.",
-            "",
-            self.to_markdown(),
+            *self._summary_blocks(),
         ]
         if self.failures:
-            lines += ["### Failed folds", ""]
-            lines += [
-                f"- {r['shape']} fold {r['fold']}, {r['protocol']},"
-                f" {r['generator']}: {r['error']}"
-                for r in self.failures
+            blocks += [
+                "### Failed folds",
+                "\n".join(
+                    f"- {r['shape']} fold {r['fold']}, {r['protocol']},"
+                    f" {r['generator']}: {r['error']}"
+                    for r in self.failures
+                ),
             ]
-            lines.append("")
         if plots:
-            lines += [
-                "![DTW per generator](boxplot_dtw.png)",
-                "",
+            blocks += [
+                image("boxplot_dtw.png", "DTW per generator"),
                 "Per shape, the first fold: `shapes/<shape>.png`.",
-                "",
             ]
-        return "\n".join(lines)
+        return blocks
 
-    def _draw(self, out: Path) -> None:
+    def _boxplot_figure(self):
+        """Box plots of DTW/range per generator, one panel per group and protocol."""
         from . import plot
 
         groups = self._groups()
@@ -552,32 +527,57 @@ class EvaluationResult:
                 ylabel="DTW / range",
                 title=f"{GROUPS[group]}, {protocol}",
             )
-        plot.save_figure(fig, out / "boxplot_dtw.png")
-        for shape, example in self.examples.items():
-            demos = load_lasa(shape)
-            k = example["fold"]
-            train = [d for i, d in enumerate(demos) if i != k]
-            fig, axes = plot.new_figure(len(self.protocols), size=(5.5, 5.0))
-            for ax, protocol in zip(axes, self.protocols, strict=True):
-                paths = {
-                    g: example["paths"][protocol, g]
-                    for g in self.generators
-                    if (protocol, g) in example["paths"]
-                }
-                stds = {
-                    g: example["stds"][protocol, g]
-                    for g in self.generators
-                    if (protocol, g) in example["stds"]
-                }
-                plot.plot_comparison(
-                    train,
-                    demos[k],
-                    paths,
-                    stds=stds,
-                    ax=ax,
-                    title=f"{shape}, demo {k} held out, {protocol}",
-                )
-            plot.save_figure(fig, out / "shapes" / f"{shape}.png")
+        return fig
+
+    def _shape_figure(self, shape: str, example: dict):
+        """The shape's first fold: demonstrations and paths, a panel per protocol."""
+        from . import plot
+
+        demos = load_lasa(shape)
+        k = example["fold"]
+        train = [d for i, d in enumerate(demos) if i != k]
+        fig, axes = plot.new_figure(len(self.protocols), size=(5.5, 5.0))
+        for ax, protocol in zip(axes, self.protocols, strict=True):
+            paths = {
+                g: example["paths"][protocol, g]
+                for g in self.generators
+                if (protocol, g) in example["paths"]
+            }
+            stds = {
+                g: example["stds"][protocol, g]
+                for g in self.generators
+                if (protocol, g) in example["stds"]
+            }
+            plot.plot_comparison(
+                train,
+                demos[k],
+                paths,
+                stds=stds,
+                ax=ax,
+                title=f"{shape}, demo {k} held out, {protocol}",
+            )
+        return fig
+
+
+def _summary_row(entry: dict) -> list[str]:
+    """A generator's cells: median (mean) of every metric, failed/run."""
+    cells = [
+        f"{fmt_number(entry[f'{m}_median'])} ({fmt_number(entry[f'{m}_mean'])})"
+        for m in METRICS
+    ]
+    return [entry["generator"], *cells, f"{entry['failed']}/{entry['rows']}"]
+
+
+def _ratio_sentence(entries: list[dict]) -> str:
+    """The reference generator's DTW ratio to the best other one ("" if none)."""
+    ref = [e for e in entries if e["generator"] == REFERENCE]
+    if not ref or not np.isfinite(ref[0]["dtw_ratio_to_best"]):
+        return ""
+    return (
+        f"{REFERENCE} DTW / best other generator's DTW (median"
+        " over shapes of the ratio of per-shape medians):"
+        f" **{ref[0]['dtw_ratio_to_best']:.3g}**"
+    )
 
 
 # --------------------------------------------------------------------- evaluate
