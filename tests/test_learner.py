@@ -447,10 +447,11 @@ def _reaches(n_demos=8, seed=2):
 
 
 def test_a_reach_with_orientation_is_smooth_not_a_staircase():
-    # defaults on a 3-D reach: no standing still, the demonstrations' speed,
-    # a start among the demonstrations' starts, unit quaternions
+    # defaults on a 3-D reach: orientation learned (not dropped), no standing
+    # still, the demonstrations' speed, a start among theirs, unit quaternions
     demos = _reaches()
-    model = KeypointHMM(groups=("position", "velocity", "orientation")).fit(demos[1:])
+    model = KeypointHMM().fit(demos[1:])
+    assert model.groups_ == ("position", "velocity", "orientation")
     grid = np.linspace(0.0, 3.0, 300)
     path = model.generate(grid, dense=True)
     P = path.get("position")
@@ -530,8 +531,12 @@ def test_each_option_changes_what_it_should_and_nothing_else(square):
     np.testing.assert_array_equal(m.train_values_[0], m._prepare(train[0], m.groups_).X)
 
     pos_only = [d.select("position") for d in train]
+    pv = ("position", "velocity")
     with pytest.raises(ValidationError, match="lacks group"):
-        KeypointHMM(**kw, derive_velocity=False).fit(pos_only)
+        KeypointHMM(**kw, groups=pv, derive_velocity=False).fit(pos_only)
+    # "auto" without derivation learns what is there
+    m = KeypointHMM(**kw, derive_velocity=False).fit(pos_only)
+    assert m.columns_ == ("x", "y")
     m = KeypointHMM(**kw).fit(pos_only)  # derived from position and time
     assert m.columns_ == base.columns_
     assert KeypointHMM(**kw, groups=None).fit(pos_only).columns_ == ("x", "y")
