@@ -274,7 +274,8 @@ def test_group_of_column_convention():
         (
             "x,y\n0,1\n",
             {},
-            r"d\.csv: expected a time column 't'; got columns \['x', 'y'\]",
+            r"d\.csv: expected a time column named 't' or 'time' \(any case\); got"
+            r" columns \['x', 'y'\]; pass time_column=",
         ),
         (
             "t,x\n0,1\n0.5,2\n0.5,3\n",
@@ -292,8 +293,8 @@ def test_group_of_column_convention():
         (
             "t,a,b\n0,1,2\n",
             {"groups": {"position": ["a", "c"]}},
-            r"d\.csv: groups maps column 'c' to 'position', but the file has no"
-            " such column",
+            r"d\.csv: groups position names 'c', but there is no such column; got"
+            r" columns \['t', 'a', 'b'\]",
         ),
         (
             "t,a,b\n0,1,2\n",
@@ -303,7 +304,8 @@ def test_group_of_column_convention():
         (
             "t,a,b\n0,1,2\n",
             {"groups": {"position": "a"}},
-            r"groups does not map column\(s\) \['b'\]; map them or pass drop=\['b'\]",
+            r"cannot tell the group of column\(s\) \['b'\] from their names.*"
+            r"pass groups=.*drop=",
         ),
         (
             "t,a,b\n0,1,2\n",
@@ -350,13 +352,15 @@ def test_npz_bad_files(tmp_path):
         read_npz(tmp_path / "none.npz")
     foreign = tmp_path / "foreign.npz"
     np.savez(foreign, t=np.zeros(2))
-    with pytest.raises(DataFileError, match=r"foreign\.npz: .*without ndlfd metadata"):
+    with pytest.raises(
+        DataFileError, match=r"foreign\.npz: expected value columns besides the time"
+    ):
         read_npz(foreign)
     good = write_npz(_rich_demo(), tmp_path / "good.npz")
     trunc = tmp_path / "trunc.npz"
     trunc.write_bytes(good.read_bytes()[:100])
     with pytest.raises(
-        DataFileError, match=r"trunc\.npz: expected an ndlfd Demonstration"
+        DataFileError, match=r"trunc\.npz: expected an \.npz archive .* not readable"
     ):
         read_npz(trunc)
     other = save_npz(
@@ -422,7 +426,8 @@ def test_read_demos_errors(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(
         DataFileError,
-        match=r"empty: expected \.csv or \.npz files in the folder; found none",
+        match=r"empty: expected \.csv, \.tsv, \.npz, \.h5 or \.hdf5 files in the"
+        r" folder \(any case\); found none",
     ):
         read_demos(tmp_path / "empty")
     with pytest.raises(DataFileError, match=r"\*\.csv: the pattern matched no files"):
@@ -439,3 +444,247 @@ def test_read_demos_errors(tmp_path):
         read_demos([1])
     with pytest.raises(ValidationError, match="source must be a file, a folder"):
         read_demos(3.5)
+
+
+# ---------------------------------------------------------------- data as it comes
+from ndlfd._errors import MissingExtraError  # noqa: E402
+from ndlfd.io import ColumnMapping, read_hdf5  # noqa: E402
+
+
+def _reach(n=40, seed=0):
+    """A 3-D reach with orientation at irregular time stamps."""
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.005, 0.02, n))
+    s = np.linspace(0, 1, n)
+    pos = np.column_stack([s, s**2, np.sin(s)]) + rng.normal(0, 1e-3, (n, 3))
+    half = 0.5 * s  # rotation about z by s radians, exact unit quaternions
+    quat = np.column_stack([np.cos(half), 0 * s, 0 * s, np.sin(half)])
+    return t, pos, quat
+
+
+@pytest.mark.parametrize("sep", [",", ";", "\t", " ", "  \t "])
+def test_read_csv_detects_the_delimiter(tmp_path, sep):
+    t, pos, _ = _reach()
+    lines = [sep.join(["time", "X", "Y", "Z"])]
+    rows = np.column_stack([t, pos]).tolist()
+    lines += [sep.join(repr(v) for v in row) for row in rows]
+    p = tmp_path / "d.csv"
+    p.write_text("# recorded at 100 Hz\n" + "\n".join(lines) + "\n")
+    d, maps = read_demos(p, return_mappings=True)
+    np.testing.assert_array_equal(d[0].t, t)
+    np.testing.assert_array_equal(d[0].get("position"), pos)
+    assert d[0].columns == ("X", "Y", "Z")
+    layout = ("tab" if "\t" in sep else {",": "comma", ";": "semicolon"}.get(
+        sep, "whitespace"))  # fmt: skip
+    end = "" if layout == "comma" else f" ({layout}-separated)"
+    assert str(maps[0]) == "time=time; position=X,Y,Z" + end
+    # a short row says which separator was expected
+    p.write_text(lines[0] + "\n" + sep.join(["0", "1", "2"]) + "\n")
+    with pytest.raises(DataFileError, match=r"line 2: expected 4 \w+-separated"):
+        read_csv(p)
+
+
+def test_read_csv_matches_names_in_any_case(tmp_path):
+    p = tmp_path / "d.csv"
+    p.write_text("TIME,Pos_X,pos_y,QW,qx,qy,qz\n0,1,2,1,0,0,0\n0.5,2,3,1,0,0,0\n")
+    d, maps = read_demos(
+        p, groups={"position": ["pos_x", "POS_Y"]}, return_mappings=True
+    )
+    assert d[0].columns == ("Pos_X", "pos_y", "QW", "qx", "qy", "qz")
+    assert d[0].groups == ("position",) * 2 + ("orientation",) * 4
+    np.testing.assert_array_equal(d[0].t, [0, 0.5])
+    assert maps[0] == ColumnMapping(
+        str(p),
+        "TIME",
+        (("position", ("Pos_X", "pos_y")), ("orientation", ("QW", "qx", "qy", "qz"))),
+    )
+    assert maps[0].group_names == ("position", "orientation")
+    assert read_csv(p, time_column="Time", drop=["QW", "QX", "QY", "QZ"],
+                    groups={"position": ["POS_X", "POS_Y"]}).n_dims == 2  # fmt: skip
+    # an exact match wins; two names equal up to case are ambiguous
+    q = tmp_path / "q.csv"
+    q.write_text("t,x,X,Pos,POS\n0,1,2,3,4\n")
+    d = read_csv(q, groups={"a": ["x"], "b": ["X"]}, drop=["Pos", "POS"])
+    assert d.columns == ("x", "X")
+    with pytest.raises(DataFileError, match=r"'pos'.*\['Pos', 'POS'\], which differ"):
+        read_csv(q, time_column="T", groups={"position": ["pos"]})
+    with pytest.raises(DataFileError, match=r"names 'Z', but there is no such column"):
+        read_csv(q, time_column="T", groups={"position": ["Z"]})
+
+
+def test_read_csv_explicit_group_owns_its_conventional_columns(tmp_path):
+    p = tmp_path / "d.csv"
+    p.write_text("t,pos_x,pos_y,z\n0,1,2,3\n")
+    with pytest.raises(
+        DataFileError,
+        match=r"column 'z' belongs to group 'position' by its name, but groups"
+        r" position does not list it; .* drop=",
+    ):
+        read_csv(p, groups={"position": ["pos_x", "pos_y"]})
+    d = read_csv(p, groups={"position": ["pos_x", "pos_y", "z"]})
+    assert d.columns == ("pos_x", "pos_y", "z")
+
+
+def test_write_table_float_format(tmp_path):
+    p = tmp_path / "f.csv"
+    write_table(p, ["a", "b"], [[0.38246072499999995, 1.0]], float_format="%.10g")
+    assert p.read_text() == "a,b\n0.382460725,1\n"
+    write_table(p, ["a", "b"], [[0.1 + 0.2, 1.0]], float_format=[None, "%d"])
+    assert p.read_text() == "a,b\n0.30000000000000004,1\n"
+    with pytest.raises(ValidationError, match=r"'%d' and must hold whole numbers"):
+        write_table(p, ["a"], [[0.5]], float_format="%d")
+    with pytest.raises(ValidationError, match="one format or one per column"):
+        write_table(p, ["a"], [[0.5]], float_format=["%g", "%g"])
+    with pytest.raises(ValidationError, match="float_format must be a %-format"):
+        write_table(p, ["a"], [[0.5]], float_format="%s %s")
+    d = Demonstration.from_arrays([0.0, 1 / 3], position=[[1 / 3, 2.0]] * 2)
+    write_csv(d, p, float_format="%.10g")
+    assert (
+        p.read_text()
+        == "t,x,y\n0.0,0.3333333333,2\n0.3333333333333333,0.3333333333,2\n"
+    )
+    write_csv(d, p, float_format="%.10g", time_format="%.3g")
+    assert p.read_text() == "t,x,y\n0,0.3333333333,2\n0.333,0.3333333333,2\n"
+
+
+def test_plain_npz_is_mapped_like_csv_columns(tmp_path):
+    t, pos, quat = _reach()
+    ref = Demonstration.from_arrays(t, position=pos, orientation=quat)
+    a = tmp_path / "a.npz"
+    np.savez(a, t=t, pos=pos, quat=quat, name=np.array("reach"), fps=np.array(100))
+    d, maps = read_demos(a, return_mappings=True)
+    assert d[0] == ref
+    assert str(maps[0]) == "time=t; position=pos; orientation=quat; ignored name,fps"
+    # conventional full names, a 1-D key per column, xyzw quaternions
+    b = tmp_path / "b.npz"
+    np.savez(b, Time=t, position=pos, qx=quat[:, 1], qy=quat[:, 2], qz=quat[:, 3],
+             qw=quat[:, 0])  # fmt: skip
+    assert read_npz(b).get("orientation").tolist() == quat.tolist()
+    c = tmp_path / "c.npz"
+    np.savez(c, stamp=t, P=pos, R=quat[:, [1, 2, 3, 0]], extra=pos[:, 0])
+    groups = {"position": "p", "orientation": "r"}
+    e = read_npz(c, time_column="STAMP", groups=groups, quaternion_order="xyzw",
+                 drop=["extra"])  # fmt: skip
+    assert e == ref
+    with pytest.raises(
+        DataFileError, match=r"c\.npz: cannot tell the group of array\(s\) \['P', 'R'"
+    ):
+        read_npz(c, time_column="stamp", drop=["extra"])
+
+
+@pytest.mark.parametrize(
+    ("arrays", "kwargs", "match"),
+    [
+        ({"t": [0.0, 1, 2], "pos": np.zeros((2, 2))}, {},
+         r"array 'pos' has 2 rows; expected 3, like the time array 't'"),
+        ({"t": [0.0, 1, 2], "pos": np.zeros((2, 3))}, {},
+         r"has 2 rows \(transposed\?\)"),
+        ({"t": [0.0, 1, 1], "pos": np.zeros((3, 2))}, {},
+         r"time array 't' must be strictly increasing; got 1\.0 at row 2 after 1\.0"),
+        ({"t": np.zeros((3, 2)), "pos": np.zeros((3, 2))}, {},
+         r"the time array 't' must hold one number per sample"),
+        ({"t": [0.0, 1], "pos": np.zeros((2, 2, 2))}, {},
+         r"array 'pos' must hold numbers of shape \(n,\) or \(n, k\)"),
+        ({"x": [0.0, 1]}, {}, r"expected a time column named 't' or 'time'"),
+        ({"t": [0.0, 1], "x": [1.0, 2]}, {"groups": {"velocity": "v"}},
+         r"groups velocity names 'v', but there is no such column"),
+        ({"t": [0.0, 1], "x": [0.0, 1], "v": [1, 1]},
+         {"groups": {"velocity": "v", "position": "V"}},
+         r"maps array 'v' to both 'velocity' and 'position'"),
+    ],
+)  # fmt: skip
+def test_plain_npz_errors(tmp_path, arrays, kwargs, match):
+    p = tmp_path / "bad.npz"
+    np.savez(p, **{k: np.asarray(v) for k, v in arrays.items()})
+    with pytest.raises(DataFileError, match=match):
+        read_npz(p, **kwargs)
+
+
+def test_npz_never_unpickles(tmp_path):
+    import pickle
+
+    p = tmp_path / "obj.npz"
+    np.savez(p, t=np.arange(2.0), pos=np.array([{"x": 1}, 2], dtype=object))
+    with pytest.raises(
+        DataFileError, match="pickled Python objects, which ndlfd never"
+    ):
+        read_npz(p)
+    q = tmp_path / "evil.npz"
+    q.write_bytes(pickle.dumps({"t": [0, 1]}))
+    with pytest.raises(DataFileError) as info:
+        read_npz(q)
+    assert "a Python pickle, which ndlfd never loads" in str(info.value)
+    assert "allow_pickle" not in str(info.value)
+    assert "pickle.load" not in str(info.value)
+
+
+h5py = pytest.importorskip("h5py")
+
+
+def test_hdf5_one_group_per_episode(tmp_path):
+    p = tmp_path / "reach.h5"
+    demos = []
+    with h5py.File(p, "w") as f:
+        for i in (2, 10, 1):  # natural order: ep1, ep2, ep10
+            t, pos, quat = _reach(seed=i)
+            g = f.create_group(f"ep{i}")
+            g["time"], g["obs/eef"], g["quat"] = t, pos, quat
+            g["label"] = "reach"
+            demos.append((i, Demonstration.from_arrays(t, position=pos,
+                                                       orientation=quat)))  # fmt: skip
+    want = [d for _, d in sorted(demos, key=lambda x: x[0])]
+    got, maps = read_demos(p, groups={"position": "obs/eef"}, return_mappings=True)
+    assert got == want
+    assert [m.source for m in maps] == [f"{p}:/ep{i}" for i in (1, 2, 10)]
+    assert (
+        str(maps[0]) == "time=time; position=obs/eef; orientation=quat; ignored label"
+    )
+    assert read_hdf5(p, groups={"position": "OBS/EEF"}) == want
+    with pytest.raises(DataFileError, match=r"reach\.h5:/ep1: cannot tell the group"):
+        read_hdf5(p)
+    # datasets at the root: one episode
+    q = tmp_path / "one.hdf5"
+    t, pos, _ = _reach()
+    with h5py.File(q, "w") as f:
+        f["t"], f["pos"] = t, pos
+    assert read_hdf5(q) == [Demonstration.from_arrays(t, position=pos)]
+
+
+def test_hdf5_errors_and_missing_extra(tmp_path, monkeypatch):
+    empty = tmp_path / "empty.h5"
+    with h5py.File(empty, "w"):
+        pass
+    with pytest.raises(DataFileError, match="expected one HDF5 group per episode"):
+        read_hdf5(empty)
+    bad = tmp_path / "bad.h5"
+    bad.write_text("t,x\n0,1\n")
+    with pytest.raises(DataFileError, match=r"bad\.h5: expected an HDF5 file"):
+        read_hdf5(bad)
+    with pytest.raises(DataFileError, match=r"none\.h5: no such file"):
+        read_hdf5(tmp_path / "none.h5")
+    import sys
+
+    monkeypatch.setitem(sys.modules, "h5py", None)  # import h5py now fails
+    with pytest.raises(MissingExtraError, match=r'pip install "ndlfd\[hdf5\]"'):
+        read_hdf5(empty)
+
+
+def test_read_demos_folder_takes_every_format_in_any_case(tmp_path):
+    t, pos, _ = _reach()
+    d = Demonstration.from_arrays(t, position=pos)
+    write_csv(d, tmp_path / "a.CSV")
+    np.savez(tmp_path / "b.NPZ", t=t, pos=pos)
+    with h5py.File(tmp_path / "c.H5", "w") as f:
+        f["e/t"], f["e/pos"] = t, pos
+    (tmp_path / "d.tsv").write_text(
+        "t\tx\ty\tz\n" + "\n".join("\t".join(map(repr, r)) for r in
+                                   np.column_stack([t, pos]).tolist()) + "\n"
+    )  # fmt: skip
+    (tmp_path / "notes.txt").write_text("not data")
+    demos, maps = read_demos(tmp_path, return_mappings=True)
+    assert demos == [d] * 4
+    assert [m.layout for m in maps] == [
+        "comma-separated", "arrays", "arrays", "tab-separated"
+    ]  # fmt: skip
+    with pytest.raises(ValidationError, match=r"unexpected argument\(s\) \['group'\]"):
+        read_demos(tmp_path, group={})

@@ -119,10 +119,50 @@ def save_npz(
     return final
 
 
+def _noun(kind: str) -> str:
+    return "demonstration" if kind == "Demonstration" else "model"
+
+
+def _describe_file(p: Path) -> str:
+    """What a file that is not an ``.npz`` archive looks like, from its bytes."""
+    try:
+        with open(p, "rb") as fh:
+            head = fh.read(512)
+    except OSError as exc:
+        return f"a file that cannot be read ({exc.strerror})"
+    if not head:
+        return "an empty file"
+    if head.startswith(b"\x93NUMPY"):
+        return "a plain .npy array"
+    if head.startswith(b"\x89HDF\r\n\x1a\n"):
+        return "an HDF5 file"
+    if head[:1] == b"\x80" and head[1:2] in (b"\x02", b"\x03", b"\x04", b"\x05"):
+        return "a Python pickle, which ndlfd never loads (it could run code)"
+    if b"\x00" not in head:
+        try:
+            text = head.decode("utf-8")
+        except UnicodeDecodeError as exc:
+            text = (
+                head[: exc.start].decode("utf-8") if exc.start > len(head) - 4 else None
+            )
+        if text is not None:
+            body = text.lstrip("\ufeff \t\r\n")
+            if body[:1] in ("{", "["):
+                return "a JSON text file"
+            first = body.splitlines()[0] if body else ""
+            return f"a text file starting {first[:40]!r} (a CSV file?)"
+    return "a binary file of an unknown kind"
+
+
 def load_npz(
     path: str | os.PathLike, *, kind: str, version: int | tuple[int, ...]
 ) -> tuple[dict[str, np.ndarray], dict]:
     """Read a file written by :func:`save_npz`, refusing anything else.
+
+    Nothing is ever unpickled: a file that is not such an archive (a CSV, JSON
+    or pickle file, a plain ``.npz`` archive, another kind or version) is
+    refused with a one-line :class:`~ndlfd.ModelFormatError` that says what the
+    file is instead.
 
     Parameters
     ----------
@@ -140,30 +180,31 @@ def load_npz(
     metadata : dict
     """
     p = Path(path)
+    wrong = f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
+    if p.is_dir():
+        raise ModelFormatError(f"{p}: is a folder; expected an ndlfd {kind} file")
     if not p.is_file():
         raise ModelFormatError(f"{p}: no such file")
-    try:
-        with open(p, "rb") as fh:
-            z = np.load(fh, allow_pickle=False)
-            if not isinstance(z, np.lib.npyio.NpzFile):
-                raise ModelFormatError(
-                    f"{p}: expected an ndlfd {kind} file (.npz archive); got a plain"
-                    " .npy array"
-                )
-            with z:
-                arrays = {k: z[k] for k in z.files}
-    except ModelFormatError:
-        raise
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
+    with open(p, "rb") as fh:
+        magic = fh.read(4)
+    if magic not in (b"PK\x03\x04", b"PK\x05\x06"):
         raise ModelFormatError(
-            f"{p}: expected an ndlfd {kind} file (.npz archive); the file is not"
-            f" readable as one ({type(exc).__name__}: {exc})"
+            f"{wrong} (.npz archive); got {_describe_file(p)}, not readable as one"
+        )
+    try:
+        with open(p, "rb") as fh, np.load(fh, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
+        reason = f"{type(exc).__name__}: {exc}"
+        if "pickle" in str(exc).lower():
+            reason = "it holds pickled Python objects, which ndlfd never loads"
+        raise ModelFormatError(
+            f"{wrong} (.npz archive); the file is not readable as one ({reason})"
         ) from None
     raw = arrays.pop(_META_KEY, None)
     if raw is None or raw.shape != () or raw.dtype.kind != "U":
         raise ModelFormatError(
-            f"{p}: expected an ndlfd {kind} file; got an .npz archive without ndlfd"
-            " metadata (a foreign file)"
+            f"{wrong}; got an .npz archive without ndlfd metadata (a foreign file)"
         )
     try:
         meta = json.loads(str(raw))
@@ -172,9 +213,7 @@ def load_npz(
     if not isinstance(meta, dict) or meta.get("format") != "ndlfd":
         raise ModelFormatError(f"{p}: expected ndlfd metadata; got {meta!r:.200}")
     if meta.get("kind") != kind:
-        raise ModelFormatError(
-            f"{p}: expected an ndlfd {kind} file; got a {meta.get('kind')!r} file"
-        )
+        raise ModelFormatError(f"{wrong}; got a {meta.get('kind')!r} file")
     accepted = (version,) if isinstance(version, int) else tuple(version)
     if meta.get("version") not in accepted:
         wanted = " or ".join(str(v) for v in accepted)
