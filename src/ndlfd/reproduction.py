@@ -22,18 +22,16 @@ import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 import numpy as np
 
 from . import synth
 from ._errors import DecodeError, MissingExtraError
-from ._fileformat import atomic_path
+from ._report import Report, image, markdown_table
 from ._simplify import simplify
 from .demo import Demonstration
-from .experiments import mean_demo_baseline, path_errors
 from .learner import KeypointHMM
-from .metrics import path_difference
+from .metrics import mean_demo_baseline, path_difference, path_errors
 from .normalize import GroupScaler
 from .synth import VELOCITY_NOISE_RATIO
 
@@ -328,7 +326,7 @@ def fig5_learning(
         points per training demonstration), ``min``, ``max``, ``iqr``, ``std``,
         ``states_used``, ``n_states``, ``model``, ``generated`` (key points),
         ``dense`` (generated path on the test's time stamps) and ``errors``
-        (:func:`ndlfd.experiments.path_errors` of the dense path to the test);
+        (:func:`ndlfd.metrics.path_errors` of the dense path to the test);
         ``"baseline"`` → the errors of the mean-demonstration baseline;
         ``"demos_median"`` → the median over training demonstrations of their
         own difference % to the test (how far a typical demonstration is).
@@ -561,8 +559,8 @@ def _figure(n_rows: int, n_cols: int, size=(4.2, 3.8)):
     return Figure(figsize=(size[0] * n_cols, size[1] * n_rows), layout="constrained")
 
 
-def _draw_fig2(results: dict, path: Path, dpi: int) -> None:
-    from .plot import plot_path, save_figure
+def _draw_fig2(results: dict):
+    from .plot import plot_path
 
     fig = _figure(1, 3, size=(4.6, 4.4))
     titles = {
@@ -581,13 +579,11 @@ def _draw_fig2(results: dict, path: Path, dpi: int) -> None:
         ax.set_ylabel("Y")
         ax.set_zlabel("Z")
     fig.suptitle("Fig. 2 analogue: 6-D spiral (position + velocity), key points")
-    save_figure(fig, path, dpi=dpi)
+    return fig
 
 
-def _draw_fig3(
-    demo: Demonstration, results: dict, epsilon: float, path, dpi: int
-) -> None:
-    from .plot import plot_path, save_figure
+def _draw_fig3(demo: Demonstration, results: dict, epsilon: float):
+    from .plot import plot_path
 
     fig = _figure(1, 3)
     P = demo.get("position")
@@ -610,13 +606,11 @@ def _draw_fig3(
         f"Fig. 3 analogue: 2-D curve with variable velocity, one tolerance"
         f" ε = {epsilon:g} (key points in red, on the position path)"
     )
-    save_figure(fig, path, dpi=dpi)
+    return fig
 
 
-def _draw_fig5(
-    shape: str, train, test, results: dict, results_paper: dict, path: Path, dpi: int
-) -> None:
-    from .plot import plot_demos, save_figure
+def _draw_fig5(shape: str, train, test, results: dict, results_paper: dict):
+    from .plot import plot_demos
 
     dims = test.get("position").shape[1]
     proj = {"projection": "3d"} if dims == 3 else {}
@@ -682,11 +676,11 @@ def _draw_fig5(
     ax.set_ylabel("difference % to the test demonstration")
     ax.set_title("difference to the test")
     fig.suptitle(f"Fig. 5 analogue: {shape}, {low} vs {high} (line distance)")
-    save_figure(fig, path, dpi=dpi)
+    return fig
 
 
-def _draw_fig6(test, results: dict, path: Path, dpi: int) -> None:
-    from .plot import plot_demos, save_figure
+def _draw_fig6(test, results: dict):
+    from .plot import plot_demos
 
     levels = list(results["paths"])
     fig = _figure(1, len(levels))
@@ -709,7 +703,7 @@ def _draw_fig6(test, results: dict, path: Path, dpi: int) -> None:
         f"Fig. 6 analogue: codebook resolution (2-D square, grey: level edges);"
         f" differences between generated paths {d}"
     )
-    save_figure(fig, path, dpi=dpi)
+    return fig
 
 
 # ----------------------------------------------------------------- report
@@ -770,30 +764,16 @@ def _sentences(res: dict, settings: ReproductionSettings) -> dict:
     """Choose each figure's sentence from the measured numbers.
 
     Returns a dict with ``"fig2"``, ``"fig3"``, ``"fig6"`` (str), ``"fig5"``
-    (list of str) and ``"holds"`` (claim → distance → bool).
+    (list of str, one per shape and distance), ``"fig2_paper"`` and
+    ``"fig3_paper"`` (str, empty unless the paper distance kept only the
+    endpoints) and ``"holds"`` (claim → distance → bool).
     """
     holds: dict = {}
     out: dict = {"holds": holds}
-    # Fig. 2 -- proportions (independent of the distance)
-    f2 = res["fig2"]["line"]
-    none_p = f2["none"]["proportions"]
-    grp_p = f2["group"]["proportions"]
-    per_p = f2["per-dimension"]["proportions"]
-    keeps = bool(np.allclose(grp_p, none_p, rtol=1e-9))
-    distorts = not np.allclose(per_p, none_p, rtol=0.05)
-    holds["fig2"] = {d: keeps and distorts for d in DISTANCES}
-    out["fig2"] = _verdict(
-        keeps and distorts,
-        f"Group normalization keeps the spiral's X:Y:Z proportions"
-        f" ({_fmt_prop(grp_p)}, the same as the raw {_fmt_prop(none_p)}), while"
-        f" per-dimension normalization turns them into {_fmt_prop(per_p)}.",
-        f"Proportions raw {_fmt_prop(none_p)}, per-dimension {_fmt_prop(per_p)},"
-        f" group {_fmt_prop(grp_p)}: group normalization does not keep the raw"
-        " proportions, or per-dimension normalization does not change them.",
-    )
+    holds["fig2"], out["fig2"] = _fig2_sentence(res["fig2"]["line"])
     out["fig2_paper"] = _collapse_note(
         {m: res["fig2"]["paper"][m]["n_keypoints"] for m in NORMALIZATION_MODES},
-        f2,
+        res["fig2"]["line"],
         settings.fig2_epsilon,
         "every normalization mode keeps",
         "mode",
@@ -805,153 +785,200 @@ def _sentences(res: dict, settings: ReproductionSettings) -> dict:
         "every channel set keeps",
         "the channel set",
     )
+    holds["fig3"], out["fig3"] = _fig3_sentence(res, settings)
+    holds["fig5_spread"], holds["fig5_ceiling"], out["fig5"] = {}, {}, []
+    for shape, d in itertools.product(settings.shapes, DISTANCES):
+        r = res["fig5"][shape][d]
+        holds["fig5_spread"][shape, d] = _narrower(r)
+        holds["fig5_ceiling"][shape, d] = _near_ceiling(r)
+        out["fig5"].append(_fig5_sentence(shape, d, r, res["fig5_sweep"][shape][d]))
+    holds["fig6"], out["fig6"] = _fig6_sentence(res["fig6"], res["fig6_sweep"])
+    return out
 
-    # Fig. 3 -- order at one tolerance
+
+def _fig2_sentence(f2: dict) -> tuple[dict, str]:
+    """Group normalization keeps the raw proportions, per-dimension does not."""
+    none_p, per_p, grp_p = (f2[m]["proportions"] for m in NORMALIZATION_MODES)
+    keeps = bool(np.allclose(grp_p, none_p, rtol=1e-9))
+    distorts = not np.allclose(per_p, none_p, rtol=0.05)
+    holds = keeps and distorts
+    return {d: holds for d in DISTANCES}, _verdict(
+        holds,
+        f"Group normalization keeps the spiral's X:Y:Z proportions"
+        f" ({_fmt_prop(grp_p)}, the same as the raw {_fmt_prop(none_p)}), while"
+        f" per-dimension normalization turns them into {_fmt_prop(per_p)}.",
+        f"Proportions raw {_fmt_prop(none_p)}, per-dimension {_fmt_prop(per_p)},"
+        f" group {_fmt_prop(grp_p)}: group normalization does not keep the raw"
+        " proportions, or per-dimension normalization does not change them.",
+    )
+
+
+def _fig3_sentence(res: dict, settings: ReproductionSettings) -> tuple[dict, str]:
+    """Position-only < velocity-only < both at one tolerance, and over the sweep."""
     f3 = {d: {c: res["fig3"][d][c]["n_keypoints"] for c in CHANNELS} for d in DISTANCES}
-    holds["fig3"] = {d: _fig3_order_holds(f3[d]) for d in DISTANCES}
+    holds = {d: _fig3_order_holds(f3[d]) for d in DISTANCES}
     sweep = res["fig3_sweep"]
-    n_eps = len(sweep["clean"])
     n_ok = {
         (v, d): sum(_fig3_order_holds(row[d]) for row in sweep[v].values())
         for v in sweep
         for d in DISTANCES
     }
     tail = (
-        f" Over the {n_eps} swept tolerances the order holds at"
+        f" Over the {len(sweep['clean'])} swept tolerances the order holds at"
         f" {n_ok['clean', 'line']} on the clean curve and at"
         f" {n_ok['noisy', 'line']} on the noisy curve"
         f" ({settings.reduction_noise:.0%} position noise) with the line"
         f" distance; with the paper's determinant distance at"
         f" {n_ok['clean', 'paper']} and {n_ok['noisy', 'paper']}."
     )
-    out["fig3"] = _verdict(
-        holds["fig3"]["line"],
-        f"At ε = {settings.fig3_epsilon:g} position-only < velocity-only < both"
+    eps = settings.fig3_epsilon
+    return holds, _verdict(
+        holds["line"],
+        f"At ε = {eps:g} position-only < velocity-only < both"
         f" ({_counts_str(f3['line'])} with the line distance; the paper reports"
-        f" 17 / 26 / 30). With the paper's determinant distance the counts are"
-        f" {_counts_str(f3['paper'])}." + tail,
-        f"At ε = {settings.fig3_epsilon:g} the counts are"
-        f" {_counts_str(f3['line'])} (line distance), not in the paper's order"
-        " position-only < velocity-only < both." + tail,
+        f" {_counts_str(PAPER['fig3'])}). With the paper's determinant distance"
+        f" the counts are {_counts_str(f3['paper'])}." + tail,
+        f"At ε = {eps:g} the counts are {_counts_str(f3['line'])} (line distance),"
+        " not in the paper's order position-only < velocity-only < both." + tail,
     )
-    # Fig. 5 -- spread of counts, generated path vs test
-    s5 = []
-    holds["fig5_spread"] = {}
-    for shape in settings.shapes:
-        for d in DISTANCES:
-            r = res["fig5"][shape][d]
-            lo, hi = r["position"], r["position+velocity"]
-            narrower = hi["iqr"] < lo["iqr"] and hi["std"] < lo["std"]
-            holds["fig5_spread"][shape, d] = narrower
-            sw = res["fig5_sweep"][shape][d]
-            n_narrow = sum(
-                v["position+velocity"]["std"] < v["position"]["std"]
-                for v in sw.values()
-            )
-            note = ""
-            ceiling = 0.9 * r["n_samples"]
-            near = bool(np.median(hi["counts"]) >= ceiling)
-            holds.setdefault("fig5_ceiling", {})[shape, d] = near
-            more = int(np.sum(hi["counts"] >= lo["counts"]))
-            note += (
-                f" The {2 * r['dims']}-D count is at least the {r['dims']}-D count"
-                f" for {more} of {lo['counts'].size} demonstrations"
-                + (
-                    " (with the exact distance a point is never closer to the"
-                    " chord in more dimensions than its projection is in fewer)."
-                    if d == "line"
-                    else "."
-                )
-            )
-            if near:
-                note += (
-                    f" Caution: the median {2 * r['dims']}-D count is within 10 %"
-                    f" of the {r['n_samples']} samples, so the ceiling itself"
-                    " compresses the spread."
-                )
-            e_lo = lo["errors"]["difference_pct"]
-            e_hi = hi["errors"]["difference_pct"]
-            base = r["baseline"]["errors"]["difference_pct"]
-            typical = r["demos_median"]
-            closer = max(e_lo, e_hi) < typical
-            spread = _verdict(
-                narrower,
-                "adding velocity narrows the spread of key-point counts (IQR"
-                f" {lo['iqr']:g} → {hi['iqr']:g}, std {lo['std']:.2f} →"
-                f" {hi['std']:.2f}).",
-                "adding velocity does not narrow the spread of key-point counts"
-                f" (IQR {lo['iqr']:g} → {hi['iqr']:g}, std {lo['std']:.2f} →"
-                f" {hi['std']:.2f}).",
-            )
-            eps_txt = ", ".join(f"{e:g}" for e in sw)
-            generated = (
-                f" The generated paths are {e_lo:.2f} % (position) and"
-                f" {e_hi:.2f} % (position + velocity) from the test demonstration:"
-                + (" closer" if closer else " not closer")
-                + f" than a typical training demonstration ({typical:.2f} %),"
-                + (" not" if min(e_lo, e_hi) > 0 else "")
-                + " a copy of the test, and"
-                + (
-                    " farther from it than"
-                    if min(e_lo, e_hi) > base
-                    else " at least one of them as close as"
-                )
-                + f" the mean-demo baseline ({base:.2f} %)."
-            )
-            s5.append(
-                f"- {shape}, {d} distance: {spread} Over the tolerances {eps_txt}"
-                f" the std narrows at {n_narrow} of {len(sw)}.{note}{generated}"
-            )
-    out["fig5"] = s5
-    # Fig. 6 -- resolution gains shrink
-    f6 = res["fig6"]
-    parts = []
-    holds["fig6"] = {}
-    for d in DISTANCES:
-        a, b = f6[d]["differences"]["10-20"], f6[d]["differences"]["20-30"]
-        holds["fig6"][d] = a > b
-        parts.append(f"{a:.2f} % then {b:.2f} % ({d} distance)")
-    sw6 = {
-        n: [r for r in rows if r is not None] for n, rows in res["fig6_sweep"].items()
-    }
-    sweep_txt = "; ".join(
-        f"{sum(r['differences']['10-20'] > r['differences']['20-30'] for r in rows)}"
-        f" of {len(rows)} data sets at {noise:.0%} noise"
-        for noise, rows in sw6.items()
+
+
+def _narrower(r: dict) -> bool:
+    """Adding velocity narrows both the IQR and the std of the key-point counts."""
+    lo, hi = r["position"], r["position+velocity"]
+    return hi["iqr"] < lo["iqr"] and hi["std"] < lo["std"]
+
+
+def _near_ceiling(r: dict) -> bool:
+    """The median high-dimensional count is within 10 % of the samples."""
+    return bool(np.median(r["position+velocity"]["counts"]) >= 0.9 * r["n_samples"])
+
+
+def _fig5_sentence(shape: str, d: str, r: dict, sweep: dict) -> str:
+    """One list item: spread of the counts, their dimensions, the generated paths."""
+    lo, hi = r["position"], r["position+velocity"]
+    change = (
+        f" (IQR {lo['iqr']:g} → {hi['iqr']:g}, std {lo['std']:.2f} → {hi['std']:.2f})."
     )
-    low_txt = ""
-    filled = {n: rows for n, rows in sw6.items() if rows}
-    if len(filled) >= 2:
-        low, high = min(filled), max(filled)
-        low_ok = sum(
-            r["differences"]["10-20"] > r["differences"]["20-30"] for r in filled[low]
+    spread = _verdict(
+        _narrower(r),
+        "adding velocity narrows the spread of key-point counts" + change,
+        "adding velocity does not narrow the spread of key-point counts" + change,
+    )
+    n_narrow = sum(
+        v["position+velocity"]["std"] < v["position"]["std"] for v in sweep.values()
+    )
+    eps_txt = ", ".join(f"{e:g}" for e in sweep)
+    return (
+        f"- {shape}, {d} distance: {spread} Over the tolerances {eps_txt}"
+        f" the std narrows at {n_narrow} of {len(sweep)}."
+        + _dimension_note(r, d)
+        + _generated_note(r)
+    )
+
+
+def _dimension_note(r: dict, d: str) -> str:
+    """How often the high-dimensional count is at least the low one; the ceiling."""
+    lo, hi = r["position"]["counts"], r["position+velocity"]["counts"]
+    low, high = r["dims"], 2 * r["dims"]
+    note = (
+        f" The {high}-D count is at least the {low}-D count"
+        f" for {int(np.sum(hi >= lo))} of {lo.size} demonstrations"
+        + (
+            " (with the exact distance a point is never closer to the"
+            " chord in more dimensions than its projection is in fewer)."
+            if d == "line"
+            else "."
         )
-        a_hi = float(np.mean([r["differences"]["10-20"] for r in filled[high]]))
-        b_hi = float(np.mean([r["differences"]["20-30"] for r in filled[high]]))
-        if 2 * low_ok > len(filled[low]):
-            low_txt = (
-                f" At {low:.0%} noise, where quantization rather than noise"
-                " dominates, the paper's shape appears on most data sets; at"
-                f" {high:.0%} the mean differences are {a_hi:.2f} % and"
-                f" {b_hi:.2f} %"
-                + (
-                    ": no systematic resolution gain stands out from the"
-                    " noise-driven variation of the decoded paths."
-                    if a_hi <= 1.1 * b_hi
-                    else "."
-                )
-            )
-    paper6 = " (paper {:.2f} % then {:.2f} %)".format(*PAPER["fig6"].values())
-    out["fig6"] = _verdict(
-        all(holds["fig6"].values()),
-        "Resolution gains shrink as the codebook grows: the change from 10 to 20"
-        " levels is larger than from 20 to 30: " + "; ".join(parts) + paper6 + "."
-        " Repeated over noise levels it holds for " + sweep_txt + ".",
-        "At the paper's noise the change from 10 to 20 levels is not larger than"
-        " from 20 to 30: " + "; ".join(parts) + paper6 + "."
-        " Repeated over noise levels it holds for " + sweep_txt + "." + low_txt,
     )
-    return out
+    if _near_ceiling(r):
+        note += (
+            f" Caution: the median {high}-D count is within 10 %"
+            f" of the {r['n_samples']} samples, so the ceiling itself"
+            " compresses the spread."
+        )
+    return note
+
+
+def _generated_note(r: dict) -> str:
+    """The generated paths against a typical demonstration and the baseline."""
+    e_lo = r["position"]["errors"]["difference_pct"]
+    e_hi = r["position+velocity"]["errors"]["difference_pct"]
+    base = r["baseline"]["errors"]["difference_pct"]
+    typical = r["demos_median"]
+    return (
+        f" The generated paths are {e_lo:.2f} % (position) and"
+        f" {e_hi:.2f} % (position + velocity) from the test demonstration:"
+        + (" closer" if max(e_lo, e_hi) < typical else " not closer")
+        + f" than a typical training demonstration ({typical:.2f} %),"
+        + (" not" if min(e_lo, e_hi) > 0 else "")
+        + " a copy of the test, and"
+        + (
+            " farther from it than"
+            if min(e_lo, e_hi) > base
+            else " at least one of them as close as"
+        )
+        + f" the mean-demo baseline ({base:.2f} %)."
+    )
+
+
+def _gain_shrinks(r: dict) -> bool:
+    """10 → 20 levels changes the path more than 20 → 30."""
+    return r["differences"]["10-20"] > r["differences"]["20-30"]
+
+
+def _mean_difference(rows: list[dict], key: str) -> float:
+    return float(np.mean([r["differences"][key] for r in rows]))
+
+
+def _fig6_sentence(f6: dict, sweep: dict) -> tuple[dict, str]:
+    """Resolution gains shrink, at the paper's noise and over the noise sweep."""
+    holds = {d: _gain_shrinks(f6[d]) for d in DISTANCES}
+    parts = [
+        f"{f6[d]['differences']['10-20']:.2f} % then"
+        f" {f6[d]['differences']['20-30']:.2f} % ({d} distance)"
+        for d in DISTANCES
+    ]
+    decoded = {n: [r for r in rows if r is not None] for n, rows in sweep.items()}
+    sweep_txt = "; ".join(
+        f"{sum(map(_gain_shrinks, rows))} of {len(rows)} data sets at {noise:.0%} noise"
+        for noise, rows in decoded.items()
+    )
+    paper6 = " (paper {:.2f} % then {:.2f} %)".format(*PAPER["fig6"].values())
+    numbers = (
+        f"{'; '.join(parts)}{paper6}. Repeated over noise levels it holds for"
+        f" {sweep_txt}."
+    )
+    return holds, _verdict(
+        all(holds.values()),
+        "Resolution gains shrink as the codebook grows: the change from 10 to 20"
+        " levels is larger than from 20 to 30: " + numbers,
+        "At the paper's noise the change from 10 to 20 levels is not larger than"
+        " from 20 to 30: " + numbers + _low_noise_note(decoded),
+    )
+
+
+def _low_noise_note(decoded: dict) -> str:
+    """Where quantization dominates (lowest noise) against the highest noise."""
+    filled = {n: rows for n, rows in decoded.items() if rows}
+    if len(filled) < 2:
+        return ""
+    low, high = min(filled), max(filled)
+    if 2 * sum(map(_gain_shrinks, filled[low])) <= len(filled[low]):
+        return ""
+    a_hi = _mean_difference(filled[high], "10-20")
+    b_hi = _mean_difference(filled[high], "20-30")
+    return (
+        f" At {low:.0%} noise, where quantization rather than noise"
+        " dominates, the paper's shape appears on most data sets; at"
+        f" {high:.0%} the mean differences are {a_hi:.2f} % and {b_hi:.2f} %"
+        + (
+            ": no systematic resolution gain stands out from the"
+            " noise-driven variation of the decoded paths."
+            if a_hi <= 1.1 * b_hi
+            else "."
+        )
+    )
 
 
 def _noise_model_text() -> str:
@@ -966,28 +993,34 @@ def _noise_model_text() -> str:
     )
 
 
-def _eps_band(res: dict) -> str:
-    ok = [
-        e
-        for e, row in res["fig3_sweep"]["clean"].items()
-        if _fig3_order_holds(row["line"])
-    ]
+def _eps_band(sweep: dict) -> str:
+    ok = [e for e, row in sweep["clean"].items() if _fig3_order_holds(row["line"])]
     if not ok:
         return "none of the swept tolerances"
     return "line distance: ε = " + ", ".join(f"{e:g}" for e in ok)
 
 
-def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
+def _report(res: dict, settings: ReproductionSettings, quick: bool) -> list[str]:
+    """The Markdown blocks of ``report.md``: one function per section."""
     sent = res["sentences"]
-    holds = sent["holds"]
-    L: list[str] = []
-    w = L.append
-    w("# Reproduction of the paper's experiments")
-    w("")
-    w(
-        "Generated by `ndlfd reproduce`"
-        + (" **--quick** (reduced sizes; not the committed numbers)" if quick else "")
-        + f" in {res['seconds']:.1f} s. Deterministic (seed {settings.seed})."
+    return [
+        *_intro(res["seconds"], settings, quick),
+        *_summary(res, settings),
+        *_definitions(res["fig6"]["line"]["scale"]),
+        *_data(res, settings),
+        *_fig2_section(res["fig2"], sent),
+        *_fig3_section(res["fig3_sweep"], settings, sent),
+        *_fig5_section(res, settings, sent),
+        *_fig6_section(res, settings, sent),
+    ]
+
+
+def _intro(seconds: float, settings: ReproductionSettings, quick: bool) -> list[str]:
+    quick_txt = " **--quick** (reduced sizes; not the committed numbers)"
+    return [
+        "# Reproduction of the paper's experiments",
+        f"Generated by `ndlfd reproduce`{quick_txt if quick else ''} in"
+        f" {seconds:.1f} s. Deterministic (seed {settings.seed})."
         " Every experiment runs with the exact perpendicular distance"
         " (`distance=\"line\"`, ndlfd's default) and with the paper's"
         ' determinant formula (`distance="paper"`, eq. 5–6). The two agree'
@@ -995,81 +1028,99 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
         " quantity, not a distance (SPEC §1.3), so the 4-D and 6-D columns"
         " differ. Figures show the `line` runs. Regenerate with"
         " `ndlfd reproduce --out docs/reproduction`; the parameters are"
-        " `ndlfd.reproduction.ReproductionSettings`."
-    )
-    w("")
-    w("## Summary: our numbers beside the paper's")
-    w("")
-    w("| figure | quantity | paper | ndlfd, line | ndlfd, paper distance |")
-    w("|---|---|---|---|---|")
-    f3 = res["fig3"]
-    w(
-        f"| Fig. 3 | key points position / velocity / both (ε ="
-        f" {settings.fig3_epsilon:g}) | 17 / 26 / 30 | "
-        + " | ".join(
-            _counts_str({c: f3[d][c]["n_keypoints"] for c in CHANNELS})
-            for d in DISTANCES
-        )
-        + " |"
-    )
+        " `ndlfd.reproduction.ReproductionSettings`.",
+    ]
+
+
+def _summary(res: dict, settings: ReproductionSettings) -> list[str]:
+    return [
+        "## Summary: our numbers beside the paper's",
+        markdown_table(
+            ["figure", "quantity", "paper", "ndlfd, line", "ndlfd, paper distance"],
+            _numbers_rows(res, settings),
+        ),
+        "### Does the paper's qualitative result hold? (computed)",
+        markdown_table(
+            ["figure", "the paper's result", "line", "paper distance"],
+            _holds_rows(res["sentences"]["holds"], settings),
+        ),
+    ]
+
+
+def _min_max(r: dict) -> str:
+    return _fmt_range((r["min"], r["max"]))
+
+
+def _numbers_rows(res: dict, settings: ReproductionSettings) -> list[list]:
+    """Our numbers beside the paper's: Fig. 3 counts, Fig. 5 ranges, Fig. 6 %."""
+    f3, f6 = res["fig3"], res["fig6"]
+    rows = [
+        [
+            "Fig. 3",
+            f"key points position / velocity / both (ε = {settings.fig3_epsilon:g})",
+            _counts_str(PAPER["fig3"]),
+            *(
+                _counts_str({c: f3[d][c]["n_keypoints"] for c in CHANNELS})
+                for d in DISTANCES
+            ),
+        ]
+    ]
     for shape, key in zip(settings.shapes, ("fig5_square", "fig5_spiral"), strict=True):
         dims = res["fig5"][shape]["line"]["dims"]
-        for name, tag in (
-            ("position", f"{dims}-D"),
-            ("position+velocity", f"{2 * dims}-D"),
-        ):
-            cells = []
-            for d in DISTANCES:
-                r = res["fig5"][shape][d][name]
-                cells.append(f"{r['min']}–{r['max']} (IQR {r['iqr']:g})")
-            w(
-                f"| Fig. 5 | {shape}: key points {tag} ({name}), min–max |"
-                f" {_fmt_range(PAPER[key][name])} | " + " | ".join(cells) + " |"
+        for name, tag in (("position", dims), ("position+velocity", 2 * dims)):
+            runs = [res["fig5"][shape][d][name] for d in DISTANCES]
+            rows.append(
+                [
+                    "Fig. 5",
+                    f"{shape}: key points {tag}-D ({name}), min–max",
+                    _fmt_range(PAPER[key][name]),
+                    *(f"{_min_max(r)} (IQR {r['iqr']:g})" for r in runs),
+                ]
             )
-    f6 = res["fig6"]
     for k in ("10-20", "20-30"):
-        w(
-            f"| Fig. 6 | difference between {k} levels (%) |"
-            f" {PAPER['fig6'][k]:.2f} | "
-            + " | ".join(f"{f6[d]['differences'][k]:.2f}" for d in DISTANCES)
-            + " |"
+        rows.append(
+            [
+                "Fig. 6",
+                f"difference between {k} levels (%)",
+                f"{PAPER['fig6'][k]:.2f}",
+                *(f"{f6[d]['differences'][k]:.2f}" for d in DISTANCES),
+            ]
         )
-    w("")
-    w("### Does the paper's qualitative result hold? (computed)")
-    w("")
-    w("| figure | the paper's result | line | paper distance |")
-    w("|---|---|---|---|")
-    w(
-        "| Fig. 2 | group normalization keeps the shape's proportions | "
-        + " | ".join(_yes(holds["fig2"][d]) for d in DISTANCES)
-        + " |"
-    )
-    w(
-        "| Fig. 3 | position-only < velocity-only < both at one ε | "
-        + " | ".join(_yes(holds["fig3"][d]) for d in DISTANCES)
-        + " |"
-    )
-    for shape in settings.shapes:
-        w(
-            f"| Fig. 5 | {shape}: adding velocity narrows the spread of key-point"
-            " counts | "
-            + " | ".join(
-                _yes(holds["fig5_spread"][shape, d])
-                + (" (near the ceiling)" if holds["fig5_ceiling"][shape, d] else "")
-                for d in DISTANCES
-            )
-            + " |"
-        )
-    w(
-        "| Fig. 6 | 10 → 20 levels changes the path more than 20 → 30 | "
-        + " | ".join(_yes(holds["fig6"][d]) for d in DISTANCES)
-        + " |"
-    )
-    w("")
-    w("## Definitions")
-    w("")
-    w(
-        '- **Difference %** (the paper\'s Fig. 6 "difference" is undefined):'
+    return rows
+
+
+def _holds_rows(holds: dict, settings: ReproductionSettings) -> list[list]:
+    """Whether each of the paper's qualitative results holds, per distance."""
+
+    def yes(claim: str) -> list[str]:
+        return [_yes(holds[claim][d]) for d in DISTANCES]
+
+    def spread(shape: str, d: str) -> str:
+        near = " (near the ceiling)" if holds["fig5_ceiling"][shape, d] else ""
+        return _yes(holds["fig5_spread"][shape, d]) + near
+
+    return [
+        ["Fig. 2", "group normalization keeps the shape's proportions", *yes("fig2")],
+        ["Fig. 3", "position-only < velocity-only < both at one ε", *yes("fig3")],
+        *(
+            [
+                "Fig. 5",
+                f"{shape}: adding velocity narrows the spread of key-point counts",
+                *(spread(shape, d) for d in DISTANCES),
+            ]
+            for shape in settings.shapes
+        ),
+        [
+            "Fig. 6",
+            "10 → 20 levels changes the path more than 20 → 30",
+            *yes("fig6"),
+        ],
+    ]
+
+
+def _definitions(scale: float) -> list[str]:
+    items = [
+        '**Difference %** (the paper\'s Fig. 6 "difference" is undefined):'
         " `ndlfd.metrics.path_difference(t_a, a, t_b, b, scale=s)` = 100 ×"
         " time-aligned RMSE / `s`. The time-aligned RMSE maps both time vectors"
         " to [0, 1], interpolates `b` linearly at `a`'s normalized times and takes"
@@ -1077,32 +1128,26 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
         " `b` are the two *dense* generated paths (the generated key points"
         " interpolated linearly to every time stamp of the test demonstration)"
         " and `s` is the diagonal of the test demonstration's position bounding"
-        f" box (here {f6['line']['scale']:.3f} position units). For Fig. 5, the"
+        f" box (here {scale:.3f} position units). For Fig. 5, the"
         " difference of a path to the test demonstration uses the test's own"
-        " bounding-box diagonal as `s`."
-    )
-    w(
-        "- **DTW** is the dynamic-time-warping distance divided by the number of"
+        " bounding-box diagonal as `s`.",
+        "**DTW** is the dynamic-time-warping distance divided by the number of"
         " points of both paths (`dtw_distance(normalize=True)`); **Fréchet** the"
         " discrete Fréchet distance; both in position units, between the dense"
-        " generated path and the test demonstration."
-    )
-    w(
-        "- **Mean-demo baseline**: every training demonstration interpolated at"
+        " generated path and the test demonstration.",
+        "**Mean-demo baseline**: every training demonstration interpolated at"
         " the test's normalized times and averaged"
-        " (`ndlfd.experiments.mean_demo_baseline`). **Typical demo**: the median"
-        " over training demonstrations of their own difference % to the test."
-    )
-    w(
-        "- **IQR / std**: interquartile range and standard deviation of the"
+        " (`ndlfd.metrics.mean_demo_baseline`). **Typical demo**: the median"
+        " over training demonstrations of their own difference % to the test.",
+        "**IQR / std**: interquartile range and standard deviation of the"
         " key-point counts over the training demonstrations (the spread that the"
-        " paper's min–max ranges describe)."
-    )
-    w("")
-    w("## Data and noise model")
-    w("")
-    w(res["noise_model"])
-    w("")
+        " paper's min–max ranges describe).",
+    ]
+    return ["## Definitions", "\n".join(f"- {item}" for item in items)]
+
+
+def _data(res: dict, settings: ReproductionSettings) -> list[str]:
+    """The noise model, the shapes and every setting of the runs."""
     a_k = getattr(synth, "CURVE_SPEED_VARIATION", None)
     curve_txt = (
         f" The Fig. 3 curve's warp uses a = {a_k[0]:g}, k = {a_k[1]:g}"
@@ -1114,192 +1159,210 @@ def _report(res: dict, settings: ReproductionSettings, quick: bool) -> str:
         f"{name} {n} samples at {speed} speed"
         for name, (n, speed) in res["samples"].items()
     )
-    w(f"Shapes: {shapes_txt}.{curve_txt}")
-    w("")
-    w(
-        f"Training sets: {settings.n_demos} demonstrations per shape at noise"
-        f" {settings.noise:g}; the test demonstration at noise"
-        f" {settings.test_noise:g} (seeds {settings.seed} for the square and"
-        f" {settings.seed + 1} for the square spiral). Fig. 2 uses the clean"
+    s = settings
+    return [
+        "## Data and noise model",
+        res["noise_model"],
+        f"Shapes: {shapes_txt}.{curve_txt}",
+        f"Training sets: {s.n_demos} demonstrations per shape at noise"
+        f" {s.noise:g}; the test demonstration at noise"
+        f" {s.test_noise:g} (seeds {s.seed} for the square and"
+        f" {s.seed + 1} for the square spiral). Fig. 2 uses the clean"
         " spiral (noise 0); Fig. 3 the clean curve, and a noisy copy at"
-        f" {settings.reduction_noise:g} (seed {settings.seed}) in the sweep."
-        f" Tolerances (normalized units): Fig. 2 ε = {settings.fig2_epsilon:g},"
-        f" Fig. 3 ε = {settings.fig3_epsilon:g}, Fig. 5 and 6 ε ="
-        f" {settings.fig5_epsilon:g}. HMM: {settings.n_time_bins} time bins,"
-        f" codebook {settings.levels['position']} levels for position and"
-        f" {settings.levels['velocity']} for velocity, group normalization,"
+        f" {s.reduction_noise:g} (seed {s.seed}) in the sweep."
+        f" Tolerances (normalized units): Fig. 2 ε = {s.fig2_epsilon:g},"
+        f" Fig. 3 ε = {s.fig3_epsilon:g}, Fig. 5 and 6 ε ="
+        f" {s.fig5_epsilon:g}. HMM: {s.n_time_bins} time bins,"
+        f" codebook {s.levels['position']} levels for position and"
+        f" {s.levels['velocity']} for velocity, group normalization,"
         " learned start distribution; the test demonstration's key-point times"
-        " are decoded (the paper's procedure)."
-    )
-    w("")
-    # --- Fig. 2
-    w("## Fig. 2: normalization (6-D spiral)")
-    w("")
-    w("![Fig. 2](fig2.png)")
-    w("")
-    w(
-        "| mode | X:Y:Z ranges after normalization | key points, line"
-        " | key points, paper distance |"
-    )
-    w("|---|---|---|---|")
-    f2 = res["fig2"]
-    for mode in NORMALIZATION_MODES:
-        w(
-            f"| {mode} | {_fmt_prop(f2['line'][mode]['proportions'])} |"
-            f" {f2['line'][mode]['n_keypoints']} |"
-            f" {f2['paper'][mode]['n_keypoints']} |"
-        )
-    w("")
-    w(sent["fig2"])
-    w("")
-    if sent["fig2_paper"]:
-        w(sent["fig2_paper"])
-        w("")
-    # --- Fig. 3
-    w(
-        "## Fig. 3: position / velocity / both at one tolerance"
-        f" (ε = {settings.fig3_epsilon:g})"
-    )
-    w("")
-    w("![Fig. 3](fig3.png)")
-    w("")
-    w(
-        f"ε = {settings.fig3_epsilon:g} is the library's default tolerance, the"
+        " are decoded (the paper's procedure).",
+    ]
+
+
+def _fig2_section(f2: dict, sent: dict) -> list[str]:
+    rows = [
+        [
+            mode,
+            _fmt_prop(f2["line"][mode]["proportions"]),
+            f2["line"][mode]["n_keypoints"],
+            f2["paper"][mode]["n_keypoints"],
+        ]
+        for mode in NORMALIZATION_MODES
+    ]
+    header = (
+        "mode | X:Y:Z ranges after normalization | key points, line"
+        " | key points, paper distance"
+    ).split(" | ")
+    return [
+        "## Fig. 2: normalization (6-D spiral)",
+        image("fig2.png", "Fig. 2"),
+        markdown_table(header, rows),
+        sent["fig2"],
+        sent["fig2_paper"],
+    ]
+
+
+def _fig3_section(sweep: dict, settings: ReproductionSettings, sent: dict):
+    eps, noise = settings.fig3_epsilon, settings.reduction_noise
+
+    def cell(counts: dict) -> str:
+        return f"{_counts_str(counts)} {'✓' if _fig3_order_holds(counts) else '✗'}"
+
+    rows = [
+        [
+            f"{e:g}",
+            *(cell(sweep[v][e][d]) for v in ("clean", "noisy") for d in DISTANCES),
+        ]
+        for e in sweep["clean"]
+    ]
+    return [
+        f"## Fig. 3: position / velocity / both at one tolerance (ε = {eps:g})",
+        image("fig3.png", "Fig. 3"),
+        f"ε = {eps:g} is the library's default tolerance, the"
         " same as for the other figures; it was not tuned to the paper's counts."
         " Each channel set is normalized by group on its own and reduced with"
         " the same ε. The sweep shows the tolerances where the order holds on"
-        f" the clean curve ({_eps_band(res)}) and what"
-        f" {settings.reduction_noise:.0%} position / "
-        f"{settings.reduction_noise * VELOCITY_NOISE_RATIO:.0%} velocity noise"
-        " does to it."
-    )
-    w("")
-    sw = res["fig3_sweep"]
-    w("| ε | clean, line | clean, paper | noisy, line | noisy, paper |")
-    w("|---|---|---|---|---|")
-    for eps in sw["clean"]:
-        cells = []
-        for v in ("clean", "noisy"):
-            for d in DISTANCES:
-                c = sw[v][eps][d]
-                mark = "✓" if _fig3_order_holds(c) else "✗"
-                cells.append(f"{_counts_str(c)} {mark}")
-        w(f"| {eps:g} | " + " | ".join(cells) + " |")
-    w("")
-    w("(position / velocity / both; ✓ where position < velocity < both.)")
-    w("")
-    w(sent["fig3"])
-    w("")
-    if sent["fig3_paper"]:
-        w(sent["fig3_paper"])
-        w("")
-    # --- Fig. 5
-    w("## Fig. 5: learning from position vs position + velocity")
-    w("")
-    for shape in settings.shapes:
-        w(f"![Fig. 5 {shape}](fig5_{shape}.png)")
-        w("")
-    w(
-        "| shape | distance | groups | key points min–max | IQR | std | states used"
-        " | difference % to test | DTW | Fréchet | mean-demo baseline % |"
-        " typical demo % |"
-    )
-    w("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for shape in settings.shapes:
-        for d in DISTANCES:
-            r5 = res["fig5"][shape][d]
-            b = r5["baseline"]["errors"]
-            for name in ("position", "position+velocity"):
-                r = r5[name]
-                e = r["errors"]
-                w(
-                    f"| {shape} | {d} | {name} | {r['min']}–{r['max']} |"
-                    f" {r['iqr']:g} | {r['std']:.2f} | {r['states_used']} of"
-                    f" {r['n_states']:,} | {e['difference_pct']:.2f} |"
-                    f" {e['dtw_mean']:.3f} | {e['frechet']:.3f} |"
-                    f" {b['difference_pct']:.2f} | {r5['demos_median']:.2f} |"
-                )
-    w("")
-    w("Spread of the key-point counts over tolerances (std, low-D → high-D):")
-    w("")
-    eps5 = list(next(iter(res["fig5_sweep"].values()))["line"])
-    w("| shape | distance | " + " | ".join(f"ε = {e:g}" for e in eps5) + " |")
-    w("|---|---|" + "---|" * len(eps5))
-    for shape in settings.shapes:
-        for d in DISTANCES:
-            sw5 = res["fig5_sweep"][shape][d]
-            cells = []
-            for e in eps5:
-                lo, hi = sw5[e]["position"], sw5[e]["position+velocity"]
-                cells.append(
-                    f"{lo['std']:.2f} → {hi['std']:.2f}"
-                    f" ({lo['min']}–{lo['max']} → {hi['min']}–{hi['max']})"
-                )
-            w(f"| {shape} | {d} | " + " | ".join(cells) + " |")
-    w("")
-    for line in sent["fig5"]:
-        w(line)
-    w("")
-    # --- Fig. 6
-    w("## Fig. 6: codebook resolution (2-D square, position only)")
-    w("")
-    w("![Fig. 6](fig6.png)")
-    w("")
-    lv = settings.fig6_levels
-    keys = list(f6["line"]["differences"])
-    w(
-        "| distance | "
-        + " | ".join(f"difference {k} levels (%)" for k in keys)
-        + " | "
-        + " | ".join(f"{v} levels: difference to test (%)" for v in lv)
-        + " |"
-    )
-    w("|---|" + "---|" * (len(keys) + len(lv)))
-    for d in DISTANCES:
-        w(
-            f"| {d} | "
-            + " | ".join(f"{f6[d]['differences'][k]:.2f}" for k in keys)
-            + " | "
-            + " | ".join(f"{f6[d]['errors'][v]['difference_pct']:.2f}" for v in lv)
-            + " |"
-        )
-    w("")
-    w(
+        f" the clean curve ({_eps_band(sweep)}) and what"
+        f" {noise:.0%} position / {noise * VELOCITY_NOISE_RATIO:.0%} velocity"
+        " noise does to it.",
+        markdown_table(
+            ["ε", "clean, line", "clean, paper", "noisy, line", "noisy, paper"], rows
+        ),
+        "(position / velocity / both; ✓ where position < velocity < both.)",
+        sent["fig3"],
+        sent["fig3_paper"],
+    ]
+
+
+def _fig5_section(res: dict, settings: ReproductionSettings, sent: dict):
+    return [
+        "## Fig. 5: learning from position vs position + velocity",
+        *(image(f"fig5_{shape}.png", f"Fig. 5 {shape}") for shape in settings.shapes),
+        _fig5_table(res["fig5"], settings.shapes),
+        "Spread of the key-point counts over tolerances (std, low-D → high-D):",
+        _fig5_sweep_table(res["fig5_sweep"], settings.shapes),
+        "\n".join(sent["fig5"]),
+    ]
+
+
+def _fig5_table(fig5: dict, shapes: Sequence[str]) -> str:
+    """Per shape, distance and groups: counts, states, errors to the test."""
+    header = (
+        "shape | distance | groups | key points min–max | IQR | std | states used"
+        " | difference % to test | DTW | Fréchet | mean-demo baseline %"
+        " | typical demo %"
+    ).split(" | ")
+    rows = []
+    for shape, d in itertools.product(shapes, DISTANCES):
+        r5 = fig5[shape][d]
+        for name in ("position", "position+velocity"):
+            r, e = r5[name], r5[name]["errors"]
+            rows.append(
+                [
+                    shape,
+                    d,
+                    name,
+                    _min_max(r),
+                    f"{r['iqr']:g}",
+                    f"{r['std']:.2f}",
+                    f"{r['states_used']} of {r['n_states']:,}",
+                    f"{e['difference_pct']:.2f}",
+                    f"{e['dtw_mean']:.3f}",
+                    f"{e['frechet']:.3f}",
+                    f"{r5['baseline']['errors']['difference_pct']:.2f}",
+                    f"{r5['demos_median']:.2f}",
+                ]
+            )
+    return markdown_table(header, rows)
+
+
+def _fig5_sweep_table(sweep: dict, shapes: Sequence[str]) -> str:
+    """Std (and min–max) of the counts, low-D → high-D, per tolerance."""
+
+    def change(v: dict) -> str:
+        lo, hi = v["position"], v["position+velocity"]
+        return f"{lo['std']:.2f} → {hi['std']:.2f} ({_min_max(lo)} → {_min_max(hi)})"
+
+    eps = list(sweep[shapes[0]]["line"])
+    rows = [
+        [shape, d, *(change(sweep[shape][d][e]) for e in eps)]
+        for shape, d in itertools.product(shapes, DISTANCES)
+    ]
+    return markdown_table(["shape", "distance", *(f"ε = {e:g}" for e in eps)], rows)
+
+
+_UNDECODABLE = (
+    "*Not decodable*: the test demonstration has a key point in a time bin"
+    " where no training key point fell, and with the paper's emission"
+    " pseudo-count 0 no state can emit it (with nearly noise-free"
+    " demonstrations the key points are few and always at the same times)."
+)
+
+
+def _fig6_section(res: dict, settings: ReproductionSettings, sent: dict):
+    sweep = res["fig6_sweep"]
+    undecodable = any(r is None for rows in sweep.values() for r in rows)
+    return [
+        "## Fig. 6: codebook resolution (2-D square, position only)",
+        image("fig6.png", "Fig. 6"),
+        _fig6_table(res["fig6"], settings.fig6_levels),
         f"Repeated on {settings.n_sweep_seeds} fresh square data sets per training"
-        " noise level (test noise half of it; line distance; mean over data sets):"
-    )
-    w("")
-    w(
-        "| training noise | difference 10-20 (%) | difference 20-30 (%) |"
-        " 10-20 > 20-30 in | "
-        + " | ".join(f"{v} levels to test (%)" for v in lv)
-        + " |"
-    )
-    w("|---|---|---|---|" + "---|" * len(lv))
-    for noise, all_rows in res["fig6_sweep"].items():
-        rows = [r for r in all_rows if r is not None]
-        if not rows:
-            w(f"| {noise:.0%} | no data set decodable | | | " + "| " * len(lv))
+        " noise level (test noise half of it; line distance; mean over data sets):",
+        _fig6_sweep_table(sweep, settings.fig6_levels),
+        _UNDECODABLE if undecodable else "",
+        sent["fig6"],
+    ]
+
+
+def _fig6_table(f6: dict, levels: Sequence[int]) -> str:
+    """Per distance: differences between levels and of each level to the test."""
+    keys = list(f6["line"]["differences"])
+    header = [
+        "distance",
+        *(f"difference {k} levels (%)" for k in keys),
+        *(f"{v} levels: difference to test (%)" for v in levels),
+    ]
+    rows = [
+        [
+            d,
+            *(f"{f6[d]['differences'][k]:.2f}" for k in keys),
+            *(f"{f6[d]['errors'][v]['difference_pct']:.2f}" for v in levels),
+        ]
+        for d in DISTANCES
+    ]
+    return markdown_table(header, rows)
+
+
+def _fig6_sweep_table(sweep: dict, levels: Sequence[int]) -> str:
+    """Per training noise: mean differences over the decodable data sets."""
+    header = [
+        "training noise",
+        "difference 10-20 (%)",
+        "difference 20-30 (%)",
+        "10-20 > 20-30 in",
+        *(f"{v} levels to test (%)" for v in levels),
+    ]
+    rows = []
+    for noise, all_rows in sweep.items():
+        ok = [r for r in all_rows if r is not None]
+        if not ok:
+            rows.append(
+                [f"{noise:.0%}", "no data set decodable", "", ""] + [""] * len(levels)
+            )
             continue
-        skipped = len(all_rows) - len(rows)
-        a = np.mean([r["differences"]["10-20"] for r in rows])
-        b = np.mean([r["differences"]["20-30"] for r in rows])
-        k = sum(r["differences"]["10-20"] > r["differences"]["20-30"] for r in rows)
-        errs = " | ".join(f"{np.mean([r['errors'][v] for r in rows]):.2f}" for v in lv)
+        skipped = len(all_rows) - len(ok)
         note = f" ({skipped} not decodable)" if skipped else ""
-        w(f"| {noise:.0%} | {a:.2f} | {b:.2f} | {k} of {len(rows)}{note} | {errs} |")
-    w("")
-    if any(r is None for rows in res["fig6_sweep"].values() for r in rows):
-        w(
-            "*Not decodable*: the test demonstration has a key point in a time bin"
-            " where no training key point fell, and with the paper's emission"
-            " pseudo-count 0 no state can emit it (with nearly noise-free"
-            " demonstrations the key points are few and always at the same times)."
+        rows.append(
+            [
+                f"{noise:.0%}",
+                f"{_mean_difference(ok, '10-20'):.2f}",
+                f"{_mean_difference(ok, '20-30'):.2f}",
+                f"{sum(map(_gain_shrinks, ok))} of {len(ok)}{note}",
+                *(f"{np.mean([r['errors'][v] for r in ok]):.2f}" for v in levels),
+            ]
         )
-        w("")
-    w(sent["fig6"])
-    w("")
-    return "\n".join(L)
+    return markdown_table(header, rows)
 
 
 # ------------------------------------------------------------------ main
@@ -1353,33 +1416,63 @@ def reproduce(
     settings = settings or ReproductionSettings()
     if quick:
         settings = settings.quick()
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    report = Report(out, dpi=settings.dpi)
     t0 = time.perf_counter()
-    res: dict = {"fig2": {}, "fig3": {}, "fig5": {}, "fig6": {}, "fig5_sweep": {}}
+    spiral, curve = synth.spiral(), synth.curve()
+    res = _reduction_runs(spiral, curve, settings, say)
+    data = {
+        shape: synth.make_dataset(
+            shape,
+            n_demos=settings.n_demos,
+            noise=settings.noise,
+            test_noise=settings.test_noise,
+            random_state=settings.seed + k,
+        )
+        for k, shape in enumerate(settings.shapes)
+    }
+    res["samples"] = _samples(spiral, curve, data)
+    res.update(_learning_runs(data, settings, say))
+    res.update(_level_runs(*data[settings.shapes[0]], settings, say))
+    _draw_figures(report, res, curve, data, settings.fig3_epsilon)
+    res["seconds"] = time.perf_counter() - t0
+    res["noise_model"] = _noise_model_text()
+    res["sentences"] = _sentences(res, settings)
+    report.write("report.md", _report(res, settings, quick))
+    res["files"] = report.files
+    say(
+        f"wrote {', '.join(f.name for f in report.files)} to {report.folder}/ in"
+        f" {res['seconds']:.1f} s; see report.md"
+    )
+    return res
 
-    spiral = synth.spiral()
-    curve = synth.curve()
+
+def _reduction_runs(spiral, curve, settings: ReproductionSettings, say: Echo):
+    """Fig. 2 and 3 with both distances, and the Fig. 3 tolerance sweep."""
     noisy_curve = synth.curve(
         noise=settings.reduction_noise, random_state=settings.seed
     )
-    for d in DISTANCES:
-        res["fig2"][d] = fig2_normalization(
-            spiral, epsilon=settings.fig2_epsilon, distance=d
-        )
-        res["fig3"][d] = fig3_channels(curve, epsilon=settings.fig3_epsilon, distance=d)
-    res["fig3_sweep"] = {
-        variant: {
-            eps: {
-                d: {
-                    c: v["n_keypoints"]
-                    for c, v in fig3_channels(demo, epsilon=eps, distance=d).items()
+    res = {
+        "fig2": {
+            d: fig2_normalization(spiral, epsilon=settings.fig2_epsilon, distance=d)
+            for d in DISTANCES
+        },
+        "fig3": {
+            d: fig3_channels(curve, epsilon=settings.fig3_epsilon, distance=d)
+            for d in DISTANCES
+        },
+        "fig3_sweep": {
+            variant: {
+                eps: {
+                    d: {
+                        c: v["n_keypoints"]
+                        for c, v in fig3_channels(demo, epsilon=eps, distance=d).items()
+                    }
+                    for d in DISTANCES
                 }
-                for d in DISTANCES
+                for eps in settings.fig3_sweep
             }
-            for eps in settings.fig3_sweep
-        }
-        for variant, demo in (("clean", curve), ("noisy", noisy_curve))
+            for variant, demo in (("clean", curve), ("noisy", noisy_curve))
+        },
     }
     say(
         "Fig. 2: key points none/per-dimension/group = "
@@ -1392,34 +1485,37 @@ def reproduce(
         + "/".join(str(res["fig3"]["line"][c]["n_keypoints"]) for c in CHANNELS)
         + " (paper 17/26/30)"
     )
-    res["samples"] = {
+    return res
+
+
+def _samples(spiral, curve, data: dict) -> dict:
+    """Samples and speed of each shape, for the report."""
+    samples = {
         "spiral (Fig. 2)": (spiral.n_samples, _default_speed(synth.spiral)),
         "curve (Fig. 3)": (curve.n_samples, _default_speed(synth.curve)),
     }
-    data = {}
-    for k, shape in enumerate(settings.shapes):
-        train, test = synth.make_dataset(
-            shape,
-            n_demos=settings.n_demos,
-            noise=settings.noise,
-            test_noise=settings.test_noise,
-            random_state=settings.seed + k,
-        )
-        data[shape] = (train, test)
-        res["samples"][f"{shape} (Fig. 5{', 6' if k == 0 else ''})"] = (
+    for k, (shape, (_, test)) in enumerate(data.items()):
+        samples[f"{shape} (Fig. 5{', 6' if k == 0 else ''})"] = (
             test.n_samples,
             _default_speed(synth.SHAPES.get(shape)),
         )
-        res["fig5"][shape] = {}
-        res["fig5_sweep"][shape] = {}
+    return samples
+
+
+def _learning_runs(data: dict, settings: ReproductionSettings, say: Echo) -> dict:
+    """Fig. 5 and its tolerance sweep on every shape with both distances."""
+    fig5: dict = {}
+    sweep: dict = {}
+    for shape, (train, test) in data.items():
+        fig5[shape], sweep[shape] = {}, {}
         for d in DISTANCES:
             r = fig5_learning(train, test, settings=settings, distance=d)
             r["dims"] = test.get("position").shape[1]
-            res["fig5"][shape][d] = r
-            res["fig5_sweep"][shape][d] = fig5_spread_sweep(
+            fig5[shape][d] = r
+            sweep[shape][d] = fig5_spread_sweep(
                 train, settings.fig5_sweep, settings=settings, distance=d
             )
-        r = res["fig5"][shape]["line"]
+        r = fig5[shape]["line"]
         say(
             f"Fig. 5 {shape}: key points {r['position']['min']}-"
             f"{r['position']['max']} vs {r['position+velocity']['min']}-"
@@ -1428,48 +1524,33 @@ def reproduce(
             f" {r['position+velocity']['errors']['difference_pct']:.2f} %"
             f" (baseline {r['baseline']['errors']['difference_pct']:.2f} %)"
         )
-    train, test = data[settings.shapes[0]]
-    for d in DISTANCES:
-        res["fig6"][d] = fig6_levels(
+    return {"fig5": fig5, "fig5_sweep": sweep}
+
+
+def _level_runs(train, test, settings: ReproductionSettings, say: Echo) -> dict:
+    """Fig. 6 with both distances, and its noise sweep."""
+    fig6 = {
+        d: fig6_levels(
             train, test, levels=settings.fig6_levels, settings=settings, distance=d
         )
-    res["fig6_sweep"] = fig6_noise_sweep(settings.fig6_noise_sweep, settings=settings)
+        for d in DISTANCES
+    }
+    sweep = fig6_noise_sweep(settings.fig6_noise_sweep, settings=settings)
     say(
         "Fig. 6: differences "
-        + ", ".join(
-            f"{k}: {v:.2f} %" for k, v in res["fig6"]["line"]["differences"].items()
-        )
+        + ", ".join(f"{k}: {v:.2f} %" for k, v in fig6["line"]["differences"].items())
         + " (paper {:.2f} %, {:.2f} %)".format(*PAPER["fig6"].values())
     )
+    return {"fig6": fig6, "fig6_sweep": sweep}
 
-    files = [out / "fig2.png", out / "fig3.png"]
-    dpi = settings.dpi
-    _draw_fig2(res["fig2"]["line"], files[0], dpi)
-    _draw_fig3(curve, res["fig3"]["line"], settings.fig3_epsilon, files[1], dpi)
-    for shape in settings.shapes:
-        f = out / f"fig5_{shape}.png"
-        _draw_fig5(
-            shape,
-            *data[shape],
-            res["fig5"][shape]["line"],
-            res["fig5"][shape]["paper"],
-            f,
-            dpi,
-        )
-        files.append(f)
-    files.append(out / "fig6.png")
-    _draw_fig6(test, res["fig6"]["line"], files[-1], dpi)
 
-    res["seconds"] = time.perf_counter() - t0
-    res["noise_model"] = _noise_model_text()
-    res["sentences"] = _sentences(res, settings)
-    report = out / "report.md"
-    with atomic_path(report, suffix=".md") as tmp:
-        Path(tmp).write_text(_report(res, settings, quick), encoding="utf-8")
-    files.append(report)
-    res["files"] = files
-    say(
-        f"wrote {', '.join(f.name for f in files)} to {out}/ in"
-        f" {res['seconds']:.1f} s; see report.md"
-    )
-    return res
+def _draw_figures(report: Report, res: dict, curve, data: dict, eps: float) -> None:
+    """Draw the line-distance runs; save one PNG per figure into the report."""
+    report.figure(_draw_fig2(res["fig2"]["line"]), "fig2.png")
+    report.figure(_draw_fig3(curve, res["fig3"]["line"], eps), "fig3.png")
+    for shape, (train, test) in data.items():
+        r = res["fig5"][shape]
+        fig = _draw_fig5(shape, train, test, r["line"], r["paper"])
+        report.figure(fig, f"fig5_{shape}.png")
+    _, test = next(iter(data.values()))
+    report.figure(_draw_fig6(test, res["fig6"]["line"]), "fig6.png")
