@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import os
+import pkgutil
+import re
 import subprocess
 import sys
 from dataclasses import replace
@@ -345,6 +347,15 @@ def test_quick_reproduce_writes_every_figure_and_the_report(quick_run):
     for key in ("fig2", "fig3", "fig6"):
         assert res["sentences"][key] in text
     assert any(line.startswith("Fig. 6") for line in lines)
+
+
+def test_report_names_only_existing_library_objects(quick_run):
+    """Every ``ndlfd.module.name`` the report cites can be resolved."""
+    text = (quick_run[0] / "report.md").read_text(encoding="utf-8")
+    cited = set(re.findall(r"ndlfd(?:\.[A-Za-z_]\w*)+", text))
+    assert "ndlfd.metrics.mean_demo_baseline" in cited
+    for name in cited:
+        pkgutil.resolve_name(name)
 
 
 def test_out_must_be_a_folder(tmp_path):
