@@ -538,16 +538,14 @@ class EvaluationResult:
         train = [d for i, d in enumerate(demos) if i != k]
         fig, axes = plot.new_figure(len(self.protocols), size=(5.5, 5.0))
         for ax, protocol in zip(axes, self.protocols, strict=True):
-            paths = {
-                g: example["paths"][protocol, g]
-                for g in self.generators
-                if (protocol, g) in example["paths"]
-            }
-            stds = {
-                g: example["stds"][protocol, g]
-                for g in self.generators
-                if (protocol, g) in example["stds"]
-            }
+            paths, stds = (
+                {
+                    g: example[kind][protocol, g]
+                    for g in self.generators
+                    if (protocol, g) in example[kind]
+                }
+                for kind in ("paths", "stds")
+            )
             plot.plot_comparison(
                 train,
                 demos[k],
