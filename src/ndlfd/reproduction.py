@@ -1406,6 +1406,7 @@ def reproduce(
     >>> ReproductionSettings().quick().n_demos  # what --quick changes
     20
     >>> import tempfile
+    >>> from pathlib import Path
     >>> with tempfile.TemporaryDirectory() as tmp:  # doctest: +SKIP
     ...     res = reproduce(tmp, quick=True, echo=None)
     ...     sorted(p.name for p in Path(tmp).iterdir())
