@@ -31,6 +31,9 @@ def test_readme_shell_examples_run(tmp_path):
         "generate",
         "evaluate",
         "reproduce",
+        "fit",
+        "generate",
+        "plot",
     ]
     # the files the examples name
     rng = np.random.default_rng(0)
@@ -42,6 +45,13 @@ def test_readme_shell_examples_run(tmp_path):
     (tmp_path / "demos").mkdir()
     for i, d in enumerate(train):
         write_csv(d, tmp_path / "demos" / f"d{i}.csv")
+    # "Your own data": the picture's recordings (docs/images/plot-own-data.png)
+    own, _ = synth.make_dataset("square", n_demos=6, noise=0.02, random_state=2)
+    (tmp_path / "recordings").mkdir()
+    for i, d in enumerate(own):
+        rows = np.column_stack([d.t, d.get("position")]).tolist()
+        text = ["time;pos_x;pos_y"] + [";".join(f"{v:.6g}" for v in r) for r in rows]
+        (tmp_path / "recordings" / f"reach{i}.csv").write_text("\n".join(text) + "\n")
     env = dict(os.environ, PYTHONWARNINGS="error")
     for args in examples:
         if args[1] == "reproduce":
@@ -64,3 +74,6 @@ def test_readme_shell_examples_run(tmp_path):
     np.testing.assert_array_equal(here, [0.5, 0.0])
     assert (tmp_path / "evaluation" / "summary.md").exists()
     assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
+    reach = read_csv(tmp_path / "reach.csv")
+    assert reach.n_samples == 200 and reach.columns[:2] == ("pos_x", "pos_y")
+    assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

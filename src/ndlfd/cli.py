@@ -894,7 +894,14 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     from .io import _MAPPING_DEFAULTS, CLI_HINTS, _parse_table, _read_file
     from .learner import KeypointHMM
     from .normalize import GroupScaler
-    from .plot import new_figure, plot_band, plot_demos, save_figure
+    from .plot import (
+        GEN_COLOR,
+        new_figure,
+        plot_band,
+        plot_demos,
+        plot_path,
+        save_figure,
+    )
 
     out = _check_output(args.output)
     fig0, _ = new_figure(1)  # matplotlib is there (or a one-line error)
@@ -978,11 +985,13 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         demos,
         group=group,
         keypoints=keypoints,
-        generated=path,
         ax=ax,
         title=args.title,
         max_demos=None,
     )
+    if path is not None:  # a line (a dense path would drown in dots)
+        plot_path(ax, path.get(group), color=GEN_COLOR, lw=2.0, label="generated")
+        ax.legend(loc="best", fontsize="small")
     save_figure(fig, out)
     counts = np.array([len(i) for i in keypoints])
     budget = (
