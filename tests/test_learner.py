@@ -105,8 +105,8 @@ def test_generated_path_is_an_average_not_a_copy():
 
 
 def test_deterministic_and_save_load_round_trip(square, tmp_path):
-    # nothing is random (random_state is accepted for the estimator contract
-    # only): two fits on threads agree bit for bit
+    # with at most max_templates demonstrations nothing is random: two fits on
+    # threads agree bit for bit
     train, test = square
     a = KeypointHMM(epsilon=0.05, n_time_bins=40, n_jobs=2).fit(train)
     b = KeypointHMM(epsilon=0.05, n_time_bins=40, n_jobs=1).fit(train)
@@ -540,3 +540,274 @@ def test_each_option_changes_what_it_should_and_nothing_else(square):
     m = KeypointHMM(**kw).fit(pos_only)  # derived from position and time
     assert m.columns_ == base.columns_
     assert KeypointHMM(**kw, groups=None).fit(pos_only).columns_ == ("x", "y")
+
+
+# ------------------------------------------------- map and reduce, out of core, Dask
+def _fixture_module(name):
+    import importlib.util
+    from pathlib import Path
+
+    here = Path(__file__).parent / "data"
+    spec = importlib.util.spec_from_file_location(name, here / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_committed_v2_model_file_still_loads_and_generates_the_same():
+    from ndlfd.io import read_csv
+
+    mk = _fixture_module("make_keypointhmm_v2")
+    model = KeypointHMM.load(mk.FIXTURE)
+    for expected, kw in ((mk.EXPECTED, {}), (mk.EXPECTED_START, {"start": mk.START})):
+        got = model.generate(mk.GRID, dense=True, **kw)
+        want = read_csv(expected)
+        np.testing.assert_array_equal(got.t, want.t)
+        np.testing.assert_allclose(got.X, want.X, rtol=0, atol=1e-12)
+        # a fresh fit of the recorded data and parameters generates the same
+        fresh = mk.build().generate(mk.GRID, dense=True, **kw)
+        np.testing.assert_array_equal(fresh.X, got.X)
+    # every demonstration was a template; the statistics are a fresh fit's
+    assert model.max_templates is None and model.template_indices_.size == 6
+    assert model.fit_stats_ == mk.build().fit_stats_
+
+
+class _Reiterable:
+    """Makes its demonstrations on demand; counts passes and live objects."""
+
+    def __init__(self, demos, bad=None):
+        self._demos = demos  # (t, P) pairs, not Demonstrations
+        self.bad = bad
+        self.passes = 0
+        self.alive = 0
+        self.most_alive = 0
+
+    def _gone(self):
+        self.alive -= 1
+
+    def __iter__(self):
+        import weakref
+
+        self.passes += 1
+        for i, (t, P) in enumerate(self._demos):
+            if i == self.bad:
+                yield Demonstration.from_arrays(t, force=P)  # no position
+                continue
+            d = Demonstration.from_arrays(t, position=P)
+            self.alive += 1
+            self.most_alive = max(self.most_alive, self.alive)
+            weakref.finalize(d, self._gone)
+            yield d
+
+
+def _waves(n, seed=0, m=120):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, m)
+    out = []
+    for _ in range(n):
+        a = rng.uniform(0.8, 1.2)
+        P = np.column_stack([t, a * np.sin(2 * np.pi * t)]) + rng.normal(0, 0.01, 2)
+        out.append((t * rng.uniform(1.5, 2.5), P))
+    return out
+
+
+def _fitted_arrays(model):
+    """Everything a fit learns, as arrays."""
+    arrays = model.fit_stats_.to_arrays()
+    arrays.update(model.model_.to_arrays(prefix="hmm_"))
+    arrays.update(model.segment_model_.to_arrays(prefix="seg_"))
+    arrays.update(
+        scaler_min=model.scaler_.data_min_,
+        scaler_max=model.scaler_.data_max_,
+        centroids=model.centroids_,
+        templates=model.template_indices_,
+    )
+    return arrays
+
+
+def _assert_same_model(a, b, timing):
+    fa, fb = _fitted_arrays(a), _fitted_arrays(b)
+    assert fa.keys() == fb.keys()
+    for k in fa:
+        np.testing.assert_array_equal(fa[k], fb[k], err_msg=k)
+    assert a.fit_stats_ == b.fit_stats_
+    for kw in ({}, {"start": {"position": [0.0, 0.05]}}):
+        pa, sa = a.generate(timing, dense=True, return_std=True, **kw)
+        pb, sb = b.generate(timing, dense=True, return_std=True, **kw)
+        np.testing.assert_array_equal(pa.X, pb.X)
+        np.testing.assert_array_equal(sa, sb)
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(
+            n_workers=2,
+            processes=False,
+            threads_per_worker=1,
+            dashboard_address=None,
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        yield client
+
+
+@pytest.mark.parametrize("max_templates", [200, 9])
+def test_serial_threads_and_dask_give_the_same_model(dask_client, max_templates):
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(40)]
+    kw = dict(epsilon=0.02, n_time_bins=20, max_templates=max_templates,
+              random_state=7)  # fmt: skip
+    serial = KeypointHMM(**kw, n_jobs=1).fit(demos)
+    threads = KeypointHMM(**kw, n_jobs=2).fit(demos)
+    dask = KeypointHMM(**kw).fit(demos, client=dask_client)
+    timing = np.linspace(0.0, 2.0, 150)
+    _assert_same_model(serial, threads, timing)
+    _assert_same_model(serial, dask, timing)
+    lazy = _Reiterable(_waves(40))
+    _assert_same_model(serial, KeypointHMM(**kw, n_jobs=2).fit(lazy), timing)
+    _assert_same_model(serial, KeypointHMM(**kw).fit(lazy, client=dask_client), timing)
+    assert serial.n_demos_ == 40
+    if max_templates < 40:
+        from ndlfd._fitstats import template_mask
+
+        want = np.flatnonzero(template_mask(40, max_templates, 7))
+        np.testing.assert_array_equal(serial.template_indices_, want)
+        assert len(serial.train_values_) == max_templates
+    else:  # all are templates, in order: as before the statistics
+        np.testing.assert_array_equal(serial.template_indices_, np.arange(40))
+
+
+def test_more_demonstrations_than_templates(tmp_path):
+    # two routes; few templates: the counts, centroids and conditioning use all
+    # demonstrations, the blend only the templates; random_state picks them
+    demos = _two_routes(per_route=10)
+    kw = dict(groups=("position",), epsilon=0.01, n_time_bins=30)
+    full = KeypointHMM(**kw).fit(demos)
+    few = KeypointHMM(**kw, max_templates=6, random_state=1).fit(demos)
+    other = KeypointHMM(**kw, max_templates=6, random_state=2).fit(demos)
+    assert few.template_indices_.size == 6
+    assert not np.array_equal(few.template_indices_, other.template_indices_)
+    for m in (few, other):
+        for k in ("key_states", "key_bins", "keypoints", "first", "last",
+                  "centroid_limbs", "centroid_counts"):  # fmt: skip
+            np.testing.assert_array_equal(
+                getattr(m.fit_stats_, k), getattr(full.fit_stats_, k), err_msg=k
+            )
+        np.testing.assert_array_equal(m.centroids_, full.centroids_)
+        for j, u in zip(m.template_indices_, m.train_values_, strict=True):
+            np.testing.assert_array_equal(u, full.train_values_[j])
+    # conditioned on either start, the path follows that route (as with all)
+    t = np.linspace(0.0, 2.0, 200)
+    for sign in (1.0, -1.0):
+        route = np.mean(
+            [d.get("position") for d in demos if d.get("position")[0, 1] * sign > 0],
+            axis=0,
+        )
+        P = few.generate(t, dense=True, start={"position": [0.0, sign]})
+        assert dtw_distance(P.get("position"), route, normalize=True) < 0.03
+    # saved and loaded: the same model, the same paths
+    few.save(tmp_path / "few.ndlfd")
+    again = KeypointHMM.load(tmp_path / "few.ndlfd")
+    _assert_same_model(few, again, t)
+    assert again.get_params() == few.get_params()
+
+
+def test_a_reiterable_is_read_twice_and_never_held_whole():
+    lazy = _Reiterable(_waves(150))
+    model = KeypointHMM(
+        epsilon=0.02, n_time_bins=20, n_jobs=1, max_templates=10, random_state=3
+    )
+    model.fit(lazy)
+    assert lazy.passes == 2
+    assert lazy.most_alive < 80  # a chunk at a time (64), not all 150
+    assert model.n_demos_ == 150 and len(model.train_values_) == 10
+    listed = [Demonstration.from_arrays(t, position=P) for t, P in _waves(150)]
+    _assert_same_model(model, KeypointHMM(**model.get_params()).fit(listed),
+                       np.linspace(0, 2, 50))  # fmt: skip
+
+
+def test_a_generator_is_refused_with_what_to_pass_instead():
+    demos = (Demonstration.from_arrays(t, position=P) for t, P in _waves(3))
+    with pytest.raises(ValidationError, match=r"one-shot iterator.*re-iterable"):
+        KeypointHMM().fit(demos)
+    with pytest.raises(ValidationError, match=r"one-shot iterator"):
+        KeypointHMM().fit(iter([]))
+    with pytest.raises(ValidationError, match=r"single path.*\[path\]"):
+        KeypointHMM().fit("demos.csv")
+    with pytest.raises(ValidationError, match=r"Demonstration or a file path; got int"):
+        t, P = _waves(1)[0]
+        KeypointHMM().fit([Demonstration.from_arrays(t, position=P), 3])
+
+
+@pytest.mark.parametrize("where", ["serial", "threads", "dask"])
+def test_a_corrupt_demonstration_is_named(where, request):
+    run = {"serial": dict(n_jobs=1), "threads": dict(n_jobs=2), "dask": {}}[where]
+    fit = {}
+    if where == "dask":
+        fit["client"] = request.getfixturevalue("dask_client")
+    lazy = _Reiterable(_waves(30), bad=17)
+    model = KeypointHMM(epsilon=0.02, n_time_bins=20, **run)
+    with pytest.raises(ValidationError, match=r"^demos\[17\]: .*group 'position'"):
+        model.fit(lazy, **fit)
+    assert not hasattr(model, "model_")
+
+
+@pytest.mark.parametrize("where", ["threads", "dask"])
+def test_files_are_read_in_each_pass_and_a_bad_one_is_named(where, request, tmp_path):
+    from ndlfd import DataFileError
+    from ndlfd.io import write_csv
+
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(12)]
+    paths = []
+    for i, d in enumerate(demos):
+        write_csv(d, tmp_path / f"d{i:02d}.csv")
+        paths.append(tmp_path / f"d{i:02d}.csv")
+    fit = {}
+    if where == "dask":
+        fit["client"] = request.getfixturevalue("dask_client")
+    kw = dict(epsilon=0.02, n_time_bins=20, n_jobs=2)
+    from_files = KeypointHMM(**kw).fit(paths, **fit)
+    from_demos = KeypointHMM(**kw).fit(demos)
+    _assert_same_model(from_files, from_demos, np.linspace(0, 2, 50))
+    (tmp_path / "d07.csv").write_text("t,x,y\n0,1,2\n1,oops,3\n")
+    with pytest.raises(DataFileError, match=r"^demos\[7\]: .*d07\.csv"):
+        KeypointHMM(**kw).fit([str(p) for p in paths], **fit)
+
+
+def test_the_scaler_is_groupscalers_fit_exactly():
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(9)]
+    for mode in ("group", "per-dimension", "none"):
+        m = KeypointHMM(normalization=mode, weights={"velocity": 0.5}).fit(demos)
+        prepared = [m._prepare(d, m.groups_) for d in demos]
+        ref = GroupScaler(mode=mode, weights={"velocity": 0.5}).fit(prepared)
+        got, want = vars(m.scaler_), vars(ref)
+        assert got.keys() == want.keys()
+        for k, v in want.items():
+            assert np.array_equal(got[k], v) if isinstance(v, np.ndarray) else (
+                got[k] == v), k  # fmt: skip
+
+
+def test_fit_options_and_their_errors(capsys, monkeypatch):
+    import sys
+
+    from ndlfd import MissingExtraError
+
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(5)]
+    KeypointHMM(n_time_bins=10).fit(demos, progress=True)
+    err = capsys.readouterr().err
+    assert "fit 1/2 ranges" in err and "fit 2/2 key points" in err
+    KeypointHMM(n_time_bins=10).fit(demos)  # not a terminal: silent
+    assert capsys.readouterr().err == ""
+    with pytest.raises(ValidationError, match="max_templates"):
+        KeypointHMM(max_templates=0).fit(demos)
+    with pytest.raises(ValidationError, match="random_state"):
+        KeypointHMM(random_state="abc").fit(demos)
+    with pytest.raises(ValidationError, match="n_jobs"):
+        KeypointHMM(n_jobs=0).fit(demos)
+    pytest.importorskip("distributed")
+    with pytest.raises(ValidationError, match=r"client must be a distributed\.Client"):
+        KeypointHMM().fit(demos, client="tcp://localhost:8786")
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed
+    with pytest.raises(MissingExtraError, match=r'pip install "ndlfd\[dask\]"'):
+        KeypointHMM().fit(demos, client=True)

@@ -8,9 +8,12 @@ It composes the stages and holds no algorithm of its own::
 
 from __future__ import annotations
 
+import itertools
 import numbers
 import os
-from collections.abc import Mapping, Sequence
+import threading
+from collections.abc import Iterable, Iterator, Mapping, Sequence, Sized
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -23,10 +26,25 @@ from ._blend import (
     segment_states,
     skeleton_times,
 )
-from ._errors import DecodeError, NotFittedError, ValidationError
+from ._errors import (
+    DataFileError,
+    DecodeError,
+    NdlfdError,
+    NotFittedError,
+    ValidationError,
+)
 from ._fileformat import load_npz, save_npz
+from ._fitstats import (
+    FitStats,
+    RangeStats,
+    check_client,
+    map_reduce,
+    scale_exponents,
+    seed_word,
+    template_mask,
+)
 from ._registry import Registry
-from ._simplify import DISTANCES, simplify, simplify_many
+from ._simplify import DISTANCES, simplify
 from ._validation import (
     check_nonnegative_scalar,
     check_positive_int,
@@ -34,10 +52,10 @@ from ._validation import (
 )
 from .codebook import Codebook, TimeBins
 from .demo import Demonstration, with_velocity
-from .normalize import GroupScaler
+from .normalize import SCALING_MODES, GroupScaler, _group_ranges
 from .orientation import normalize_quaternions
 
-__all__ = ["AUTO_GROUPS", "DEFAULT_LEVELS", "KeypointHMM"]
+__all__ = ["AUTO_GROUPS", "DEFAULT_LEVELS", "FitStats", "KeypointHMM"]
 
 #: The groups ``groups="auto"`` learns when a demonstration has them, in this
 #: order (velocity also when it can be derived from position).
@@ -48,9 +66,13 @@ AUTO_GROUPS = ("position", "velocity", "orientation", "force")
 DEFAULT_LEVELS = {"position": 20, "velocity": 10, "orientation": 10, "force": 10}
 
 _FORMAT_KIND = "KeypointHMM"
-#: Version 2 adds the normalized training values the blended generation needs;
-#: version-1 files still load and generate with ``generation="paper"``.
-_FORMAT_VERSION = 2
+#: Version 2 added the normalized training values the blended generation needs
+#: (version-1 files still load and generate with ``generation="paper"``).
+#: Version 3 stores the fit statistics (:class:`~ndlfd._fitstats.FitStats`):
+#: every demonstration's key points, states, bins and first/last samples, the
+#: exact centroid sums, and the full values of the blend templates only.
+#: Versions 1 and 2 still load and generate as before.
+_FORMAT_VERSION = 3
 
 NORMALIZATIONS = Registry("normalization")
 for _name in ("group", "per-dimension", "none"):
@@ -80,23 +102,234 @@ DECODERS.add("viterbi", _decode_viterbi)
 DECODERS.add("map", _decode_map)
 
 
-def _as_demo_list(demos) -> list[Demonstration]:
+_NOT_DEMOS = (
+    "demos must be a Demonstration, a list (or any re-iterable) of them, or a list"
+    " of file paths"
+)
+
+
+def _as_source(demos):
+    """The training set as a re-iterable of items (Demonstrations or file paths)."""
     if isinstance(demos, Demonstration):
         return [demos]
-    if isinstance(demos, (str, bytes, os.PathLike)) or not isinstance(demos, Sequence):
+    if isinstance(demos, (str, bytes, os.PathLike)):
         raise ValidationError(
-            "demos must be a Demonstration or a list of them; got"
-            f" {type(demos).__name__}. Load files with ndlfd.io.read_demos."
+            f"{_NOT_DEMOS}; got the single path {demos!r}. Pass [path] or a list of"
+            " files, or read a folder with ndlfd.io.read_demos."
         )
-    out = list(demos)
-    if not out:
-        raise ValidationError("demos must hold at least one demonstration; got none")
-    for i, d in enumerate(out):
-        if not isinstance(d, Demonstration):
+    if isinstance(demos, (np.ndarray, Mapping)) or not isinstance(demos, Iterable):
+        raise ValidationError(
+            f"{_NOT_DEMOS}; got {type(demos).__name__}. Load files with"
+            " ndlfd.io.read_demos."
+        )
+    if isinstance(demos, Iterator):
+        raise ValidationError(
+            f"demos is a one-shot iterator ({type(demos).__name__}), but fitting"
+            " reads the demonstrations twice (their ranges, then their key"
+            " points). Pass a list, a re-iterable (an object whose __iter__ starts"
+            " over each time) or a list of file paths."
+        )
+    return demos
+
+
+def _read_item(item, i: int) -> list[Demonstration]:
+    """The demonstrations of one input item (a Demonstration or a file)."""
+    if isinstance(item, Demonstration):
+        return [item]
+    if isinstance(item, (str, os.PathLike)):
+        from .io import read_demos
+
+        try:
+            demos = read_demos(item)
+        except NdlfdError as exc:
+            raise type(exc)(f"demos[{i}]: {exc}") from exc
+        except (OSError, ValueError) as exc:
+            raise DataFileError(
+                f"demos[{i}]: {item}: cannot be read ({type(exc).__name__}: {exc})"
+            ) from exc
+        if not demos:
+            raise DataFileError(f"demos[{i}]: {item}: holds no demonstration")
+        return demos
+    raise ValidationError(
+        f"demos[{i}] must be a Demonstration or a file path; got {type(item).__name__}"
+    )
+
+
+def _where(i: int, item, k: int, n: int) -> str:
+    if isinstance(item, Demonstration):
+        return f"demos[{i}]"
+    if n == 1:
+        return f"demos[{i}] ({item})"
+    return f"demos[{i}] ({item}, demonstration {k})"
+
+
+def _located(where: str, fn, *args):
+    """``fn(*args)``, with errors naming the demonstration they come from."""
+    try:
+        return fn(*args)
+    except NdlfdError as exc:
+        raise type(exc)(f"{where}: {exc}") from exc
+    except (ValueError, TypeError, ArithmeticError, LookupError) as exc:
+        raise ValidationError(f"{where}: {type(exc).__name__}: {exc}") from exc
+
+
+def _changed(what: str) -> ValidationError:
+    return ValidationError(
+        f"the demonstrations changed between the two passes of fit ({what}); fit"
+        " needs a re-iterable that yields the same demonstrations each time"
+    )
+
+
+#: With ``n_jobs=None`` a local fit uses threads when demonstrations have at
+#: least this many samples on average. The per-demonstration work of shorter
+#: ones is mostly Python (holding the GIL): on 1,000-sample demonstrations two
+#: threads were slower than one, on 20,000-sample ones 1.3 times faster.
+_THREAD_MIN_SAMPLES = 5000
+
+#: Bytes of prepared demonstrations (groups selected, velocity derived) that a
+#: local fit of an in-memory list keeps from the first pass for the second.
+_CACHE_BYTES = 256 * 2**20
+
+
+class _PreparedCache:
+    """Prepared demonstrations of pass 1 kept for pass 2, up to a byte budget."""
+
+    def __init__(self, budget: int) -> None:
+        self._left = budget
+        self._items: dict = {}
+        self._lock = threading.Lock()
+
+    def put(self, key, demo: Demonstration) -> None:
+        size = demo.X.nbytes + demo.t.nbytes
+        with self._lock:
+            if size <= self._left:
+                self._left -= size
+                self._items[key] = demo
+
+    def get(self, key) -> Demonstration | None:
+        with self._lock:
+            return self._items.get(key)
+
+    def pop(self, key) -> Demonstration | None:
+        with self._lock:
+            return self._items.pop(key, None)
+
+
+@dataclass(frozen=True)
+class _FitSpec:
+    """What the per-demonstration map steps need (sent once to Dask workers)."""
+
+    est: KeypointHMM  # the parameters (an unfitted copy)
+    groups: tuple[str, ...] = ()
+    columns: tuple[str, ...] = ()
+    col_groups: tuple[str, ...] = ()
+    scaler: GroupScaler | None = None
+    codebook: Codebook | None = None
+    time_bins: TimeBins | None = None
+    weights: np.ndarray | None = None
+    exponents: np.ndarray | None = None
+    templates: np.ndarray | None = None
+    cache: _PreparedCache | None = None
+
+    def prepared(self, demo: Demonstration, key=None) -> Demonstration:
+        if self.cache is not None and key is not None:
+            if self.templates is not None:  # pass 2: taken from pass 1
+                d = self.cache.pop(key)
+                if d is not None:
+                    return d
+            else:  # pass 1 (the first may be there from the probe)
+                d = self.cache.get(key)
+                if d is None:
+                    d = self.prepared(demo)
+                    self.cache.put(key, d)
+                return d
+        d = self.est._prepare(demo, self.groups)
+        if d.columns != self.columns or d.groups != self.col_groups:
             raise ValidationError(
-                f"demos[{i}] must be a Demonstration; got {type(d).__name__}"
+                "all demonstrations must have the same columns; the first has"
+                f" {self.columns} and this one has {d.columns}"
             )
-    return out
+        return d
+
+
+def _probe(spec: _FitSpec, unit):
+    """Groups and learned columns, from the first demonstration of the first item."""
+    i, item = unit
+    demos = _read_item(item, i)
+    groups = spec.est._wanted_groups(demos[0])
+    d = _located(_where(i, item, 0, len(demos)), spec.est._prepare, demos[0], groups)
+    if spec.cache is not None:
+        spec.cache.put((i, 0), d)
+    return groups, d.columns, d.groups, d.n_samples
+
+
+def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
+    """Pass 1: per-column min and max of the demonstrations of some items."""
+    parts = []
+    for i, item in chunk:
+        demos = _read_item(item, i)
+        arrays = [
+            _located(_where(i, item, k, len(demos)), spec.prepared, d, (i, k)).X
+            for k, d in enumerate(demos)
+        ]
+        parts.append(RangeStats.of(i, *arrays))
+    return parts[0].merge(*parts[1:])
+
+
+def _count_one(spec: _FitSpec, demo: Demonstration, j: int, key) -> FitStats:
+    est = spec.est
+    d = spec.prepared(demo, key)
+    u = spec.scaler.transform(d, weighted=False)
+    idx = simplify(
+        u,
+        None if est.n_points is not None else est.epsilon,
+        distance=est.distance,
+        weights=spec.weights,
+        times=d.t if est.distance == "sed" else None,
+        n_points=est.n_points,
+        n_jobs=1,
+    )
+    states, clipped = spec.codebook.encode(u[idx], return_n_clipped=True)
+    tau = spec.time_bins.normalize(d.t)
+    return FitStats.of_demo(
+        j,
+        u,
+        tau,
+        idx,
+        states,
+        spec.time_bins.transform(tau)[idx],
+        exponents=spec.exponents,
+        n_clipped=clipped,
+        template=bool(spec.templates[j]),
+    )
+
+
+def _map_counts(spec: _FitSpec, chunk) -> FitStats:
+    """Pass 2: key points, states, bins, centroid sums and templates of some items."""
+    parts = []
+    for i, start, expected, item in chunk:
+        demos = _read_item(item, i)
+        if len(demos) != expected:
+            raise _changed(
+                f"demos[{i}] held {expected} demonstration(s), now {len(demos)}"
+            )
+        for k, d in enumerate(demos):
+            where = _where(i, item, k, len(demos))
+            parts.append(_located(where, _count_one, spec, d, start + k, (i, k)))
+    return parts[0].merge(*parts[1:])
+
+
+def _count_units(source, counts: np.ndarray):
+    start = 0
+    n = 0
+    for i, item in enumerate(source):
+        if i >= counts.size:
+            raise _changed(f"{counts.size} item(s) in the first, more in the second")
+        yield i, start, int(counts[i]), item
+        start += int(counts[i])
+        n = i + 1
+    if n != counts.size:
+        raise _changed(f"{counts.size} item(s) in the first, {n} in the second")
 
 
 class KeypointHMM:
@@ -152,10 +385,29 @@ class KeypointHMM:
     derive_velocity : bool, default=True
         Derive a missing velocity group from position and time.
     n_jobs : int, optional
-        Threads used to reduce many demonstrations.
+        Threads for the per-demonstration work of :meth:`fit` (normalize,
+        reduce, encode, count) and for aligning the templates in generation.
+        ``None``: in fit, one per CPU for long demonstrations (5,000 samples
+        or more on average) and the calling thread otherwise, as the work of a
+        short demonstration is mostly Python and gains nothing from threads;
+        in generation one per CPU. The model does not depend on it. Ignored by
+        :meth:`fit` with a Dask ``client``.
+    max_templates : int or None, default=200
+        How many training demonstrations are kept whole as templates of the
+        blended generation (the path is their aligned, weighted average). The
+        counts, centroids, conditioning weights and segment model always use
+        every demonstration; only the full values, which cannot be kept for
+        100,000 demonstrations, are limited. With at most ``max_templates``
+        demonstrations all are templates. ``None`` keeps all.
     random_state : None, int or Generator, default=None
-        Accepted for the estimator contract; fitting and generation are fully
-        deterministic, so it changes nothing today.
+        Chooses the templates when there are more than ``max_templates``
+        demonstrations: those whose key ``splitmix64(s + (i + 1) *
+        0x9E3779B97F4A7C15)`` (``i`` the demonstration's index, ``s`` a 64-bit
+        word drawn from ``random_state`` by :class:`numpy.random.SeedSequence`)
+        are among the ``max_templates`` smallest. The choice depends on the
+        index only, so serial, threaded and Dask fits agree. An int gives the
+        same templates every time; ``None`` fresh ones (fresh entropy);
+        a Generator one draw. Nothing else is random.
 
     Attributes
     ----------
@@ -177,6 +429,16 @@ class KeypointHMM:
         Number of key points per demonstration.
     n_states_used_ : int
         Number of distinct codebook states seen in training.
+    n_demos_ : int
+        Number of training demonstrations.
+    template_indices_ : ndarray of int
+        Indices of the demonstrations kept as blend templates (sorted).
+    first_values_, last_values_ : ndarray of shape (n_demos, n_columns)
+        Each demonstration's first and last normalized sample (conditioning).
+    fit_stats_ : FitStats
+        The sufficient statistics the model was built from (see
+        :class:`~ndlfd._fitstats.FitStats`); the attributes above are views of
+        its arrays.
     n_clipped_ : int
         Values clipped by the codebook while fitting (0 unless weights or
         normalization ``"none"`` push values outside ``[0, 1]``).
@@ -209,6 +471,7 @@ class KeypointHMM:
         decoder="viterbi",
         derive_velocity=True,
         n_jobs=None,
+        max_templates=200,
         random_state=None,
     ):
         self.groups = groups
@@ -226,6 +489,7 @@ class KeypointHMM:
         self.decoder = decoder
         self.derive_velocity = derive_velocity
         self.n_jobs = n_jobs
+        self.max_templates = max_templates
         self.random_state = random_state
 
     # ------------------------------------------------------------------ params
@@ -267,6 +531,15 @@ class KeypointHMM:
         if self.pseudo_transition is not None:
             check_nonnegative_scalar(self.pseudo_transition, "pseudo_transition")
         check_nonnegative_scalar(self.pseudo_emission, "pseudo_emission")
+        if self.n_jobs is not None:
+            check_positive_int(self.n_jobs, "n_jobs")
+        if self.max_templates is not None:
+            check_positive_int(self.max_templates, "max_templates")
+        if not (
+            self.random_state is None
+            or isinstance(self.random_state, np.random.Generator)
+        ):
+            seed_word(self.random_state)  # checks an int (cheap)
 
     def _wanted_groups(self, first: Demonstration) -> tuple[str, ...]:
         if self.groups is None:
@@ -342,104 +615,219 @@ class KeypointHMM:
                 "this KeypointHMM is not fitted yet; call fit(demos) first"
             )
 
-    def _reduce(self, U_list, t_list) -> list[np.ndarray]:
-        times = t_list if self.distance == "sed" else None
-        return simplify_many(
-            U_list,
-            None if self.n_points is not None else self.epsilon,
-            distance=self.distance,
-            weights=self._column_weights(),
-            times=times,
-            n_points=self.n_points,
-            n_jobs=self.n_jobs,
-        )
-
     # --------------------------------------------------------------------- fit
-    def fit(self, demos, y=None) -> KeypointHMM:
+    def fit(self, demos, y=None, *, client=None, progress=None) -> KeypointHMM:
         """Learn the key points, codebook states and HMM from demonstrations.
+
+        The fit is a map over the demonstrations and an exact reduce, in two
+        passes (see :mod:`ndlfd._fitstats`): their per-column ranges (the
+        scaler), then per demonstration its key points, codebook states, time
+        bins, centroid sums and first/last samples, and its full values only
+        if it is a blend template (see ``max_templates``). Only these
+        statistics are kept, never all demonstrations at once (unless the
+        caller's list holds them), and the model is the same bit for bit
+        serially, on threads (``n_jobs``) or on Dask (``client``).
 
         Parameters
         ----------
-        demos : Demonstration or sequence of Demonstration
-            Training demonstrations (lengths may differ).
+        demos : Demonstration, iterable of Demonstration, or sequence of paths
+            The training demonstrations (lengths may differ): a list, or any
+            *re-iterable* (an object whose ``__iter__`` starts over each
+            time, e.g. one that reads files lazily), iterated exactly twice.
+            File paths are read with :func:`ndlfd.io.read_demos` (a file may
+            hold several demonstrations) in each pass, on the workers. A
+            one-shot iterator such as a generator is refused: two passes are
+            needed.
         y : None
             Ignored.
+        client : distributed.Client or True, optional
+            Run both passes as Dask tasks over chunks of the demonstrations,
+            merged on the workers by a tree reduction; ``True`` uses the
+            running default client. Needs ``pip install "ndlfd[dask]"``. Give
+            paths for data that should be read on the workers. An error in a
+            task (a bad demonstration or file) is raised here, naming it.
+        progress : bool or None, default=None
+            Progress bars of the two passes on standard error: ``True``
+            always, ``False`` never, ``None`` on a terminal when a pass takes
+            over a second.
 
         Returns
         -------
         self : KeypointHMM
+
+        Raises
+        ------
+        ValidationError
+            Bad parameters or demonstrations (the message names
+            ``demos[i]``), or a one-shot iterator.
+        DataFileError
+            A file that cannot be read.
+        MissingExtraError
+            ``client`` without Dask installed.
+
+        Examples
+        --------
+        A re-iterable that makes its demonstrations on demand:
+
+        >>> from ndlfd import synth
+        >>> class Lazy:
+        ...     def __iter__(self):
+        ...         for seed in range(12):
+        ...             yield synth.make_dataset("square", n_demos=1,
+        ...                                      random_state=seed)[0][0]
+        >>> model = KeypointHMM(epsilon=0.1, n_time_bins=20, max_templates=5,
+        ...                     random_state=0).fit(Lazy())
+        >>> model.n_demos_, model.template_indices_.size
+        (12, 5)
         """
         self._check_params()
-        demo_list = _as_demo_list(demos)
-        groups = self._wanted_groups(demo_list[0])
-        prepared = [self._prepare(d, groups) for d in demo_list]
-        columns, col_groups = prepared[0].columns, prepared[0].groups
-        for i, d in enumerate(prepared[1:], start=1):
-            if d.columns != columns or d.groups != col_groups:
-                raise ValidationError(
-                    f"all demonstrations must have the same columns; demos[0] has"
-                    f" {columns} and demos[{i}] has {d.columns}"
-                )
-        self.columns_ = tuple(columns)
-        self.column_groups_ = tuple(col_groups)
-        self.groups_ = groups
+        source = _as_source(demos)
+        if client is not None:
+            client = check_client(client)
         if self.weights is not None and not isinstance(self.weights, Mapping):
             raise ValidationError(
                 f"weights must be a mapping of group to weight; got {self.weights!r}"
             )
-        self.scaler_ = GroupScaler(mode=self.normalization, weights=self.weights)
-        self.scaler_.fit(prepared)
-        # the codebook and the blend see [0, 1] values; weights act in reduction
-        U = [self.scaler_.transform(d, weighted=False) for d in prepared]
-        self.keypoints_ = self._reduce(U, [d.t for d in prepared])
-        self.codebook_ = Codebook.from_groups(
-            self._levels_by_group(groups), self.column_groups_
+        total = len(source) if isinstance(source, Sized) else None
+        run = dict(client=client, progress=progress)
+
+        # the groups and columns, from the first demonstration
+        items = iter(source)
+        try:
+            first = next(items)
+        except StopIteration:
+            raise ValidationError(
+                "demos must hold at least one demonstration; got none"
+            ) from None
+        # an in-memory list: keep its prepared demonstrations between the passes
+        local_list = client is None and isinstance(source, (list, tuple))
+        spec = _FitSpec(
+            est=KeypointHMM(**self.get_params()),
+            cache=_PreparedCache(_CACHE_BYTES) if local_list else None,
         )
-        self.time_bins_ = TimeBins(self.n_time_bins)
-        states, symbols, clipped = [], [], 0
-        for d, u, idx in zip(prepared, U, self.keypoints_, strict=True):
-            s, c = self.codebook_.encode(u[idx], return_n_clipped=True)
-            states.append(s)
-            clipped += int(c)
-            symbols.append(self.time_bins_.transform(d.t)[idx])
+        if client is not None and not isinstance(first, Demonstration):
+            probe = client.submit(_probe, spec, (0, first), pure=False).result()
+        else:
+            probe = _probe(spec, (0, first))
+        groups, columns, col_groups, first_length = probe
+        spec = replace(spec, groups=groups, columns=columns, col_groups=col_groups)
+        codebook = Codebook.from_groups(self._levels_by_group(groups), col_groups)
+        time_bins = TimeBins(self.n_time_bins)
+
+        # pass 1: the ranges -> the scaler
+        units = itertools.chain([(0, first)], enumerate(items, start=1))
+        del first
+        ranges = map_reduce(
+            _map_ranges,
+            spec,
+            units,
+            total=total,
+            desc="fit 1/2 ranges",
+            n_jobs=self._threads(first_length),
+            **run,
+        )
+        counts = ranges.demos_per_item
+        scaler = self._scaler_from_ranges(ranges, columns, col_groups)
+        # |u| <= 2**E per column: u is monotone in x, so the extremes bound it
+        ends = scaler.transform(
+            np.vstack([ranges.data_min, ranges.data_max]), weighted=False
+        )
+        w = scaler.column_weights_
+        spec = replace(
+            spec,
+            scaler=scaler,
+            codebook=codebook,
+            time_bins=time_bins,
+            weights=None if np.all(w == 1.0) else w,
+            exponents=scale_exponents(np.abs(ends).max(axis=0)),
+            templates=template_mask(
+                ranges.n_demos, self.max_templates, self.random_state
+            ),
+        )
+
+        # pass 2: key points, states, bins, centroids, templates
+        stats = map_reduce(
+            _map_counts,
+            spec,
+            _count_units(source, counts),
+            total=counts.size,
+            desc="fit 2/2 key points",
+            n_jobs=self._threads(ranges.n_samples / ranges.n_demos),
+            **run,
+        )
+        if stats.n_demos != ranges.n_demos or (
+            int(stats.n_samples.sum()) != ranges.n_samples
+        ):
+            raise _changed(
+                f"{ranges.n_demos} demonstration(s) of {ranges.n_samples} samples"
+                f" in the first, {stats.n_demos} of {int(stats.n_samples.sum())} in"
+                " the second"
+            )
+        self.columns_ = tuple(columns)
+        self.column_groups_ = tuple(col_groups)
+        self.groups_ = groups
+        self.scaler_ = scaler
+        self.codebook_ = codebook
+        self.time_bins_ = time_bins
+        self._set_from_stats(stats)
+        return self
+
+    def _threads(self, mean_length: float) -> int:
+        """Threads of a local map: ``n_jobs``, or by the demonstrations' length."""
+        if self.n_jobs is not None:
+            return self.n_jobs
+        return (os.cpu_count() or 1) if mean_length >= _THREAD_MIN_SAMPLES else 1
+
+    def _scaler_from_ranges(self, ranges: RangeStats, columns, col_groups):
+        """Exactly ``GroupScaler(mode, weights).fit(prepared demos)``."""
+        mins, maxs = ranges.data_min, ranges.data_max
+        lo, hi = SCALING_MODES.get(self.normalization)(mins, maxs, col_groups)
+        scaler = GroupScaler.from_ranges(
+            lo,
+            hi,
+            col_groups,
+            columns=columns,
+            mode=self.normalization,
+            weights=self.weights,
+        )
+        # as fit sets them: the data's group extremes and sample count
+        gmin, gmax = _group_ranges(mins, maxs, col_groups)
+        names = scaler.group_names_
+        scaler.group_min_ = {g: float(gmin[col_groups.index(g)]) for g in names}
+        scaler.group_max_ = {g: float(gmax[col_groups.index(g)]) for g in names}
+        scaler.n_samples_seen_ = ranges.n_samples
+        return scaler
+
+    def _set_from_stats(self, stats: FitStats) -> None:
+        """Every learned attribute from the fit statistics (fit and load)."""
+        keypoints, key_states, key_bins = stats.keypoint_lists()
+        nt = self.n_time_bins
         self.model_ = hmm.estimate(
-            states,
-            symbols,
+            key_states,
+            key_bins,
             self.codebook_.n_states,
-            self.n_time_bins,
+            nt,
             pseudo_transition=self.pseudo_transition,
             pseudo_emission=self.pseudo_emission,
         )
-        self.n_keypoints_ = np.array([k.size for k in self.keypoints_], np.int64)
-        self.n_states_used_ = int(np.unique(np.concatenate(states)).size)
-        self.n_clipped_ = clipped
-        self.n_demos_ = len(prepared)
-        seen = np.zeros(self.n_time_bins, dtype=bool)
-        seen[np.concatenate(symbols)] = True
+        self.keypoints_ = keypoints
+        self.n_keypoints_ = stats.n_keys
+        self.n_states_used_ = int(self.model_.states_.size)
+        self.n_clipped_ = int(stats.n_clipped)
+        self.n_demos_ = stats.n_demos
+        seen = np.zeros(nt, dtype=bool)
+        seen[stats.key_bins] = True
         self.symbols_seen_ = seen
-        self._fit_segments(U, [d.t for d in prepared])
-        return self
-
-    def _fit_segments(self, U_list, t_list) -> None:
-        """Statistics of the blended generation (see :mod:`ndlfd._blend`)."""
-        self.train_values_ = [np.asarray(u, np.float64) for u in U_list]
-        self.train_tau_ = [self.time_bins_.normalize(t) for t in t_list]
-        key_states, key_bins = [], []
-        for u, tau, idx in zip(U_list, self.train_tau_, self.keypoints_, strict=True):
-            key_states.append(self.codebook_.encode(u[idx]))
-            key_bins.append(self.time_bins_.transform(tau)[idx])
-        all_states = np.concatenate(key_states)
-        ids, inv = np.unique(all_states, return_inverse=True)
-        values = np.concatenate(
-            [u[i] for u, i in zip(U_list, self.keypoints_, strict=True)]
-        )
-        sums = np.zeros((ids.size, values.shape[1]))
-        np.add.at(sums, inv.reshape(-1), values)
-        self.centroid_states_ = ids
-        self.centroids_ = sums / np.bincount(inv.reshape(-1))[:, None]
+        # the blended generation (see ndlfd._blend)
         self._key_states = key_states
         self._key_bins = key_bins
-        self.segment_model_ = self._segment_model(np.arange(len(U_list)))
+        self.first_values_ = stats.first
+        self.last_values_ = stats.last
+        self.template_indices_ = stats.template_index
+        self.train_values_, self.train_tau_ = stats.templates()
+        self.centroid_states_, self.centroids_ = stats.centroids()
+        self.segment_model_ = self._segment_model(np.arange(stats.n_demos))
+        self.fit_stats_ = stats
 
     def _segment_model(self, demos: np.ndarray) -> hmm.DiscreteHMM:
         nt = self.n_time_bins
@@ -619,8 +1007,8 @@ class KeypointHMM:
         tq = self.time_bins_.normalize(all_t)
         key_tau = plan["key_tau"]
         U = blend(
-            [self.train_values_[j] for j in plan["demos"]],
-            [self.train_tau_[j] for j in plan["demos"]],
+            [self.train_values_[j] for j in plan["templates"]],
+            [self.train_tau_[j] for j in plan["templates"]],
             plan["index"],
             plan["weights"],
             np.concatenate([tq, key_tau]),
@@ -694,15 +1082,15 @@ class KeypointHMM:
         return cols if len(cols) == 4 else None
 
     def _weights_for(self, cond, end: int) -> np.ndarray:
-        J = len(self.train_values_)
+        """Every demonstration's weight for a start (``end=0``) or goal (-1)."""
         if cond is None:
-            return np.ones(J)
+            return np.ones(self.n_demos_)
         cols = [c for g in cond for c in self._cols(g)]
         target = self.scaler_.transform(
             self._physical_row(cond)[None, :], weighted=False
         )[0, cols]
-        pts = np.array([u[end, cols] for u in self.train_values_])
-        return condition_weights(pts, target)
+        pts = (self.first_values_ if end == 0 else self.last_values_)[:, cols]
+        return _condition_weights(pts, target)
 
     def _physical_row(self, cond) -> np.ndarray:
         row = self.scaler_.data_min_.copy()
@@ -717,12 +1105,17 @@ class KeypointHMM:
                 "this model has no training values (a format-1 file); use"
                 " generation='paper' or fit it again"
             )
+        # the skeleton: from the statistics of every demonstration that carries
+        # weight; the blend: from the templates among them
         w = self._weights_for(start, 0) * self._weights_for(goal, -1)
         w = w / w.max()
         demos = np.flatnonzero(w >= _KEEP_WEIGHT)
         model = (
             self.segment_model_ if demos.size == w.size else self._segment_model(demos)
         )
+        tw = w[self.template_indices_]
+        tw = tw / tw.max()
+        templates = np.flatnonzero(tw >= _KEEP_WEIGHT)
         states, logp = self._run_decoder(model, np.arange(self.n_time_bins))
         change = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
         skel = states[change]
@@ -730,19 +1123,21 @@ class KeypointHMM:
             skel = np.repeat(skel, 2)  # a start and an end in one state
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
         index = align_many(
-            [self.train_values_[j] for j in demos],
+            [self.train_values_[j] for j in templates],
             C,
             self.n_jobs,
             _ALIGN_CANDIDATES,
         )
-        key_tau = skeleton_times([self.train_tau_[j] for j in demos], index, w[demos])
+        key_tau = skeleton_times(
+            [self.train_tau_[j] for j in templates], index, tw[templates]
+        )
         # every alignment pins the ends to samples at tau 0 and 1: exact ends
         key_tau[0], key_tau[-1] = 0.0, 1.0
         return {
             "states": skel,
             "logp": logp,
-            "demos": demos,
-            "weights": w[demos],
+            "templates": templates,
+            "weights": tw[templates],
             "index": index,
             "key_tau": key_tau,
             "model": model,
@@ -826,7 +1221,8 @@ class KeypointHMM:
         X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
         return X
 
-    def _load_training(self, arrays, path) -> None:
+    def _stats_from_v2(self, arrays, path) -> FitStats:
+        """Fit statistics of a format-2 file (every demonstration kept whole)."""
         from ._errors import ModelFormatError
 
         counts = np.asarray(arrays["train_counts"], np.int64)
@@ -837,30 +1233,52 @@ class KeypointHMM:
         for k, n in zip(self.keypoints_, counts, strict=True):
             if k.size == 0 or k.min() < 0 or k.max() >= n:
                 raise ModelFormatError(f"{path}: key points out of range")
-        self._fit_segments(values, tau)  # tau is already normalized: unchanged
+        exponents = scale_exponents(np.abs(np.concatenate(values)).max(axis=0))
+        parts = []
+        for j, (u, tq, idx) in enumerate(
+            zip(values, tau, self.keypoints_, strict=True)
+        ):
+            states, clipped = self.codebook_.encode(u[idx], return_n_clipped=True)
+            bins = self.time_bins_.transform(tq)[idx]  # tau is already normalized
+            parts.append(
+                FitStats.of_demo(
+                    j, u, tq, idx, states, bins,
+                    exponents=exponents, n_clipped=clipped, template=True,
+                )
+            )  # fmt: skip
+        return parts[0].merge(*parts[1:])
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:
         """Save the fitted learner (``.npz`` + JSON metadata, never pickle).
 
+        Format version 3: the scaler's ranges, the codebook levels and the fit
+        statistics (:meth:`FitStats.to_arrays`, keys ``stats_*``); loading
+        rebuilds the HMMs and centroids from them exactly. A model loaded from
+        a version-1 file is written as version 1.
+
         Parameters
         ----------
         path : str or path-like
-            Destination file (conventionally ``*.ndlfd``).
+            Destination (conventionally ``*.ndlfd``).
         """
         self._check_fitted()
         arrays = {
             "scaler_min": self.scaler_.data_min_,
             "scaler_max": self.scaler_.data_max_,
             "levels": self.codebook_.levels,
-            "keypoints": np.concatenate(self.keypoints_),
-            "keypoint_counts": self.n_keypoints_,
-            "symbols_seen": self.symbols_seen_,
-            "train_values": np.concatenate(self.train_values_),
-            "train_tau": np.concatenate(self.train_tau_),
-            "train_counts": np.array([u.shape[0] for u in self.train_values_]),
         }
-        arrays.update(self.model_.to_arrays(prefix="hmm_"))
+        if hasattr(self, "fit_stats_"):
+            version = _FORMAT_VERSION
+            arrays.update(self.fit_stats_.to_arrays(prefix="stats_"))
+        else:  # loaded from a version-1 file: no statistics to write
+            version = 1
+            arrays.update(
+                keypoints=np.concatenate(self.keypoints_),
+                keypoint_counts=self.n_keypoints_,
+                symbols_seen=self.symbols_seen_,
+            )
+            arrays.update(self.model_.to_arrays(prefix="hmm_"))
         params = self.get_params()
         params["groups"] = list(self.groups_)
         meta = {
@@ -870,13 +1288,11 @@ class KeypointHMM:
             "n_states_used": self.n_states_used_,
             "n_clipped": self.n_clipped_,
         }
-        save_npz(
-            path, arrays, kind=_FORMAT_KIND, version=_FORMAT_VERSION, metadata=meta
-        )
+        save_npz(path, arrays, kind=_FORMAT_KIND, version=version, metadata=meta)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> KeypointHMM:
-        """Load a learner written by :meth:`save`.
+        """Load a learner written by :meth:`save` (format versions 1 to 3).
 
         Parameters
         ----------
@@ -889,11 +1305,16 @@ class KeypointHMM:
         """
         from ._errors import ModelFormatError
 
-        arrays, meta = load_npz(path, kind=_FORMAT_KIND, version=(1, _FORMAT_VERSION))
+        arrays, meta = load_npz(
+            path, kind=_FORMAT_KIND, version=tuple(range(1, _FORMAT_VERSION + 1))
+        )
         try:
+            version = meta["version"]
             params = dict(meta["params"])
-            if meta["version"] == 1:  # written before the blended generation
+            if version == 1:  # written before the blended generation
                 params.update(generation="paper", decoder="viterbi")
+            if version < 3:  # every demonstration was kept whole
+                params.update(max_templates=None)
             columns = tuple(meta["columns"])
             col_groups = tuple(meta["column_groups"])
             if isinstance(params.get("groups"), list):
@@ -904,16 +1325,11 @@ class KeypointHMM:
             mins = np.asarray(arrays["scaler_min"], np.float64)
             maxs = np.asarray(arrays["scaler_max"], np.float64)
             levels = np.asarray(arrays["levels"])
-            counts = np.asarray(arrays["keypoint_counts"], np.int64)
-            flat = np.asarray(arrays["keypoints"], np.int64)
-            seen = np.asarray(arrays["symbols_seen"], bool)
             if (
                 len(col_groups) != d
                 or mins.shape != (d,)
                 or maxs.shape != (d,)
                 or levels.shape != (d,)
-                or counts.sum() != flat.size
-                or seen.shape != (self.n_time_bins,)
                 or not (np.all(np.isfinite(mins)) and np.all(np.isfinite(maxs)))
             ):
                 raise ModelFormatError(
@@ -932,22 +1348,20 @@ class KeypointHMM:
             )
             self.codebook_ = Codebook([int(x) for x in levels])
             self.time_bins_ = TimeBins(self.n_time_bins)
-            self.model_ = hmm.DiscreteHMM.from_arrays(arrays, prefix="hmm_")
-            if (
-                self.model_.n_states != self.codebook_.n_states
-                or self.model_.n_symbols != self.n_time_bins
-            ):
-                raise ModelFormatError(
-                    f"{path}: the HMM does not match the codebook (tampered file?)"
-                )
-            self.keypoints_ = np.split(flat, np.cumsum(counts)[:-1])
-            self.n_keypoints_ = counts
+            if version >= 3:
+                stats = FitStats.from_arrays(arrays, prefix="stats_")
+                if stats.n_dims != d:
+                    raise ModelFormatError(
+                        f"{path}: the fit statistics have {stats.n_dims} columns,"
+                        f" the model {d} (tampered file?)"
+                    )
+            else:
+                self._load_v1_arrays(arrays, path)
+                stats = self._stats_from_v2(arrays, path) if version == 2 else None
+            if stats is not None:
+                self._set_from_stats(stats)
             self.n_states_used_ = int(meta["n_states_used"])
             self.n_clipped_ = int(meta["n_clipped"])
-            self.n_demos_ = int(counts.size)
-            self.symbols_seen_ = seen
-            if meta["version"] >= 2:
-                self._load_training(arrays, path)
         except ModelFormatError:
             raise
         except (KeyError, TypeError, ValueError) as exc:
@@ -955,6 +1369,58 @@ class KeypointHMM:
                 f"{path}: not a valid KeypointHMM file ({type(exc).__name__}: {exc})"
             ) from None
         return self
+
+    def _load_v1_arrays(self, arrays, path) -> None:
+        """The key points and the HMM as format versions 1 and 2 store them."""
+        from ._errors import ModelFormatError
+
+        counts = np.asarray(arrays["keypoint_counts"], np.int64)
+        flat = np.asarray(arrays["keypoints"], np.int64)
+        seen = np.asarray(arrays["symbols_seen"], bool)
+        if counts.sum() != flat.size or seen.shape != (self.n_time_bins,):
+            raise ModelFormatError(
+                f"{path}: inconsistent KeypointHMM arrays (tampered file?)"
+            )
+        self.model_ = hmm.DiscreteHMM.from_arrays(arrays, prefix="hmm_")
+        if (
+            self.model_.n_states != self.codebook_.n_states
+            or self.model_.n_symbols != self.n_time_bins
+        ):
+            raise ModelFormatError(
+                f"{path}: the HMM does not match the codebook (tampered file?)"
+            )
+        self.keypoints_ = np.split(flat, np.cumsum(counts)[:-1])
+        self.n_keypoints_ = counts
+        self.n_demos_ = int(counts.size)
+        self.symbols_seen_ = seen
+
+
+#: Demonstrations above which the conditioning bandwidth comes from a k-d tree
+#: (nearest neighbours in O(n log n)) instead of all pairwise distances.
+_PAIRWISE_LIMIT = 2000
+
+
+def _condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """:func:`ndlfd._blend.condition_weights`, in O(n log n) for many demonstrations.
+
+    Up to :data:`_PAIRWISE_LIMIT` points it is that function. Beyond, the
+    median nearest-neighbour distance comes from a k-d tree (the same value up
+    to rounding) and, when it is 0 (most points coincide), the fallback width
+    is the diagonal of the points' bounding box instead of their diameter.
+    """
+    if points.shape[0] <= _PAIRWISE_LIMIT:
+        return condition_weights(points, target)
+    from scipy.spatial import cKDTree
+
+    from ._blend import BANDWIDTH_FACTOR
+
+    d = np.linalg.norm(points - target, axis=1)
+    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
+    h = BANDWIDTH_FACTOR * float(np.median(nearest))
+    if not h > 0:
+        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+    logw = -0.5 * (d / h) ** 2
+    return np.exp(logw - logw.max())
 
 
 #: Demonstrations whose start/goal weight falls below this fraction of the
@@ -1002,6 +1468,7 @@ _PARAM_NAMES = (
     "decoder",
     "derive_velocity",
     "n_jobs",
+    "max_templates",
     "random_state",
 )
 

@@ -1,0 +1,976 @@
+"""Sufficient statistics of a KeypointHMM fit, and the map and reduce that make them.
+
+A fit reads every demonstration twice and never needs two of them at once:
+
+=========  ====================================================  ===============
+pass       map (one demonstration)                               reduce
+=========  ====================================================  ===============
+1 ranges   per-column min and max, sample count                  :class:`RangeStats`:
+                                                                 min / max, sums
+2 counts   normalize, key points, codebook states, time bins,    :class:`FitStats`:
+           centroid sums, first and last sample; the full        concatenate by
+           values only for a blend template                      demonstration,
+                                                                 add sums
+=========  ====================================================  ===============
+
+Both reductions are **exact**, so the result does not depend on how the
+demonstrations are split into parts or in which order the parts are merged:
+min and max are exact, counts are integers, per-demonstration arrays are kept
+in demonstration order, and the centroid sums are accumulated as integers (see
+:func:`to_limbs`). Serial, threaded and Dask fits therefore give the same
+model bit for bit.
+
+:func:`map_reduce` runs a map over chunks of work units in the calling thread,
+on local threads (``n_jobs``) or as Dask tasks (``client``) with a tree
+reduction, with an optional progress bar.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._errors import MissingExtraError, ModelFormatError, ValidationError
+
+__all__ = [
+    "FitStats",
+    "RangeStats",
+    "from_limbs",
+    "map_reduce",
+    "scale_exponents",
+    "template_keys",
+    "template_mask",
+    "to_limbs",
+]
+
+# ----------------------------------------------------------------- exact sums
+
+#: Bits per integer limb of a centroid sum (three limbs: 93 bits below the
+#: column's bound). A limb is at most 2**31 in size, so up to 2**31 key points
+#: of one state add up in int64 without overflow.
+_LIMB_BITS = 31
+_N_LIMBS = 3
+#: Smallest scale exponent (keeps the finest limb's quantum a normal float).
+_MIN_EXPONENT = -900
+
+
+def scale_exponents(bound) -> np.ndarray:
+    """Per column the exponent ``E`` with ``|u| <= 2**E`` for every value ``u``.
+
+    Parameters
+    ----------
+    bound : array-like of shape (n_dims,)
+        The largest absolute value of each column (finite, >= 0).
+
+    Returns
+    -------
+    exponents : ndarray of shape (n_dims,), dtype int64
+
+    Examples
+    --------
+    >>> scale_exponents([1.0, 0.75, 3.0, 0.0])
+    array([   1,    0,    2, -900])
+    """
+    b = np.asarray(bound, dtype=np.float64)
+    e = np.frexp(b)[1].astype(np.int64)  # b = m * 2**e with 0.5 <= m < 1
+    e[b == 0] = _MIN_EXPONENT
+    return np.maximum(e, _MIN_EXPONENT)
+
+
+def _quanta(exponents: np.ndarray) -> list[np.ndarray]:
+    e = np.asarray(exponents, dtype=np.int64)
+    return [np.ldexp(1.0, e - _LIMB_BITS * (k + 1)) for k in range(_N_LIMBS)]
+
+
+def to_limbs(values, exponents) -> np.ndarray:
+    """Split values exactly into integer multiples of fixed powers of two.
+
+    With ``q_k = 2**(E - 31 k)`` (``E`` the column's exponent from
+    :func:`scale_exponents`), ``u = a_1 q_1 + a_2 q_2 + a_3 q_3 + r`` with
+    integers ``|a_k| <= 2**31`` (truncated towards zero, so every step is
+    exact in floating point) and a remainder ``|r| < 2**(E - 93)`` that is
+    dropped. Integer limbs add up exactly and in any order, so a sum of
+    values held as limbs does not depend on how it was split.
+
+    Parameters
+    ----------
+    values : array-like of shape (n, n_dims)
+        Values with ``|u| <= 2**E`` per column.
+    exponents : array-like of shape (n_dims,)
+
+    Returns
+    -------
+    limbs : ndarray of shape (3, n, n_dims), dtype int64
+
+    Examples
+    --------
+    >>> L = to_limbs([[0.5], [0.25]], [0])
+    >>> L[:, :, 0]
+    array([[1073741824,  536870912],
+           [         0,          0],
+           [         0,          0]])
+    >>> from_limbs(L.sum(axis=1), [0])
+    array([0.75])
+    """
+    r = np.asarray(values, dtype=np.float64)
+    out = np.empty((_N_LIMBS, *r.shape), dtype=np.int64)
+    for k, q in enumerate(_quanta(exponents)):
+        a = np.trunc(r / q)
+        out[k] = a
+        r = r - a * q
+    return out
+
+
+def from_limbs(limbs, exponents) -> np.ndarray:
+    """The float value of summed limbs (``sum_k a_k q_k``, in a fixed order).
+
+    Parameters
+    ----------
+    limbs : array-like of shape (3, ..., n_dims), integer
+    exponents : array-like of shape (n_dims,)
+
+    Returns
+    -------
+    values : ndarray of shape (..., n_dims)
+    """
+    L = np.asarray(limbs)
+    q = _quanta(exponents)
+    out = L[0].astype(np.float64) * q[0]
+    for k in range(1, _N_LIMBS):
+        out = out + L[k].astype(np.float64) * q[k]
+    return out
+
+
+# ----------------------------------------------------------------- templates
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+
+
+def _splitmix64(z: np.ndarray) -> np.ndarray:
+    with np.errstate(over="ignore"):
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+def seed_word(random_state) -> np.uint64:
+    """One 64-bit word from ``random_state`` (None, an int >= 0 or a Generator).
+
+    ``None`` draws fresh entropy from the operating system; an int is mixed
+    by :class:`numpy.random.SeedSequence`; a Generator gives one draw.
+    """
+    if random_state is None:
+        seq = np.random.SeedSequence()
+    elif isinstance(random_state, np.random.Generator):
+        seq = np.random.SeedSequence(int(random_state.integers(0, 2**63)))
+    elif isinstance(random_state, (int, np.integer)) and not isinstance(
+        random_state, bool
+    ):
+        if random_state < 0:
+            raise ValidationError(f"random_state must be >= 0; got {random_state}")
+        seq = np.random.SeedSequence(int(random_state))
+    else:
+        raise ValidationError(
+            "random_state must be None, an int >= 0 or a numpy Generator; got"
+            f" {random_state!r}"
+        )
+    return seq.generate_state(1, np.uint64)[0]
+
+
+def template_keys(word, indices) -> np.ndarray:
+    """Key of each demonstration index: ``splitmix64(word + (i + 1) * golden)``.
+
+    Parameters
+    ----------
+    word : int
+        The seed word (see :func:`seed_word`).
+    indices : array-like of int
+        Demonstration indices.
+
+    Returns
+    -------
+    keys : ndarray, dtype uint64
+
+    Examples
+    --------
+    >>> template_keys(0, [0, 1])
+    array([16294208416658607535,  7960286522194355700], dtype=uint64)
+    """
+    i = np.asarray(indices, dtype=np.uint64)
+    with np.errstate(over="ignore"):
+        z = np.uint64(word) + (i + np.uint64(1)) * _GOLDEN
+    return _splitmix64(z)
+
+
+def template_mask(n_demos: int, max_templates: int | None, random_state) -> np.ndarray:
+    """Which demonstrations are kept whole for the blended generation.
+
+    All of them when ``n_demos <= max_templates`` (or ``max_templates`` is
+    None); otherwise the ``max_templates`` whose :func:`template_keys` are the
+    smallest (ties by index). The choice depends on ``random_state`` and each
+    demonstration's index only, not on how the demonstrations are split.
+
+    Parameters
+    ----------
+    n_demos : int
+    max_templates : int or None
+    random_state : None, int or Generator
+
+    Returns
+    -------
+    mask : ndarray of shape (n_demos,), dtype bool
+
+    Examples
+    --------
+    >>> template_mask(3, 5, None)
+    array([ True,  True,  True])
+    >>> int(template_mask(1000, 10, 0).sum())
+    10
+    """
+    mask = np.ones(n_demos, dtype=bool)
+    if max_templates is None or n_demos <= max_templates:
+        return mask
+    keys = template_keys(seed_word(random_state), np.arange(n_demos))
+    order = np.lexsort((np.arange(n_demos), keys))
+    mask[:] = False
+    mask[order[:max_templates]] = True
+    return mask
+
+
+# ----------------------------------------------------------------- ragged helpers
+
+
+def _ragged_take(flat: np.ndarray, counts: np.ndarray, order: np.ndarray):
+    """Reorder the runs of a ragged array (run ``j`` has ``counts[j]`` rows)."""
+    if order is None:
+        return flat
+    if order.size == 0:
+        return flat[:0]
+    starts = np.cumsum(counts) - counts
+    c = counts[order]
+    new_starts = np.cumsum(c) - c
+    idx = np.repeat(starts[order] - new_starts, c) + np.arange(int(c.sum()))
+    return flat[idx]
+
+
+def _group_sum(states, counts, limbs):
+    """Sorted distinct states, their summed counts and summed limbs (exact)."""
+    order = np.argsort(states, kind="stable")
+    s = states[order]
+    if s.size == 0:
+        return s, counts[:0], limbs[:, :0]
+    new = np.empty(s.size, dtype=bool)
+    new[0] = True
+    np.not_equal(s[1:], s[:-1], out=new[1:])
+    starts = np.flatnonzero(new)
+    return (
+        s[starts],
+        np.add.reduceat(counts[order], starts),
+        np.add.reduceat(limbs[:, order], starts, axis=1),
+    )
+
+
+def _split(flat: np.ndarray, counts: np.ndarray) -> list[np.ndarray]:
+    return np.split(flat, np.cumsum(counts)[:-1]) if counts.size else []
+
+
+def _sorted_unique_index(index: np.ndarray, what: str) -> np.ndarray:
+    if np.all(index[1:] > index[:-1]):
+        return None  # already in order (the usual case): no reordering
+    order = np.argsort(index, kind="stable")
+    s = index[order]
+    dup = np.flatnonzero(s[1:] == s[:-1])
+    if dup.size:
+        raise ValidationError(
+            f"cannot merge statistics that both hold {what} {int(s[dup[0]])};"
+            " every demonstration must be counted once"
+        )
+    return order
+
+
+def _take(a: np.ndarray, order):
+    return a if order is None else a[order]
+
+
+# ----------------------------------------------------------------- pass 1
+
+
+@dataclass(frozen=True, eq=False)
+class RangeStats:
+    """Pass-1 statistics: per-column range and how many demonstrations per item.
+
+    Parameters
+    ----------
+    data_min, data_max : ndarray of shape (n_dims,)
+        Smallest and largest value of each column over the demonstrations.
+    n_samples : int
+        Rows seen.
+    items : ndarray of shape (n_items,), dtype int64
+        Indices of the input items (a demonstration or a file) seen, sorted.
+    demos_per_item : ndarray of shape (n_items,), dtype int64
+        How many demonstrations each item held (a file may hold several).
+
+    Examples
+    --------
+    >>> a = RangeStats.of(0, np.array([[0.0, 5.0], [1.0, 4.0]]))
+    >>> b = RangeStats.of(1, np.array([[-1.0, 9.0]]))
+    >>> ab = a + b
+    >>> ab.data_min, ab.data_max, ab.n_samples, ab.n_demos
+    (array([-1.,  4.]), array([1., 9.]), 3, 2)
+    """
+
+    data_min: np.ndarray
+    data_max: np.ndarray
+    n_samples: int
+    items: np.ndarray
+    demos_per_item: np.ndarray
+
+    @classmethod
+    def of(cls, item: int, *arrays: np.ndarray) -> RangeStats:
+        """The statistics of the demonstrations (value arrays) of one item."""
+        if len(arrays) == 1:
+            lo, hi = arrays[0].min(axis=0), arrays[0].max(axis=0)
+        else:
+            lo = np.min([a.min(axis=0) for a in arrays], axis=0)
+            hi = np.max([a.max(axis=0) for a in arrays], axis=0)
+        return cls(
+            lo,
+            hi,
+            int(sum(a.shape[0] for a in arrays)),
+            np.array([item], dtype=np.int64),
+            np.array([len(arrays)], dtype=np.int64),
+        )
+
+    @property
+    def n_demos(self) -> int:
+        """Number of demonstrations seen."""
+        return int(self.demos_per_item.sum())
+
+    def merge(self, *others: RangeStats) -> RangeStats:
+        """The statistics of all demonstrations of ``self`` and ``others``."""
+        parts = (self, *others)
+        items = np.concatenate([p.items for p in parts])
+        order = _sorted_unique_index(items, "item")
+        return RangeStats(
+            np.min([p.data_min for p in parts], axis=0),
+            np.max([p.data_max for p in parts], axis=0),
+            sum(p.n_samples for p in parts),
+            _take(items, order),
+            _take(np.concatenate([p.demos_per_item for p in parts]), order),
+        )
+
+    __add__ = merge
+
+
+# ----------------------------------------------------------------- pass 2
+
+#: FitStats fields: name → (dtype, kind) where kind says what the first axis
+#: runs over: "demo" (one row per demonstration), "key" (one per key point),
+#: "state" (one per centroid state), "template" (one per template),
+#: "sample" (one per template sample), "limbs" (3, state, dim), "dim", "scalar".
+_FIELDS = {
+    "exponents": (np.int64, "dim"),
+    "demo_index": (np.int64, "demo"),
+    "n_samples": (np.int64, "demo"),
+    "n_keys": (np.int64, "demo"),
+    "first": (np.float64, "demo"),
+    "last": (np.float64, "demo"),
+    "keypoints": (np.int64, "key"),
+    "key_states": (np.int64, "key"),
+    "key_bins": (np.int64, "key"),
+    "centroid_states": (np.int64, "state"),
+    "centroid_counts": (np.int64, "state"),
+    "centroid_limbs": (np.int64, "limbs"),
+    "template_index": (np.int64, "template"),
+    "template_counts": (np.int64, "template"),
+    "template_values": (np.float64, "sample"),
+    "template_tau": (np.float64, "sample"),
+    "n_clipped": (np.int64, "scalar"),
+}
+
+
+class FitStats:
+    """The sufficient statistics of a KeypointHMM fit: small, mergeable, saveable.
+
+    One object holds, for a set of demonstrations (normalized with one fitted
+    scaler):
+
+    * per demonstration (in index order): its index, sample count, key-point
+      indices, the codebook state and time bin of each key point (the HMM
+      and the segment model are estimated from these), and its first and last
+      normalized sample (for start and goal conditioning);
+    * per codebook state: the exact sum (as integer limbs, :func:`to_limbs`)
+      and count of the normalized key-point values in it (the centroids);
+    * the full normalized values and normalized times of the demonstrations
+      that are blend templates only;
+    * the number of values the codebook clipped.
+
+    Its size grows with the number of key points, not of samples (plus the
+    templates). :meth:`merge` (or ``+``) is exact, associative and
+    commutative; it refuses to count a demonstration twice.
+    :meth:`to_arrays` / :meth:`from_arrays` give plain numeric arrays for an
+    ``.npz`` file.
+
+    Build one per demonstration with :meth:`of_demo`.
+
+    Examples
+    --------
+    >>> U = np.array([[0.0, 0.0], [0.5, 0.5], [1.0, 1.0]])
+    >>> tau = np.array([0.0, 0.5, 1.0])
+    >>> kw = dict(exponents=np.array([0, 0]), n_clipped=0)
+    >>> a = FitStats.of_demo(0, U, tau, np.array([0, 2]), np.array([0, 3]),
+    ...                      np.array([0, 1]), template=True, **kw)
+    >>> b = FitStats.of_demo(1, U[::-1], tau, np.array([0, 1, 2]),
+    ...                      np.array([3, 2, 0]), np.array([0, 0, 1]),
+    ...                      template=False, **kw)
+    >>> ab = a + b
+    >>> ab == b + a, ab.n_demos, ab.template_index
+    (True, 2, array([0]))
+    >>> states, centroids = ab.centroids()
+    >>> states, centroids
+    (array([0, 2, 3]), array([[0. , 0. ],
+           [0.5, 0.5],
+           [1. , 1. ]]))
+    >>> FitStats.from_arrays(ab.to_arrays()) == ab
+    True
+    """
+
+    __slots__ = tuple(_FIELDS)
+    __hash__ = None  # mutable arrays inside; compared by value
+
+    def __init__(self, **arrays) -> None:
+        missing = set(_FIELDS) - set(arrays)
+        extra = set(arrays) - set(_FIELDS)
+        if missing or extra:
+            raise ValidationError(
+                f"FitStats needs exactly the fields {', '.join(_FIELDS)}; missing"
+                f" {sorted(missing)}, unexpected {sorted(extra)}"
+            )
+        for name, (dtype, _) in _FIELDS.items():
+            object.__setattr__(self, name, np.asarray(arrays[name], dtype=dtype))
+
+    # ------------------------------------------------------------ building
+    @classmethod
+    def of_demo(
+        cls,
+        index: int,
+        values: np.ndarray,
+        tau: np.ndarray,
+        keypoints: np.ndarray,
+        key_states: np.ndarray,
+        key_bins: np.ndarray,
+        *,
+        exponents: np.ndarray,
+        n_clipped: int,
+        template: bool,
+    ) -> FitStats:
+        """The statistics of one demonstration.
+
+        Parameters
+        ----------
+        index : int
+            The demonstration's index in the training set.
+        values : ndarray of shape (n_samples, n_dims)
+            Its normalized (unweighted) values.
+        tau : ndarray of shape (n_samples,)
+            Its normalized times (0 to 1).
+        keypoints : ndarray of shape (n_keys,), dtype int64
+            Key-point indices.
+        key_states, key_bins : ndarray of shape (n_keys,), dtype int64
+            Codebook state and time bin of each key point.
+        exponents : ndarray of shape (n_dims,)
+            Scale exponents of the centroid sums (:func:`scale_exponents`),
+            the same for every demonstration of a fit.
+        n_clipped : int
+            Values the codebook clipped.
+        template : bool
+            Keep the full values and times (a blend template).
+
+        Returns
+        -------
+        stats : FitStats
+        """
+        values = np.asarray(values, dtype=np.float64)
+        n, d = values.shape
+        key_states = np.asarray(key_states, dtype=np.int64)
+        ids, counts, sums = _group_sum(
+            key_states,
+            np.ones(key_states.size, dtype=np.int64),
+            to_limbs(values[keypoints], exponents),
+        )
+        return cls(
+            exponents=exponents,
+            demo_index=[index],
+            n_samples=[n],
+            n_keys=[keypoints.size],
+            first=values[:1],
+            last=values[-1:],
+            keypoints=keypoints,
+            key_states=key_states,
+            key_bins=key_bins,
+            centroid_states=ids,
+            centroid_counts=counts,
+            centroid_limbs=sums,
+            template_index=[index] if template else np.zeros(0),
+            template_counts=[n] if template else np.zeros(0),
+            template_values=values if template else np.zeros((0, d)),
+            template_tau=tau if template else np.zeros(0),
+            n_clipped=n_clipped,
+        )
+
+    # ------------------------------------------------------------ reading
+    @property
+    def n_demos(self) -> int:
+        """Number of demonstrations counted."""
+        return int(self.demo_index.size)
+
+    @property
+    def n_dims(self) -> int:
+        """Number of columns."""
+        return int(self.exponents.size)
+
+    def keypoint_lists(self):
+        """Per demonstration: key-point indices, key states, key bins (lists)."""
+        return (
+            _split(self.keypoints, self.n_keys),
+            _split(self.key_states, self.n_keys),
+            _split(self.key_bins, self.n_keys),
+        )
+
+    def templates(self):
+        """Per template: normalized values and normalized times (lists)."""
+        return (
+            _split(self.template_values, self.template_counts),
+            _split(self.template_tau, self.template_counts),
+        )
+
+    def centroids(self) -> tuple[np.ndarray, np.ndarray]:
+        """Sorted states and the mean normalized key-point value in each.
+
+        Returns
+        -------
+        states : ndarray of shape (n_states_seen,), dtype int64
+        centroids : ndarray of shape (n_states_seen, n_dims)
+        """
+        sums = from_limbs(self.centroid_limbs, self.exponents)
+        return self.centroid_states, sums / self.centroid_counts[:, None]
+
+    # ------------------------------------------------------------ merging
+    def merge(self, *others: FitStats) -> FitStats:
+        """The statistics of the demonstrations of ``self`` and all ``others``.
+
+        Exact: associative and commutative, whatever the grouping.
+
+        Raises
+        ------
+        ValidationError
+            Statistics of other columns or scales, or a demonstration counted
+            in two of them.
+        """
+        parts = (self, *others)
+        for k, p in enumerate(parts[1:], start=1):
+            if not isinstance(p, FitStats):
+                raise ValidationError(
+                    f"can only merge FitStats; got {type(p).__name__} at {k}"
+                )
+            if not np.array_equal(p.exponents, self.exponents):
+                raise ValidationError(
+                    "cannot merge statistics of different fits (columns or scales"
+                    f" differ: {self.exponents.tolist()} and {p.exponents.tolist()})"
+                )
+        cat = np.concatenate
+        index = cat([p.demo_index for p in parts])
+        order = _sorted_unique_index(index, "demonstration")
+        n_keys = cat([p.n_keys for p in parts])
+        t_index = cat([p.template_index for p in parts])
+        t_order = _sorted_unique_index(t_index, "template")
+        t_counts = cat([p.template_counts for p in parts])
+        ids, counts, sums = _group_sum(
+            cat([p.centroid_states for p in parts]),
+            cat([p.centroid_counts for p in parts]),
+            cat([p.centroid_limbs for p in parts], axis=1),
+        )
+        if counts.size and counts.max() >= 2**_LIMB_BITS:
+            raise ValidationError(
+                f"a codebook state holds {int(counts.max())} key points, more than"
+                f" the {2**_LIMB_BITS} the exact centroid sums allow"
+            )
+        return FitStats(
+            exponents=self.exponents,
+            demo_index=_take(index, order),
+            n_samples=_take(cat([p.n_samples for p in parts]), order),
+            n_keys=_take(n_keys, order),
+            first=_take(cat([p.first for p in parts]), order),
+            last=_take(cat([p.last for p in parts]), order),
+            keypoints=_ragged_take(cat([p.keypoints for p in parts]), n_keys, order),
+            key_states=_ragged_take(cat([p.key_states for p in parts]), n_keys, order),
+            key_bins=_ragged_take(cat([p.key_bins for p in parts]), n_keys, order),
+            centroid_states=ids,
+            centroid_counts=counts,
+            centroid_limbs=sums,
+            template_index=_take(t_index, t_order),
+            template_counts=_take(t_counts, t_order),
+            template_values=_ragged_take(
+                cat([p.template_values for p in parts]), t_counts, t_order
+            ),
+            template_tau=_ragged_take(
+                cat([p.template_tau for p in parts]), t_counts, t_order
+            ),
+            n_clipped=int(sum(int(p.n_clipped) for p in parts)),
+        )
+
+    __add__ = merge
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, FitStats):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, k), getattr(other, k)) for k in _FIELDS)
+
+    def __repr__(self) -> str:
+        return (
+            f"FitStats(n_demos={self.n_demos}, n_keys={int(self.n_keys.sum())},"
+            f" n_states={self.centroid_states.size},"
+            f" n_templates={self.template_index.size}, n_dims={self.n_dims})"
+        )
+
+    # ------------------------------------------------------------ arrays
+    def to_arrays(self, prefix: str = "") -> dict[str, np.ndarray]:
+        """The statistics as plain numeric arrays (for an ``.npz`` file).
+
+        Parameters
+        ----------
+        prefix : str, default=""
+            Prepended to every key.
+
+        Returns
+        -------
+        arrays : dict of str to ndarray
+        """
+        return {prefix + k: getattr(self, k).copy() for k in _FIELDS}
+
+    @classmethod
+    def from_arrays(cls, arrays, prefix: str = "") -> FitStats:
+        """Rebuild statistics from :meth:`to_arrays` output, checking every array.
+
+        Parameters
+        ----------
+        arrays : mapping of str to ndarray
+            May hold other keys; only those starting with ``prefix`` are read.
+        prefix : str, default=""
+
+        Returns
+        -------
+        stats : FitStats
+
+        Raises
+        ------
+        ModelFormatError
+            A missing array, a wrong dtype or shape, or arrays that disagree.
+        """
+        got = {}
+        for k, (dtype, _) in _FIELDS.items():
+            if prefix + k not in arrays:
+                raise ModelFormatError(f"fit statistics lack the array {prefix + k!r}")
+            a = np.asarray(arrays[prefix + k])
+            kinds = ("i", "u") if dtype is np.int64 else ("f",)
+            if a.dtype.kind not in kinds:
+                raise ModelFormatError(
+                    f"fit statistics array {prefix + k!r} has dtype {a.dtype};"
+                    f" expected {np.dtype(dtype)}"
+                )
+            got[k] = a.astype(dtype)
+        _check_consistent(got)
+        return cls(**got)
+
+
+def _check_consistent(a: dict) -> None:
+    d = a["exponents"].shape[0] if a["exponents"].ndim == 1 else -1
+    n = a["demo_index"].shape[0] if a["demo_index"].ndim == 1 else -1
+    s = a["centroid_states"].shape[0] if a["centroid_states"].ndim == 1 else -1
+    t = a["template_index"].shape[0] if a["template_index"].ndim == 1 else -1
+    n_key = int(a["n_keys"].sum()) if a["n_keys"].ndim == 1 else -1
+    n_smp = int(a["template_counts"].sum()) if a["template_counts"].ndim == 1 else -1
+    want = {
+        "dim": (d,),
+        "demo": (n,),
+        "key": (n_key,),
+        "state": (s,),
+        "template": (t,),
+        "sample": (n_smp,),
+        "limbs": (_N_LIMBS, s, d),
+        "scalar": (),
+    }
+    problems = []
+    for k, (_, kind) in _FIELDS.items():
+        shape = want[kind]
+        if k in ("first", "last"):
+            shape = (n, d)
+        elif k == "template_values":
+            shape = (n_smp, d)
+        if min(shape, default=0) < 0 or a[k].shape != shape:
+            problems.append(f"{k} has shape {a[k].shape}, expected {shape}")
+    if not problems:
+        floats = ("first", "last", "template_values", "template_tau")
+        if not all(np.all(np.isfinite(a[k])) for k in floats):
+            problems.append("non-finite values")
+        if np.any(np.diff(a["demo_index"]) <= 0) or np.any(
+            np.diff(a["template_index"]) <= 0
+        ):
+            problems.append("indices not strictly increasing")
+        if np.any(np.diff(a["centroid_states"]) <= 0):
+            problems.append("centroid states not strictly increasing")
+        if np.any(a["centroid_counts"] < 1) or np.any(a["n_keys"] < 1):
+            problems.append("empty counts")
+        elif int(a["centroid_counts"].sum()) != n_key:
+            problems.append("centroid counts do not add up to the key points")
+        elif not np.array_equal(np.unique(a["key_states"]), a["centroid_states"]):
+            problems.append("centroid states are not the key points' states")
+        starts = np.cumsum(a["n_keys"]) - a["n_keys"]
+        k_demo = np.repeat(a["n_samples"], a["n_keys"])
+        if np.any(a["keypoints"] < 0) or np.any(a["keypoints"] >= k_demo):
+            problems.append("key points out of range")
+        elif n and (
+            np.any(a["keypoints"][starts] != 0)
+            or np.any(a["key_bins"] < 0)
+            or np.any(a["key_states"] < 0)
+        ):
+            problems.append("key points do not start at sample 0")
+        if not np.all(np.isin(a["template_index"], a["demo_index"])):
+            problems.append("a template is not one of the demonstrations")
+    if problems:
+        raise ModelFormatError(
+            "inconsistent fit statistics (tampered file?): " + "; ".join(problems)
+        )
+
+
+# ----------------------------------------------------------------- map and reduce
+
+
+class _Tree:
+    """Merge results as they come, pairwise by level (a binary-counter tree)."""
+
+    def __init__(self) -> None:
+        self._stack: list[tuple[int, object]] = []
+
+    def push(self, item) -> None:
+        level = 0
+        while self._stack and self._stack[-1][0] == level:
+            _, other = self._stack.pop()
+            item = other.merge(item)
+            level += 1
+        self._stack.append((level, item))
+
+    def result(self):
+        if not self._stack:
+            return None
+        items = [x for _, x in self._stack]
+        return items[0].merge(*items[1:]) if len(items) > 1 else items[0]
+
+
+def _chunks(units: Iterable, size: int) -> Iterator[list]:
+    chunk = []
+    for u in units:
+        chunk.append(u)
+        if len(chunk) >= size:
+            yield chunk
+            chunk = []
+    if chunk:
+        yield chunk
+
+
+class _NoBar:
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def update(self, n: int) -> None:
+        return None
+
+
+def progress_bar(progress, total, desc: str):
+    """A tqdm bar: always (True), never (False), or on a terminal after 1 s (None)."""
+    if progress is False or (progress is None and not _stderr_is_terminal()):
+        return _NoBar()
+    from tqdm import tqdm
+
+    delay = 1.0 if progress is None else 0.0
+    return tqdm(total=total, desc=desc, unit="demo", leave=False, delay=delay)
+
+
+def _stderr_is_terminal() -> bool:
+    try:
+        return sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        return False
+
+
+def require_distributed():
+    """Import :mod:`distributed` or say how to install it."""
+    try:
+        import distributed
+    except ImportError:
+        raise MissingExtraError(
+            "fitting on Dask needs dask and distributed; install them with: pip"
+            ' install "ndlfd[dask]"'
+        ) from None
+    return distributed
+
+
+def check_client(client):
+    """A :class:`distributed.Client` (``True``: the current default client)."""
+    distributed = require_distributed()
+    if client is True:
+        try:
+            return distributed.get_client()
+        except ValueError:
+            raise ValidationError(
+                "client=True uses the running Dask client, but there is none;"
+                " start one with distributed.Client(...) or pass it"
+            ) from None
+    if not isinstance(client, distributed.Client):
+        raise ValidationError(
+            "client must be a distributed.Client (or True); got"
+            f" {type(client).__name__}"
+        )
+    return client
+
+
+def _merge2(a, b):
+    return a.merge(b)
+
+
+def map_reduce(
+    fn: Callable,
+    spec,
+    units: Iterable,
+    *,
+    total: int | None = None,
+    n_jobs: int | None = None,
+    client=None,
+    progress=None,
+    desc: str = "",
+    chunk_size: int | None = None,
+):
+    """``fn(spec, chunk)`` over chunks of work units, results merged exactly.
+
+    Parameters
+    ----------
+    fn : callable
+        A module-level function ``(spec, list of units) -> stats`` where
+        ``stats`` has ``merge``. It must not submit to the thread pool.
+    spec : object
+        Passed to every call (sent once to the Dask cluster).
+    units : iterable
+        The work units, consumed once and lazily: at most a few chunks per
+        worker are in flight, so an out-of-core source is never held whole.
+    total : int, optional
+        Number of units, for the progress bar and the chunk size.
+    n_jobs : int, optional
+        Local threads (``None``: one per CPU). Ignored with ``client``.
+    client : distributed.Client, optional
+        Run the chunks as Dask tasks and merge them on the workers (a tree
+        reduction); only the result comes back.
+    progress : bool or None
+        See :func:`progress_bar`.
+    desc : str
+        Progress bar label.
+    chunk_size : int, optional
+        Units per task; by default about four tasks per worker, at most 256
+        units (64 locally).
+
+    Returns
+    -------
+    stats
+        The merged result, or None if there were no units.
+    """
+    if client is not None:
+        workers = max(sum(client.nthreads().values()), 1)
+        cap = 256
+    else:
+        workers = n_jobs if n_jobs is not None else (os.cpu_count() or 1)
+        cap = 64
+    if chunk_size is None and workers <= 1:
+        chunk_size = cap  # serial: no balancing needed, fewest merges
+    elif chunk_size is None:
+        chunk_size = cap if total is None else -(-total // (4 * workers))
+        chunk_size = int(min(max(chunk_size, 1), cap))
+    chunks = _chunks(units, chunk_size)
+    with progress_bar(progress, total, desc) as bar:
+        if client is not None:
+            return _run_dask(fn, spec, chunks, client, workers, bar)
+        return _run_local(fn, spec, chunks, workers, bar)
+
+
+def _run_local(fn, spec, chunks, workers, bar):
+    tree = _Tree()
+    if workers <= 1:
+        for chunk in chunks:
+            n = len(chunk)
+            tree.push(fn(spec, chunk))
+            del chunk  # not held while the next chunk is read
+            bar.update(n)
+        return tree.result()
+    from ._simplify import _pool
+
+    pool = _pool(workers)
+    window: deque = deque()
+    try:
+        for chunk in chunks:
+            window.append((pool.submit(fn, spec, chunk), len(chunk)))
+            while len(window) >= 2 * workers:
+                fut, n = window.popleft()
+                tree.push(fut.result())
+                bar.update(n)
+        while window:
+            fut, n = window.popleft()
+            tree.push(fut.result())
+            bar.update(n)
+    finally:
+        for fut, _ in window:
+            fut.cancel()
+    return tree.result()
+
+
+def _run_dask(fn, spec, chunks, client, workers, bar):
+    distributed = require_distributed()
+    spec_f = client.scatter(spec, broadcast=True, hash=False)
+    done = distributed.as_completed()
+    sizes: dict = {}
+    live: set = set()
+    ready: list = []
+
+    def settle(fut):
+        live.discard(fut)
+        if fut.status != "finished":
+            fut.result()  # raises the task's error on this side
+            raise RuntimeError(f"Dask task {fut.key} ended as {fut.status}")
+        bar.update(sizes.pop(fut.key, 0))
+        if ready:
+            merged = client.submit(_merge2, ready.pop(), fut, pure=False)
+            live.add(merged)
+            done.add(merged)
+        else:
+            ready.append(fut)
+
+    try:
+        for chunk in chunks:
+            fut = client.submit(fn, spec_f, chunk, pure=False)
+            sizes[fut.key] = len(chunk)
+            live.add(fut)
+            done.add(fut)
+            while len(live) >= 2 * workers:
+                settle(next(done))
+        while live:
+            settle(next(done))
+        return ready[0].result() if ready else None
+    finally:
+        for fut in (*live, *ready):
+            fut.cancel()
+        spec_f.cancel()

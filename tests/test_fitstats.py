@@ -1,0 +1,299 @@
+"""Fit statistics: exact sums, exact merges, the template choice, map and reduce."""
+
+import threading
+from collections import Counter
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ndlfd import ModelFormatError, ValidationError, hmm
+from ndlfd._fitstats import (
+    FitStats,
+    RangeStats,
+    from_limbs,
+    map_reduce,
+    scale_exponents,
+    template_keys,
+    template_mask,
+    to_limbs,
+)
+
+# -- exact sums --------------------------------------------------------------------
+
+finite = st.floats(-1.0, 1.0, allow_nan=False, allow_subnormal=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(finite, min_size=1, max_size=40),
+    st.integers(-3, 3),
+    st.randoms(use_true_random=False),
+)
+def test_limb_sums_are_exact_whatever_the_order(values, shift, rnd):
+    scale = 2.0**shift
+    u = np.array(values)[:, None] * scale
+    E = scale_exponents(np.abs(u).max(axis=0))
+    assert np.all(np.abs(u) <= np.ldexp(1.0, E))
+    L = to_limbs(u, E)
+    assert np.all(np.abs(L) <= 2**31)
+    total = L.sum(axis=1)
+    # any order and grouping of the integer sums gives the same limbs
+    perm = list(range(len(values)))
+    rnd.shuffle(perm)
+    cut = rnd.randint(0, len(values))
+    a = L[:, perm[:cut]].sum(axis=1)
+    b = L[:, perm[cut:]].sum(axis=1)
+    np.testing.assert_array_equal(a + b, total)
+    # and the value is the exact sum up to rounding and the dropped remainders
+    exact = sum(Fraction(float(x)) for x in u[:, 0])
+    got = Fraction(float(from_limbs(total, E)[0]))
+    bound = Fraction(2.0**-52) * sum(abs(Fraction(float(x))) for x in u[:, 0])
+    bound += len(values) * Fraction(np.ldexp(1.0, int(E[0]) - 93))
+    assert abs(got - exact) <= bound
+
+
+def test_limbs_hand_worked():
+    # E = 0: q = 2**-31, 2**-62, 2**-93; 0.75 = 1610612736 q1; -2**-40 = -2**22 q2
+    L = to_limbs(np.array([[0.75], [-(2.0**-40)]]), np.array([0]))
+    np.testing.assert_array_equal(L[:, :, 0], [[1610612736, 0], [0, -(2**22)], [0, 0]])
+    assert from_limbs(L.sum(axis=1), [0])[0] == 0.75 - 2.0**-40
+    np.testing.assert_array_equal(scale_exponents([0.5, 0.51, 1.0, 2.0**-1000]),
+                                  [0, 0, 1, -900])  # fmt: skip
+
+
+# -- FitStats ----------------------------------------------------------------------
+
+
+def _demo_stats(j, rng, d=2, n_states=6, template=True):
+    """Statistics of one random demonstration (and its raw pieces)."""
+    n = int(rng.integers(2, 12))
+    U = rng.uniform(-0.1, 1.1, (n, d))
+    tau = np.linspace(0.0, 1.0, n)
+    k = int(rng.integers(1, n + 1))
+    idx = np.unique(np.r_[0, np.sort(rng.choice(n, k, replace=False))])
+    states = rng.integers(0, n_states, idx.size)
+    bins = np.sort(rng.integers(0, 5, idx.size))
+    E = scale_exponents(np.full(d, 1.1))
+    s = FitStats.of_demo(j, U, tau, idx, states, bins, exponents=E,
+                         n_clipped=int(j % 3), template=template)  # fmt: skip
+    return s, (U, tau, idx, states, bins)
+
+
+@pytest.fixture(scope="module")
+def per_demo():
+    rng = np.random.default_rng(5)
+    return [_demo_stats(j, rng, template=j % 2 == 0) for j in range(9)]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.data())
+def test_merge_over_any_partition_and_tree_equals_all_at_once(per_demo, data):
+    stats = [s for s, _ in per_demo]
+    everything = stats[0].merge(*stats[1:])
+    # a random partition into parts, each merged in a random order ...
+    labels = data.draw(st.lists(st.integers(0, 3), min_size=9, max_size=9))
+    parts = []
+    for lab in sorted(set(labels)):
+        members = [s for s, g in zip(stats, labels, strict=True) if g == lab]
+        members = data.draw(st.permutations(members))
+        parts.append(members[0].merge(*members[1:]))
+    # ... and the parts merged pairwise in a random tree
+    while len(parts) > 1:
+        i = data.draw(st.integers(0, len(parts) - 2))
+        a, b = parts.pop(i), parts.pop(i)
+        parts.insert(i, b + a if data.draw(st.booleans()) else a + b)
+    assert parts[0] == everything
+
+
+def test_merged_statistics_against_plain_references(per_demo):
+    stats = [s for s, _ in per_demo]
+    raw = [r for _, r in per_demo]
+    m = stats[4].merge(*stats[:4], *stats[5:])  # not in index order
+    np.testing.assert_array_equal(m.demo_index, np.arange(9))
+    kp, ks, kb = m.keypoint_lists()
+    for j, (U, _tau, idx, states, bins) in enumerate(raw):
+        np.testing.assert_array_equal(kp[j], idx)
+        np.testing.assert_array_equal(ks[j], states)
+        np.testing.assert_array_equal(kb[j], bins)
+        np.testing.assert_array_equal(m.first[j], U[0])
+        np.testing.assert_array_equal(m.last[j], U[-1])
+    # templates: the even demonstrations, whole, in order
+    np.testing.assert_array_equal(m.template_index, [0, 2, 4, 6, 8])
+    values, taus = m.templates()
+    for v, t, j in zip(values, taus, m.template_index, strict=True):
+        np.testing.assert_array_equal(v, raw[j][0])
+        np.testing.assert_array_equal(t, raw[j][1])
+    # centroids: the mean of the key-point values in each state (exact sums)
+    groups: dict = {}
+    for U, _, idx, states, _ in raw:
+        for row, s in zip(U[idx], states, strict=True):
+            groups.setdefault(int(s), []).append(row)
+    ids, C = m.centroids()
+    assert ids.tolist() == sorted(groups)
+    assert m.centroid_counts.tolist() == [len(groups[s]) for s in sorted(groups)]
+    for s, c in zip(ids, C, strict=True):
+        exact = [sum(Fraction(float(r[k])) for r in groups[s]) for k in range(2)]
+        ref = [float(x / len(groups[s])) for x in exact]
+        np.testing.assert_allclose(c, ref, rtol=4e-16, atol=1e-300)
+    assert m.n_clipped == sum(j % 3 for j in range(9))
+    # the HMM of the merged sequences is hmm.merge of the parts' HMMs
+    a = stats[0].merge(*stats[1:5])
+    b = stats[5].merge(*stats[6:])
+    est = [hmm.estimate(list(x.keypoint_lists()[1]), list(x.keypoint_lists()[2]), 6, 5)
+           for x in (a, b, m)]  # fmt: skip
+    merged = hmm.merge(est[:2])
+    for k, v in est[2].to_arrays().items():
+        np.testing.assert_array_equal(merged.to_arrays()[k], v, err_msg=k)
+
+
+def test_merge_refuses_double_counting_and_other_fits(per_demo):
+    s0, s1 = per_demo[0][0], per_demo[1][0]
+    with pytest.raises(ValidationError, match="both hold demonstration 0"):
+        s0.merge(s1, s0)
+    rng = np.random.default_rng(0)
+    other, _ = _demo_stats(5, rng, d=3)
+    with pytest.raises(ValidationError, match="different fits"):
+        s0 + other
+    with pytest.raises(ValidationError, match="only merge FitStats"):
+        s0.merge(RangeStats.of(0, np.zeros((2, 2))))
+
+
+def test_arrays_round_trip_and_tampering(per_demo):
+    m = per_demo[0][0].merge(*[s for s, _ in per_demo[1:]])
+    arrays = m.to_arrays(prefix="stats_")
+    assert all(a.dtype != object for a in arrays.values())
+    assert FitStats.from_arrays(arrays, prefix="stats_") == m
+    bad = dict(arrays, stats_keypoints=arrays["stats_keypoints"][:-1])
+    with pytest.raises(ModelFormatError, match="keypoints has shape"):
+        FitStats.from_arrays(bad, prefix="stats_")
+    bad = dict(arrays, stats_centroid_counts=arrays["stats_centroid_counts"] + 1)
+    with pytest.raises(ModelFormatError, match="do not add up"):
+        FitStats.from_arrays(bad, prefix="stats_")
+    bad = dict(arrays, stats_keypoints=arrays["stats_keypoints"] + 100)
+    with pytest.raises(ModelFormatError, match="out of range"):
+        FitStats.from_arrays(bad, prefix="stats_")
+    bad = dict(arrays)
+    del bad["stats_first"]
+    with pytest.raises(ModelFormatError, match="stats_first"):
+        FitStats.from_arrays(bad, prefix="stats_")
+    bad = dict(arrays, stats_first=arrays["stats_first"].astype(str))
+    with pytest.raises(ModelFormatError, match="dtype"):
+        FitStats.from_arrays(bad, prefix="stats_")
+
+
+def test_range_stats_against_numpy():
+    rng = np.random.default_rng(1)
+    arrays = [rng.normal(size=(int(rng.integers(1, 9)), 3)) for _ in range(7)]
+    parts = [RangeStats.of(0, *arrays[:2])] + [
+        RangeStats.of(i, a) for i, a in enumerate(arrays[2:], start=1)
+    ]
+    r = parts[3].merge(*parts[:3], *parts[4:])
+    allX = np.vstack(arrays)
+    np.testing.assert_array_equal(r.data_min, allX.min(axis=0))
+    np.testing.assert_array_equal(r.data_max, allX.max(axis=0))
+    assert r.n_samples == allX.shape[0] and r.n_demos == 7
+    np.testing.assert_array_equal(r.items, np.arange(6))
+    np.testing.assert_array_equal(r.demos_per_item, [2, 1, 1, 1, 1, 1])
+
+
+# -- templates ---------------------------------------------------------------------
+
+
+def _splitmix64_reference(x: int) -> int:
+    """splitmix64's output function with plain Python integers (mod 2**64)."""
+    mask = 2**64 - 1
+    z = x & mask
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & mask
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & mask
+    return z ^ (z >> 31)
+
+
+def test_template_keys_and_choice_against_a_plain_reference():
+    word = 123456789123456789
+    keys = template_keys(word, np.arange(50))
+    ref = [
+        _splitmix64_reference(word + (i + 1) * 0x9E3779B97F4A7C15) for i in range(50)
+    ]
+    assert [int(k) for k in keys] == ref
+    # the first value of splitmix64 seeded with 0 (Vigna's reference output)
+    assert int(template_keys(0, [0])[0]) == 0xE220A8397B1DCDAF
+    mask = template_mask(50, 7, 3)
+    words = np.random.SeedSequence(3).generate_state(1, np.uint64)
+    ref = [_splitmix64_reference(int(words[0]) + (i + 1) * 0x9E3779B97F4A7C15)
+           for i in range(50)]  # fmt: skip
+    assert np.flatnonzero(mask).tolist() == sorted(np.argsort(ref)[:7].tolist())
+    np.testing.assert_array_equal(template_mask(50, 7, 3), mask)  # reproducible
+    assert not np.array_equal(template_mask(50, 7, 4), mask)
+    assert template_mask(7, 7, None).all() and template_mask(9, None, 0).all()
+    # fresh entropy for None, one draw of a Generator
+    assert template_mask(50, 7, None).sum() == 7
+    g1, g2 = np.random.default_rng(8), np.random.default_rng(8)
+    np.testing.assert_array_equal(template_mask(50, 7, g1), template_mask(50, 7, g2))
+    with pytest.raises(ValidationError, match="random_state"):
+        template_mask(50, 7, "seed")
+    with pytest.raises(ValidationError, match=">= 0"):
+        template_mask(50, 7, -1)
+
+
+def test_template_choice_spreads_over_the_indices():
+    # 2,000 demonstrations, 200 templates: about 20 in each tenth of the indices
+    chosen = np.flatnonzero(template_mask(2000, 200, 0))
+    per_tenth = np.bincount(chosen // 200, minlength=10)
+    assert per_tenth.min() >= 8 and per_tenth.max() <= 35
+
+
+# -- map and reduce ----------------------------------------------------------------
+
+
+def _count_chunk(spec, chunk):
+    if any(u == spec for u in chunk):
+        raise ValidationError(f"unit {spec} is bad")
+    return RangeStats(
+        np.zeros(1), np.zeros(1), len(chunk),
+        np.array(chunk, dtype=np.int64), np.ones(len(chunk), dtype=np.int64),
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("n_jobs", [1, 3])
+@pytest.mark.parametrize("chunk_size", [None, 1, 7])
+def test_map_reduce_sees_every_unit_once(n_jobs, chunk_size):
+    seen_threads = set()
+
+    def units():
+        for i in range(100):
+            seen_threads.add(threading.get_ident())
+            yield i
+
+    r = map_reduce(_count_chunk, -1, units(), total=100, n_jobs=n_jobs,
+                   chunk_size=chunk_size, progress=False)  # fmt: skip
+    np.testing.assert_array_equal(r.items, np.arange(100))
+    assert r.n_samples == 100
+    assert seen_threads == {threading.get_ident()}  # consumed in the caller
+    assert map_reduce(_count_chunk, -1, iter(()), n_jobs=n_jobs) is None
+
+
+@pytest.mark.parametrize("n_jobs", [1, 3])
+def test_map_reduce_raises_the_failing_units_error(n_jobs):
+    with pytest.raises(ValidationError, match="unit 57 is bad"):
+        map_reduce(_count_chunk, 57, range(100), total=100, n_jobs=n_jobs,
+                   chunk_size=4, progress=False)  # fmt: skip
+
+
+def test_progress_bar_when_asked(capsys):
+    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=True,
+               desc="counting")  # fmt: skip
+    assert "counting" in capsys.readouterr().err
+    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=False,
+               desc="counting")  # fmt: skip
+    assert capsys.readouterr().err == ""
+
+
+def test_counter_reference_of_key_states(per_demo):
+    # centroid counts are plain counts of the key states
+    m = per_demo[0][0].merge(*[s for s, _ in per_demo[1:]])
+    c = Counter(int(s) for _, r in per_demo for s in r[3])
+    assert dict(zip(m.centroid_states.tolist(), m.centroid_counts.tolist(),
+                    strict=True)) == c  # fmt: skip
