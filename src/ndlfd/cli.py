@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import math
+import os
 import re
 import sys
 import warnings
@@ -144,6 +145,8 @@ def _check_output(path: str, flag: str = "-o") -> Path:
         )
     if not parent.is_dir():
         raise ValidationError(f"{flag} {path}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ValidationError(f"{flag} {path}: the folder {parent} is not writable")
     return p
 
 
@@ -224,7 +227,7 @@ def _describe_mappings(maps, n_files: int) -> str:
 
 def _read_sources(args, sources, *, flag: str, progress: bool = False):
     """Read demonstrations with the column options; report the mapping."""
-    from .io import CLI_HINTS, _read_file, demo_files
+    from .io import _CLI_HINTS, _read_file, demo_files
 
     options = _column_options(args)
     paths = demo_files(sources)
@@ -235,7 +238,7 @@ def _read_sources(args, sources, *, flag: str, progress: bool = False):
     pairs, news = [], []
     for p in paths_iter:
         with _noting(p, news):
-            pairs.extend(_read_file(p, CLI_HINTS, **options))
+            pairs.extend(_read_file(p, _CLI_HINTS, **options))
     _tell(news)
     if not pairs:
         raise ValidationError(f"{flag}: the files hold no demonstration")
@@ -338,7 +341,7 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
     from ._simplify import simplify
     from .demo import KNOWN_GROUPS
     from .io import (
-        CLI_HINTS,
+        _CLI_HINTS,
         TIME_NAMES,
         _layout,
         _parse_table,
@@ -409,7 +412,7 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
         groups=groups,
         drop=(),
         quaternion_order="wxyz",
-        how=CLI_HINTS,
+        how=_CLI_HINTS,
         lines=table.lines,
     )
     order = [k for _, keys in mapping.groups for k in keys]  # the demo's columns
@@ -891,7 +894,7 @@ def _add_generate(sub) -> None:
 def _cmd_plot(args: argparse.Namespace) -> int:
     from ._simplify import simplify_many
     from .demo import Demonstration
-    from .io import _MAPPING_DEFAULTS, CLI_HINTS, _parse_table, _read_file
+    from .io import _CLI_HINTS, _MAPPING_DEFAULTS, _parse_table, _read_file
     from .learner import KeypointHMM
     from .normalize import GroupScaler
     from .plot import (
@@ -941,15 +944,24 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     k = demos[0].columns_of(group).size
     path = S = None
     if args.path is not None:
-        pairs = _read_file(Path(args.path), CLI_HINTS, **_MAPPING_DEFAULTS)
+        pairs = _read_file(Path(args.path), _CLI_HINTS, **_MAPPING_DEFAULTS)
         path, path_map = pairs[0]
-        if len(pairs) != 1 or path.columns_of(group).size != k:
+        if (
+            len(pairs) != 1
+            or not path.has_group(group)
+            or (path.columns_of(group).size != k)
+        ):
             raise ValidationError(
                 f"--path {args.path} must be one path with the {k} {group}"
                 f" column(s) of the demonstrations; got {len(pairs)} path(s) with"
                 f" {', '.join(path.columns)}"
             )
     if args.std is not None:
+        if path_map.layout == "arrays" or path_map.layout == "ndlfd":
+            raise ValidationError(
+                f"--std goes with a CSV --path (as 'ndlfd generate' writes it); got"
+                f" {args.path}"
+            )
         header = _parse_table(Path(args.path)).columns
         table = _parse_table(Path(args.std))
         if table.columns != header or table.data.shape[0] != path.n_samples:

@@ -96,7 +96,7 @@ _LIBRARY_HINTS = {
     "drop": "drop",
     "drop_hint": "drop=[...]",
 }
-CLI_HINTS = {
+_CLI_HINTS = {
     "time": "--time-column",
     "time_hint": "name it with --time-column NAME",
     "groups": "--group",
@@ -207,12 +207,6 @@ def _parse_table(path) -> _Table:
         )
     data = np.array(rows, dtype=np.float64).reshape(len(rows), len(header))
     return _Table(header, data, np.array(lines, dtype=np.int64), delimiter)
-
-
-def _read_table_lines(path) -> tuple[list[str], np.ndarray, np.ndarray]:
-    """Parse a CSV table; also return the 1-based file line of each data row."""
-    table = _parse_table(path)
-    return table.columns, table.data, table.lines
 
 
 def _check_header(p: Path, header: list[str], lineno: int) -> None:
@@ -579,20 +573,6 @@ def _time_error(p, name, t, i, lines, layout) -> DataFileError:
         f"{p}: time {layout} {name!r} must be strictly increasing; got"
         f" {float(t[i])!r} at row {i} after {float(t[i - 1])!r} at row {i - 1}"
     )
-
-
-def _check_time_column(
-    p: Path, name: str, t: np.ndarray, lines: np.ndarray | None
-) -> None:
-    """Refuse a time column that repeats or decreases, naming the file's line.
-
-    Every reader of a time column (:func:`read_csv`, the array readers,
-    ``ndlfd simplify``) uses this, so they refuse the same files with the same
-    message.
-    """
-    bad = np.flatnonzero(~(np.diff(t) > 0))
-    if bad.size:
-        raise _time_error(p, name, t, int(bad[0]) + 1, lines, "array")
 
 
 def _is_data(a: np.ndarray) -> bool:
