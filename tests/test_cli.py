@@ -576,25 +576,31 @@ def _write_reach(folder, sep=",", names=("t", "x", "y", "z", "qw", "qx", "qy", "
 
 def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
     folder = _write_reach(tmp_path / "reach")
+    # by default every known group the files have is learned: orientation too
     rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd")
     assert rc == 0, err
     fitted = next(e for e in err if e.startswith("fitted"))
-    assert " on position, velocity (velocity derived from position):" in fitted
+    assert (
+        " on position, velocity, orientation (velocity derived from position):"
+        in fitted
+    )
+    assert not any(e.startswith("not learned") for e in err)
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    assert model.groups_ == ("position", "velocity", "orientation")
+    assert model.columns_[-4:] == ("qw", "qx", "qy", "qz")
+    # asked for fewer groups, the others are named with the flag to learn them
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd",
+                  "--groups", "position,velocity")  # fmt: skip
+    assert rc == 0, err
     assert err[-1] == (
         "not learned: orientation (in the files but not in --groups; learn it with"
         " --groups position,velocity,orientation)"
     )
     assert KeypointHMM.load(tmp_path / "m.ndlfd").groups_ == ("position", "velocity")
-    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd",
-                  "--groups", "position,velocity,orientation")  # fmt: skip
-    assert rc == 0, err
-    assert not any(e.startswith("not learned") for e in err)
-    model = KeypointHMM.load(tmp_path / "m.ndlfd")
-    assert model.groups_ == ("position", "velocity", "orientation")
-    assert model.columns_[-4:] == ("qw", "qx", "qy", "qz")
     rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "-q")
     assert rc == 0 and err == []
-    # two groups not learned, and fewer samples than the default time bins
+    # a group of the user's own is not learned by default, and fewer samples
+    # than the default time bins
     short = _write_reach(tmp_path / "short", demos=[
         (t[:30], np.column_stack([p[:30], p[:30, :1]]), q[:30])
         for t, p, q in _reach_demos()
@@ -606,8 +612,8 @@ def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
            " samples)" in err[1]  # fmt: skip
     assert KeypointHMM.load(tmp_path / "m.ndlfd").n_time_bins == 30
     assert err[2] == (
-        "not learned: grip, orientation (in the files but not in --groups; learn"
-        " them with --groups position,velocity,grip,orientation)"
+        "not learned: grip (in the files but not in --groups; learn it with"
+        " --groups position,velocity,orientation,grip)"
     )
 
 
@@ -729,7 +735,7 @@ def test_hdf5_without_h5py_says_how_to_install_it(tmp_path, capsys, monkeypatch)
          "velocity=10 (or one number for every group); got 'position=20,' (an empty"
          " entry: a trailing or doubled comma)"),
         (["--levels", "force=10"], "--levels names force, which is not learned; the"
-         " learned groups are position, velocity (--groups)"),
+         " learned groups are position, velocity, orientation (--groups)"),
         (["--groups", "position,grip", "--levels", "position=20"],
          "--levels must give the codebook levels of group 'grip', which has no"
          " default (e.g. --levels grip=10)"),

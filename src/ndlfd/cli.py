@@ -584,6 +584,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if args.time_bins is not None:
         _check_range(args.time_bins, "--time-bins", low=2)
     _check_range(args.pseudo_emission, "--pseudo-emission", low=0)
+    demos, maps = _read_sources(args, args.demos, flag="demos", progress=True)
+    if groups is None:  # the library's groups="auto", resolved here to report it
+        groups = list(KeypointHMM()._wanted_groups(demos[0]))
     for what, names in (("--levels", levels), ("--weights", weights)):
         if isinstance(names, dict):
             unknown = [g for g in names if g not in groups]
@@ -602,7 +605,6 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f" which has no default (e.g. --levels {lacking[0]}=10)"
             )
 
-    demos, maps = _read_sources(args, args.demos, flag="demos", progress=True)
     fewest, fewest_src, most, most_src = _sample_bounds(demos, maps)
     if args.n_points is not None and args.n_points > fewest:
         raise ValidationError(
@@ -776,10 +778,10 @@ def _add_fit(sub) -> None:
     )
     p.add_argument(
         "--groups",
-        default="position,velocity",
-        help="comma-separated groups to learn (default: position,velocity;"
-        " a missing velocity is derived from position). Add orientation, force"
-        " or your own groups to learn them too",
+        default=None,
+        help="comma-separated groups to learn (default: position, velocity,"
+        " orientation and force, those the files have; a missing velocity is"
+        " derived from position). Name your own groups to learn them too",
     )
     budget = p.add_mutually_exclusive_group()
     defaults = KeypointHMM()
