@@ -811,3 +811,14 @@ def test_fit_options_and_their_errors(capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)  # as if not installed
     with pytest.raises(MissingExtraError, match=r'pip install "ndlfd\[dask\]"'):
         KeypointHMM().fit(demos, client=True)
+
+
+def test_batched_counting_and_the_prepared_cache_change_nothing(monkeypatch):
+    import ndlfd.learner as learner
+
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(40)]
+    kw = dict(epsilon=0.02, n_time_bins=20, n_jobs=1)
+    ref = KeypointHMM(**kw).fit(demos)
+    monkeypatch.setattr(learner, "_ESTIMATE_BATCH", 3)  # hmm.merge of 14 parts
+    monkeypatch.setattr(learner, "_CACHE_BYTES", 0)  # prepare again in pass 2
+    _assert_same_model(ref, KeypointHMM(**kw).fit(demos), np.linspace(0, 2, 50))

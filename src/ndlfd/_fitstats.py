@@ -961,7 +961,9 @@ def _run_dask(fn, spec, chunks, client, workers, bar):
 
     try:
         for chunk in chunks:
-            fut = client.submit(fn, spec_f, chunk, pure=False)
+            data = client.scatter([chunk], hash=False)[0]
+            fut = client.submit(fn, spec_f, data, pure=False)
+            del data
             sizes[fut.key] = len(chunk)
             live.add(fut)
             done.add(fut)

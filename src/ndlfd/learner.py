@@ -186,8 +186,12 @@ def _changed(what: str) -> ValidationError:
 #: threads were slower than one, on 20,000-sample ones 1.3 times faster.
 _THREAD_MIN_SAMPLES = 5000
 
+#: Sequences per ``hmm.estimate`` call when counting many demonstrations.
+_ESTIMATE_BATCH = 4096
+
 #: Bytes of prepared demonstrations (groups selected, velocity derived) that a
-#: local fit of an in-memory list keeps from the first pass for the second.
+#: local fit keeps from the first pass for the second, for the Demonstration
+#: objects the caller's list holds anyway (never for files or re-iterables).
 _CACHE_BYTES = 256 * 2**20
 
 
@@ -199,20 +203,20 @@ class _PreparedCache:
         self._items: dict = {}
         self._lock = threading.Lock()
 
-    def put(self, key, demo: Demonstration) -> None:
+    def put(self, i: int, demo: Demonstration) -> None:
         size = demo.X.nbytes + demo.t.nbytes
         with self._lock:
             if size <= self._left:
                 self._left -= size
-                self._items[key] = demo
+                self._items[i] = demo
 
-    def get(self, key) -> Demonstration | None:
+    def get(self, i: int) -> Demonstration | None:
         with self._lock:
-            return self._items.get(key)
+            return self._items.get(i)
 
-    def pop(self, key) -> Demonstration | None:
+    def pop(self, i: int) -> Demonstration | None:
         with self._lock:
-            return self._items.pop(key, None)
+            return self._items.pop(i, None)
 
 
 @dataclass(frozen=True)
@@ -231,18 +235,7 @@ class _FitSpec:
     templates: np.ndarray | None = None
     cache: _PreparedCache | None = None
 
-    def prepared(self, demo: Demonstration, key=None) -> Demonstration:
-        if self.cache is not None and key is not None:
-            if self.templates is not None:  # pass 2: taken from pass 1
-                d = self.cache.pop(key)
-                if d is not None:
-                    return d
-            else:  # pass 1 (the first may be there from the probe)
-                d = self.cache.get(key)
-                if d is None:
-                    d = self.prepared(demo)
-                    self.cache.put(key, d)
-                return d
+    def prepared(self, demo: Demonstration) -> Demonstration:
         d = self.est._prepare(demo, self.groups)
         if d.columns != self.columns or d.groups != self.col_groups:
             raise ValidationError(
@@ -258,8 +251,8 @@ def _probe(spec: _FitSpec, unit):
     demos = _read_item(item, i)
     groups = spec.est._wanted_groups(demos[0])
     d = _located(_where(i, item, 0, len(demos)), spec.est._prepare, demos[0], groups)
-    if spec.cache is not None:
-        spec.cache.put((i, 0), d)
+    if spec.cache is not None and isinstance(item, Demonstration):
+        spec.cache.put(i, d)
     return groups, d.columns, d.groups, d.n_samples
 
 
@@ -267,18 +260,26 @@ def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
     for i, item in chunk:
+        if isinstance(item, Demonstration) and spec.cache is not None:
+            d = spec.cache.get(i)  # the first one, from the probe
+            if d is None:
+                d = _located(f"demos[{i}]", spec.prepared, item)
+                spec.cache.put(i, d)
+            parts.append(RangeStats.of(i, d.X))
+            continue
         demos = _read_item(item, i)
         arrays = [
-            _located(_where(i, item, k, len(demos)), spec.prepared, d, (i, k)).X
+            _located(_where(i, item, k, len(demos)), spec.prepared, d).X
             for k, d in enumerate(demos)
         ]
         parts.append(RangeStats.of(i, *arrays))
     return parts[0].merge(*parts[1:])
 
 
-def _count_one(spec: _FitSpec, demo: Demonstration, j: int, key) -> FitStats:
+def _count_one(spec: _FitSpec, demo: Demonstration, j: int, d=None) -> FitStats:
     est = spec.est
-    d = spec.prepared(demo, key)
+    if d is None:
+        d = spec.prepared(demo)
     u = spec.scaler.transform(d, weighted=False)
     idx = simplify(
         u,
@@ -308,6 +309,12 @@ def _map_counts(spec: _FitSpec, chunk) -> FitStats:
     """Pass 2: key points, states, bins, centroid sums and templates of some items."""
     parts = []
     for i, start, expected, item in chunk:
+        if spec.cache is not None and isinstance(item, Demonstration):
+            d = spec.cache.pop(i)  # prepared in pass 1
+            if d is not None:
+                where = f"demos[{i}]"
+                parts.append(_located(where, _count_one, spec, item, start, d))
+                continue
         demos = _read_item(item, i)
         if len(demos) != expected:
             raise _changed(
@@ -315,7 +322,7 @@ def _map_counts(spec: _FitSpec, chunk) -> FitStats:
             )
         for k, d in enumerate(demos):
             where = _where(i, item, k, len(demos))
-            parts.append(_located(where, _count_one, spec, d, start + k, (i, k)))
+            parts.append(_located(where, _count_one, spec, d, start + k))
     return parts[0].merge(*parts[1:])
 
 
@@ -699,7 +706,8 @@ class KeypointHMM:
             raise ValidationError(
                 "demos must hold at least one demonstration; got none"
             ) from None
-        # an in-memory list: keep its prepared demonstrations between the passes
+        # the Demonstrations of an in-memory list: keep them prepared between the
+        # passes (local fits only; they are in memory anyway)
         local_list = client is None and isinstance(source, (list, tuple))
         spec = _FitSpec(
             est=KeypointHMM(**self.get_params()),
@@ -802,14 +810,7 @@ class KeypointHMM:
         """Every learned attribute from the fit statistics (fit and load)."""
         keypoints, key_states, key_bins = stats.keypoint_lists()
         nt = self.n_time_bins
-        self.model_ = hmm.estimate(
-            key_states,
-            key_bins,
-            self.codebook_.n_states,
-            nt,
-            pseudo_transition=self.pseudo_transition,
-            pseudo_emission=self.pseudo_emission,
-        )
+        self.model_ = self._estimate(key_states, key_bins)
         self.keypoints_ = keypoints
         self.n_keypoints_ = stats.n_keys
         self.n_states_used_ = int(self.model_.states_.size)
@@ -831,17 +832,34 @@ class KeypointHMM:
 
     def _segment_model(self, demos: np.ndarray) -> hmm.DiscreteHMM:
         nt = self.n_time_bins
-        seqs = [
-            segment_states(self._key_bins[j], self._key_states[j], nt) for j in demos
-        ]
-        return hmm.estimate(
-            seqs,
-            [np.arange(nt)] * len(seqs),
-            self.codebook_.n_states,
-            nt,
-            pseudo_transition=self.pseudo_transition,
-            pseudo_emission=self.pseudo_emission,
+        return self._estimate(
+            (segment_states(self._key_bins[j], self._key_states[j], nt) for j in demos),
+            itertools.repeat(np.arange(nt), len(demos)),
         )
+
+    def _estimate(self, states, symbols) -> hmm.DiscreteHMM:
+        """``hmm.estimate`` on batches of sequences, merged (the same counts).
+
+        Batches keep the temporary memory of counting 100,000 demonstrations
+        small; :func:`ndlfd.hmm.merge` adds the counts exactly.
+        """
+        states, symbols = iter(states), iter(symbols)
+        models = []
+        while True:
+            s = list(itertools.islice(states, _ESTIMATE_BATCH))
+            if not s:
+                break
+            models.append(
+                hmm.estimate(
+                    s,
+                    list(itertools.islice(symbols, len(s))),
+                    self.codebook_.n_states,
+                    self.n_time_bins,
+                    pseudo_transition=self.pseudo_transition,
+                    pseudo_emission=self.pseudo_emission,
+                )
+            )
+        return models[0] if len(models) == 1 else hmm.merge(models)
 
     # ---------------------------------------------------------------- generate
     def timing(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
