@@ -232,6 +232,8 @@ def test_template_keys_and_choice_against_a_plain_reference():
     assert template_mask(50, 7, None).sum() == 7
     g1, g2 = np.random.default_rng(8), np.random.default_rng(8)
     np.testing.assert_array_equal(template_mask(50, 7, g1), template_mask(50, 7, g2))
+    r1, r2 = np.random.RandomState(8), np.random.RandomState(8)
+    np.testing.assert_array_equal(template_mask(50, 7, r1), template_mask(50, 7, r2))
     with pytest.raises(ValidationError, match="random_state"):
         template_mask(50, 7, "seed")
     with pytest.raises(ValidationError, match=">= 0"):

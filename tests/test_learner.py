@@ -259,6 +259,25 @@ def test_committed_v1_model_file_still_loads_and_generates_the_same():
     np.testing.assert_array_equal(mk.build().generate(mk.GRID, dense=True).X, got.X)
 
 
+def test_a_model_loaded_from_a_v1_file_is_saved_as_v1(tmp_path):
+    import json
+
+    mk = _fixture_module("make_keypointhmm_v1")
+    model = KeypointHMM.load(mk.FIXTURE)
+    assert not hasattr(model, "fit_stats_")  # v1 has no statistics
+    model.save(tmp_path / "again.ndlfd")
+    with np.load(tmp_path / "again.ndlfd", allow_pickle=False) as z:
+        assert json.loads(str(z["__ndlfd__"]))["version"] == 1
+        with np.load(mk.FIXTURE, allow_pickle=False) as ref:
+            for k in ref.files:
+                if k != "__ndlfd__":
+                    np.testing.assert_array_equal(z[k], ref[k], err_msg=k)
+    again = KeypointHMM.load(tmp_path / "again.ndlfd")
+    np.testing.assert_array_equal(
+        again.generate(mk.GRID, dense=True).X, model.generate(mk.GRID, dense=True).X
+    )
+
+
 @pytest.mark.parametrize("distance", ["line", "segment", "sed", "paper"])
 def test_budget_mode_and_every_distance(square, distance):
     train, test = square

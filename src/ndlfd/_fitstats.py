@@ -162,12 +162,15 @@ def seed_word(random_state) -> np.uint64:
     """One 64-bit word from ``random_state`` (None, an int >= 0 or a Generator).
 
     ``None`` draws fresh entropy from the operating system; an int is mixed
-    by :class:`numpy.random.SeedSequence`; a Generator gives one draw.
+    by :class:`numpy.random.SeedSequence`; a Generator (or a legacy
+    RandomState) gives one draw.
     """
     if random_state is None:
         seq = np.random.SeedSequence()
     elif isinstance(random_state, np.random.Generator):
         seq = np.random.SeedSequence(int(random_state.integers(0, 2**63)))
+    elif isinstance(random_state, np.random.RandomState):  # scikit-learn style
+        seq = np.random.SeedSequence(int(random_state.randint(0, 2**31)))
     elif isinstance(random_state, (int, np.integer)) and not isinstance(
         random_state, bool
     ):

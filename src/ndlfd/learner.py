@@ -544,7 +544,9 @@ class KeypointHMM:
             check_positive_int(self.max_templates, "max_templates")
         if not (
             self.random_state is None
-            or isinstance(self.random_state, np.random.Generator)
+            or isinstance(
+                self.random_state, (np.random.Generator, np.random.RandomState)
+            )
         ):
             seed_word(self.random_state)  # checks an int (cheap)
 
