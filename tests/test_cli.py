@@ -1005,3 +1005,28 @@ def ndlfd_demo(t, pos, q):
     from ndlfd.demo import Demonstration
 
     return Demonstration.from_arrays(t, position=pos, orientation=q)
+
+
+def test_fit_on_a_dask_scheduler_gives_the_local_model(tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    folder = _write_reach(tmp_path / "reach")
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "local.ndlfd", "-q",
+                  "--n-jobs", "2")  # fmt: skip
+    assert rc == 0, err
+    with distributed.LocalCluster(
+        n_workers=2, processes=False, dashboard_address=None
+    ) as cluster:
+        rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "dask.ndlfd", "-q",
+                      "--scheduler", cluster.scheduler_address)  # fmt: skip
+    assert rc == 0, err
+    local = KeypointHMM.load(tmp_path / "local.ndlfd")
+    remote = KeypointHMM.load(tmp_path / "dask.ndlfd")
+    assert local.fit_stats_ == remote.fit_stats_
+    grid = np.linspace(0.0, 2.0, 40)
+    np.testing.assert_array_equal(
+        local.generate(grid, dense=True).X, remote.generate(grid, dense=True).X
+    )
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "0")
+    assert rc == 2 and err == [
+        "ndlfd fit: error: --n-jobs must be an integer >= 1; got 0"
+    ]

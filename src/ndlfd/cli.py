@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from ._errors import NdlfdError, NdlfdWarning, ValidationError
+from ._errors import MissingExtraError, NdlfdError, NdlfdWarning, ValidationError
 
 __all__ = ["main"]
 
@@ -564,6 +564,25 @@ def _parse_levels(text: str | None):
     return levels
 
 
+def _connect(address: str | None):
+    """A Dask client of the scheduler at ``address`` (None: no client)."""
+    if address is None:
+        return None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise MissingExtraError(
+            '--scheduler needs Dask; install it with: pip install "ndlfd[dask]"'
+        ) from None
+    try:
+        return Client(address, timeout=10)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ValidationError(
+            f"--scheduler {address}: cannot connect to a Dask scheduler there"
+            f" ({type(exc).__name__}: {exc}); start one with: dask scheduler"
+        ) from None
+
+
 def _cmd_fit(args: argparse.Namespace) -> int:
     import time
 
@@ -584,6 +603,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if args.time_bins is not None:
         _check_range(args.time_bins, "--time-bins", low=2)
     _check_range(args.pseudo_emission, "--pseudo-emission", low=0)
+    if args.n_jobs is not None:
+        _check_range(args.n_jobs, "--n-jobs", low=1)
     demos, maps = _read_sources(args, args.demos, flag="demos", progress=True)
     if groups is None:  # the library's groups="auto", resolved here to report it
         groups = list(KeypointHMM()._wanted_groups(demos[0]))
@@ -639,9 +660,15 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         start=args.start,
         generation=args.generation,
         decoder=args.decoder,
+        n_jobs=args.n_jobs,
     )
     t0 = time.perf_counter()
-    model.fit(prepared)
+    client = _connect(args.scheduler)
+    try:
+        model.fit(prepared, client=client)
+    finally:
+        if client is not None:
+            client.close()
     elapsed = time.perf_counter() - t0
     model.save(out)
     k = model.n_keypoints_
@@ -821,6 +848,20 @@ def _add_fit(sub) -> None:
         help="emission pseudo-count >= 0 (default 0)",
     )
     p.add_argument("--start", default="learned", choices=STARTS.names)
+    p.add_argument(
+        "--n-jobs",
+        type=int,
+        default=None,
+        help="threads for the reduction (default: threads only for long"
+        " demonstrations, where they pay off)",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="fit on a Dask cluster, e.g. tcp://127.0.0.1:8786 (start one with"
+        " 'dask scheduler' and 'dask worker ADDRESS'; needs ndlfd[dask]); the"
+        " model is the same as a local fit's",
+    )
     p.add_argument(
         "--generation",
         default="blend",
