@@ -1110,7 +1110,7 @@ class KeypointHMM:
             self._physical_row(cond)[None, :], weighted=False
         )[0, cols]
         pts = (self.first_values_ if end == 0 else self.last_values_)[:, cols]
-        return _condition_weights(pts, target)
+        return condition_weights(pts, target)
 
     def _physical_row(self, cond) -> np.ndarray:
         row = self.scaler_.data_min_.copy()
@@ -1413,34 +1413,6 @@ class KeypointHMM:
         self.n_keypoints_ = counts
         self.n_demos_ = int(counts.size)
         self.symbols_seen_ = seen
-
-
-#: Demonstrations above which the conditioning bandwidth comes from a k-d tree
-#: (nearest neighbours in O(n log n)) instead of all pairwise distances.
-_PAIRWISE_LIMIT = 2000
-
-
-def _condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
-    """:func:`ndlfd._blend.condition_weights`, in O(n log n) for many demonstrations.
-
-    Up to :data:`_PAIRWISE_LIMIT` points it is that function. Beyond, the
-    median nearest-neighbour distance comes from a k-d tree (the same value up
-    to rounding) and, when it is 0 (most points coincide), the fallback width
-    is the diagonal of the points' bounding box instead of their diameter.
-    """
-    if points.shape[0] <= _PAIRWISE_LIMIT:
-        return condition_weights(points, target)
-    from scipy.spatial import cKDTree
-
-    from ._blend import BANDWIDTH_FACTOR
-
-    d = np.linalg.norm(points - target, axis=1)
-    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
-    h = BANDWIDTH_FACTOR * float(np.median(nearest))
-    if not h > 0:
-        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
-    logw = -0.5 * (d / h) ** 2
-    return np.exp(logw - logw.max())
 
 
 #: Demonstrations whose start/goal weight falls below this fraction of the
