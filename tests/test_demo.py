@@ -462,3 +462,24 @@ def test_window_derivative_is_exact_on_lines_and_matches_a_slow_fit():
         inside[max(i - 1, 0) : i + 2] = True
         ref = [np.polyfit(t[inside], y[inside], 1)[0] for y in Y.T]
         np.testing.assert_allclose(got[i], ref, rtol=1e-9, atol=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**31), st.floats(0.0, 0.2), st.integers(5, 60))
+def test_the_jitter_check_decides_as_its_definition(seed, spread, n):
+    # the cheap pre-check (all steps within 10 % of the smallest) must never
+    # change the decision of timing_jitter and the speed roughness
+    import warnings
+
+    from ndlfd import NdlfdWarning
+    from ndlfd.demo import JITTER_TOL, _speed_roughness, timing_jitter
+
+    rng = np.random.default_rng(seed)
+    t = np.concatenate([[0.0], np.cumsum(rng.uniform(1 - spread, 1 + spread, n))])
+    P = np.column_stack([np.arange(n + 1.0), rng.normal(0, 0.3, n + 1)])
+    expected = timing_jitter(t) > JITTER_TOL and _speed_roughness(P, t) > JITTER_TOL
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with_velocity(Demonstration.from_arrays(t, position=P))
+    warned = any(issubclass(w.category, NdlfdWarning) for w in caught)
+    assert warned == expected

@@ -730,7 +730,11 @@ def with_velocity(
 
         P = savgol_filter(P, window_length, polyorder, axis=0, mode="interp")
     if mode == "auto":
-        jitter = timing_jitter(demo.t)
+        dt = np.diff(demo.t)
+        # steps within JITTER_TOL of the smallest cannot be jittery: skip the
+        # percentiles (the same decision, cheaper for the common regular case)
+        steady = n < 10 or np.ptp(dt) <= JITTER_TOL * dt.min()
+        jitter = 0.0 if steady else timing_jitter(demo.t)
         if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
             mode = "window"
         if mode == "window":
