@@ -742,8 +742,8 @@ def with_velocity(
                 f"time stamps are jittery (consecutive steps differ by up to"
                 f" {100 * jitter:.0f} % of the median step in 90 % of cases, more"
                 f" than {100 * JITTER_TOL:.0f} %): velocity is derived by a local"
-                " straight-line fit over a time window (smoothing='window'),"
-                " not from neighbouring samples",
+                " straight-line fit over a time window, not from neighbouring"
+                " samples",
                 NdlfdWarning,
                 stacklevel=2,
             )
