@@ -43,6 +43,7 @@ __all__ = [
     "blend",
     "condition_weights",
     "fade_ramp",
+    "pin_offset",
     "segment_states",
     "skeleton_times",
 ]
@@ -207,6 +208,45 @@ def fade_ramp(s: np.ndarray) -> np.ndarray:
     """
     s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
     return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
+    """Move ``X[row, cols]`` onto ``target``, the offset faded over the rows.
+
+    Every row gets ``(target - X[row, cols]) * fade`` added, and ``X[row,
+    cols]`` is then set to ``target`` exactly (not up to the rounding of the
+    sum). ``X`` is changed in place.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_dims)
+        The path.
+    fade : ndarray of shape (n_samples,)
+        How much of the offset each row takes: ``1 - fade_ramp(tau)`` to pin a
+        start (row 0), ``fade_ramp(tau)`` to pin a goal (the last row).
+    row : int
+        The row that must land on ``target``.
+    target : array-like of shape (n_cols,)
+        Where it must land.
+    cols : sequence of int, optional
+        The columns moved (all by default).
+
+    Returns
+    -------
+    X : ndarray of shape (n_samples, n_dims)
+
+    Examples
+    --------
+    >>> X = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> pin_offset(X, 1.0 - fade_ramp(np.array([0.0, 0.5, 1.0])), 0, [0.0, 2.0])
+    array([[0., 2.],
+           [1., 1.],
+           [2., 0.]])
+    """
+    cols = slice(None) if cols is None else cols
+    X[:, cols] += (np.asarray(target, dtype=np.float64) - X[row, cols]) * fade[:, None]
+    X[row, cols] = target
+    return X
 
 
 def condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:

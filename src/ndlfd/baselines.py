@@ -52,6 +52,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ._blend import fade_ramp as minimum_jerk
+from ._blend import pin_offset
 from ._errors import MissingExtraError, NotFittedError, ValidationError
 from ._registry import Registry
 from ._validation import (
@@ -62,7 +64,7 @@ from ._validation import (
 )
 from .demo import Demonstration
 from .learner import KeypointHMM
-from .metrics import mean_demo_baseline
+from .metrics import _unit_time, mean_demo_baseline
 
 __all__ = [
     "BASELINES",
@@ -80,35 +82,6 @@ EXTRA_HINT = 'pip install "ndlfd[eval]"'
 
 
 # ---------------------------------------------------------------------- helpers
-def minimum_jerk(s) -> np.ndarray:
-    """The minimum-jerk ramp ``10 s^3 - 15 s^4 + 6 s^5`` from 0 to 1.
-
-    Zero velocity and acceleration at both ends; used to fade a start offset
-    out over the motion.
-
-    Parameters
-    ----------
-    s : array-like
-        Normalized time in ``[0, 1]``.
-
-    Returns
-    -------
-    ramp : ndarray
-        Same shape as ``s``.
-
-    Examples
-    --------
-    >>> minimum_jerk([0.0, 0.5, 1.0])
-    array([0. , 0.5, 1. ])
-    """
-    s = np.asarray(s, dtype=float)
-    return s * s * s * (10.0 + s * (-15.0 + 6.0 * s))
-
-
-def _unit_time(t: np.ndarray) -> np.ndarray:
-    return (t - t[0]) / (t[-1] - t[0])
-
-
 def _check_times(times) -> np.ndarray:
     t = check_times(times, name="times")
     if t.shape[0] < 2:
@@ -173,10 +146,7 @@ def _resampled(demos: Sequence[Demonstration], n: int) -> np.ndarray:
 
 def _faded_offset(path: np.ndarray, tau: np.ndarray, start) -> np.ndarray:
     """Shift ``path`` to begin at ``start``, fading the shift out by the end."""
-    offset = start - path[0]
-    out = path + (1.0 - minimum_jerk(tau))[:, None] * offset
-    out[0] = start
-    return out
+    return pin_offset(path.copy(), 1.0 - minimum_jerk(tau), 0, start)
 
 
 def _require(module: str, what: str):

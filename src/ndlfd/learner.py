@@ -23,6 +23,7 @@ from ._blend import (
     blend,
     condition_weights,
     fade_ramp,
+    pin_offset,
     segment_states,
     skeleton_times,
 )
@@ -43,6 +44,7 @@ from ._fitstats import (
     seed_word,
     template_mask,
 )
+from ._hmm_model import _STARTS
 from ._registry import Registry
 from ._simplify import DISTANCES, simplify
 from ._validation import (
@@ -74,12 +76,13 @@ _FORMAT_KIND = "KeypointHMM"
 #: Versions 1 and 2 still load and generate as before.
 _FORMAT_VERSION = 3
 
+#: The scaler's range modes under the learner's parameter name (the errors
+#: then say "normalization").
 NORMALIZATIONS = Registry("normalization")
-for _name in ("group", "per-dimension", "none"):
-    NORMALIZATIONS.add(_name, _name)
-STARTS = Registry("start")
-for _name in ("learned", "state1"):
-    STARTS.add(_name, _name)
+for _name in SCALING_MODES:
+    NORMALIZATIONS.add(_name, SCALING_MODES.get(_name))
+#: Start modes of the decoders: the HMM's own registry.
+STARTS = _STARTS
 
 
 def _decode_viterbi(model, symbols, start):
@@ -791,7 +794,7 @@ class KeypointHMM:
     def _scaler_from_ranges(self, ranges: RangeStats, columns, col_groups):
         """Exactly ``GroupScaler(mode, weights).fit(prepared demos)``."""
         mins, maxs = ranges.data_min, ranges.data_max
-        lo, hi = SCALING_MODES.get(self.normalization)(mins, maxs, col_groups)
+        lo, hi = NORMALIZATIONS.get(self.normalization)(mins, maxs, col_groups)
         scaler = GroupScaler.from_ranges(
             lo,
             hi,
@@ -1026,16 +1029,17 @@ class KeypointHMM:
         plan = self._plan(all_t, start, goal)
         tq = self.time_bins_.normalize(all_t)
         key_tau = plan["key_tau"]
+        at = np.concatenate([tq, key_tau])  # the dense rows, then the key rows
         U = blend(
-            [self.train_values_[j] for j in plan["templates"]],
-            [self.train_tau_[j] for j in plan["templates"]],
+            plan["values"],
+            plan["taus"],
             plan["index"],
             plan["weights"],
-            np.concatenate([tq, key_tau]),
+            at,
             quat_cols=self._quat_cols(),
         )[0]
         X = self._renormalize(self.scaler_.inverse_transform(U))
-        X = self._pin(X, np.concatenate([tq, key_tau]), start, goal, tq.size)
+        X = self._pin(X, at, start, goal, tq.size)
         X = self._derive_velocity(X, tq, key_tau, all_t)
         if dense:
             path = Demonstration(
@@ -1079,7 +1083,7 @@ class KeypointHMM:
             )
         out = {}
         for g, v in values.items():
-            cols = [i for i, cg in enumerate(self.column_groups_) if cg == g]
+            cols = self._cols(g)
             if not cols:
                 raise ValidationError(
                     f"{what} names group {g!r}, which is not learned; the learned"
@@ -1142,21 +1146,17 @@ class KeypointHMM:
         if skel.size == 1:
             skel = np.repeat(skel, 2)  # a start and an end in one state
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
-        index = align_many(
-            [self.train_values_[j] for j in templates],
-            C,
-            self.n_jobs,
-            _ALIGN_CANDIDATES,
-        )
-        key_tau = skeleton_times(
-            [self.train_tau_[j] for j in templates], index, tw[templates]
-        )
+        values = [self.train_values_[j] for j in templates]
+        taus = [self.train_tau_[j] for j in templates]
+        index = align_many(values, C, self.n_jobs, _ALIGN_CANDIDATES)
+        key_tau = skeleton_times(taus, index, tw[templates])
         # every alignment pins the ends to samples at tau 0 and 1: exact ends
         key_tau[0], key_tau[-1] = 0.0, 1.0
         return {
             "states": skel,
             "logp": logp,
-            "templates": templates,
+            "values": values,
+            "taus": taus,
             "weights": tw[templates],
             "index": index,
             "key_tau": key_tau,
@@ -1228,9 +1228,7 @@ class KeypointHMM:
         X = X.copy()
         for cond, fade, row in ((start, 1.0 - ramp, 0), (goal, ramp, n - 1)):
             for g, v in (cond or {}).items():
-                cols = self._cols(g)
-                X[:, cols] += (v - X[row, cols])[None, :] * fade[:, None]
-                X[row, cols] = v  # exact, not up to the rounding of the sum
+                pin_offset(X, fade, row, v, self._cols(g))
         return X
 
     def _renormalize(self, X: np.ndarray) -> np.ndarray:
