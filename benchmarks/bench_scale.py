@@ -2,29 +2,35 @@
 
 Synthetic 6-D data: noisy 3-D spirals of 1,000 samples with variable speed,
 position only, so every fit derives the velocity (6 learned columns, 20
-position and 10 velocity levels: m = 8,000,000 states). The demonstrations come
-from a *re-iterable* that makes each one from its index on demand, so no mode
-ever holds them all (fit reads them twice: ranges, then key points).
+position and 10 velocity levels: m = 8,000,000 states). Each demonstration is
+an NPZ file (``ndlfd.io.write_npz``), written once into ``--data`` (default
+``/tmp/ndlfd-bench-scale``; 1e5 files take about 3.5 GB and a few minutes to
+write, and are reused by later runs). ``fit`` gets the sorted list of paths and
+reads every file twice (ranges, then key points), on whichever worker runs it.
 
 Modes, each run in a fresh process (so its peak RSS is its own):
 
 * ``serial``: ``n_jobs=1``;
-* ``threads``: ``n_jobs=2`` (threads of one process);
-* ``dask``: ``fit(demos, client=...)`` on a ``distributed.LocalCluster`` of 2
-  worker processes with one thread each (``pip install "ndlfd[dask]"``); the
-  client makes the demonstrations and scatters them to the workers in chunks.
-  Cluster start-up is not counted.
+* ``processes``: ``n_jobs=2``, which on 1,000-sample demonstrations is two
+  worker processes (the default backend for short demonstrations; the pool's
+  start-up is inside the fit time);
+* ``threads``: ``n_jobs=2`` forced onto two threads of one process, to show
+  why processes are the default (not run at 1e5);
+* ``dask``: ``fit(paths, client=...)`` on a ``distributed.LocalCluster`` of 2
+  worker processes with one thread each (``pip install "ndlfd[dask]"``);
+  cluster start-up is not counted (it is shown apart).
 
-Each run reports the fit time, the time only making the demonstrations takes
-(included in the fit time: two passes), the peak RSS of the process (and of the
-largest Dask worker), the size of the fit statistics, and a digest of the
-statistics, which must be the same in every mode. Throughput is demonstrations
-per second per core used (1 for serial, 2 otherwise).
+Each run reports the fit time, the time reading the files takes (measured on
+a sample, times two passes; inside the fit time), the peak RSS of the process
+(and of the largest Dask worker or pool process), the size of the fit
+statistics, and a digest of the statistics, which must be the same in every
+mode. Throughput is demonstrations per second per core used (1 for serial, 2
+otherwise).
 
 Run: ``.venv/bin/python benchmarks/bench_scale.py`` (1e2, 1e3 and 1e4
-demonstrations, about 2 minutes on 2 cores); ``--largest 100000`` adds 1e5
-(serial and Dask, about 7 minutes more). Writes its section of
-benchmarks/RESULTS.md.
+demonstrations, about 4 minutes on 2 cores the first time); ``--largest
+100000`` adds 1e5 (serial, processes and Dask, about 15 minutes more). Writes
+its section of benchmarks/RESULTS.md.
 """
 
 from __future__ import annotations
@@ -47,7 +53,7 @@ START, END = "<!-- scale:start -->", "<!-- scale:end -->"
 COMMAND = ".venv/bin/python benchmarks/bench_scale.py"
 N_SAMPLES = 1000
 PARAMS = dict(epsilon=0.05, n_time_bins=50, max_templates=200, random_state=0)
-MODES = ("serial", "threads", "dask")
+MODES = ("serial", "processes", "threads", "dask")
 
 
 class Spirals:
@@ -82,6 +88,39 @@ class Spirals:
             yield self.demo(i)
 
 
+def _path(folder: Path, i: int) -> Path:
+    return folder / f"spiral_{i:06d}.npz"
+
+
+def _write_range(folder: str, lo: int, hi: int) -> None:
+    from ndlfd.io import write_npz
+
+    sp = Spirals(hi)
+    for i in range(lo, hi):
+        p = _path(Path(folder), i)
+        if not p.exists():
+            tmp = p.with_name(p.stem + ".part.npz")
+            write_npz(sp.demo(i), tmp)
+            tmp.replace(p)
+
+
+def write_files(folder: Path, n: int) -> list[str]:
+    """Files 0..n-1 in ``folder`` (written on 2 processes where missing)."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    folder.mkdir(parents=True, exist_ok=True)
+    missing = [i for i in range(n) if not _path(folder, i).exists()]
+    if missing:
+        t0 = time.perf_counter()
+        lo, hi = missing[0], n
+        cuts = np.linspace(lo, hi, 17).astype(int)
+        with ProcessPoolExecutor(2) as pool:
+            list(pool.map(_write_range, [str(folder)] * 16, cuts[:-1], cuts[1:]))
+        print(f"wrote {len(missing):,} files in {time.perf_counter() - t0:.0f} s",
+              file=sys.stderr)  # fmt: skip
+    return [str(_path(folder, i)) for i in range(n)]
+
+
 def _peak_mib() -> float:
     """This process's peak RSS (VmHWM) in MiB (self-contained: runs on workers)."""
     with open("/proc/self/status") as fh:
@@ -99,18 +138,21 @@ def digest(stats) -> str:
     return h.hexdigest()[:16]
 
 
-def run_one(mode: str, n: int) -> dict:
+def run_one(mode: str, n: int, folder: Path) -> dict:
     """One fit in this process; the numbers as a dict."""
+    import ndlfd._fitmap
     from ndlfd import KeypointHMM
+    from ndlfd.io import read_demos
 
-    demos = Spirals(n)
+    paths = write_files(folder, n)
     warm = Spirals(20, seed=1)
     KeypointHMM(**PARAMS, n_jobs=1).fit(warm)  # compile and import once
+    sample = paths[:: max(1, n // 500)]
     t0 = time.perf_counter()
-    for _ in Spirals(min(n, 2000), seed=2):
-        pass
-    make_s = (time.perf_counter() - t0) * n / min(n, 2000) * 2  # two passes
-    out = {"mode": mode, "n": n, "make_s": make_s}
+    for p in sample:
+        read_demos(p)
+    read_s = (time.perf_counter() - t0) * n / len(sample) * 2  # two passes
+    out = {"mode": mode, "n": n, "read_s": read_s}
     if mode == "dask":
         from distributed import Client, LocalCluster
 
@@ -121,17 +163,26 @@ def run_one(mode: str, n: int) -> dict:
             Client(cluster) as client,
         ):  # fmt: skip
             out["startup_s"] = time.perf_counter() - t0
-            KeypointHMM(**PARAMS).fit(warm, client=client)
+            KeypointHMM(**PARAMS).fit(paths[:20], client=client)
             t0 = time.perf_counter()
-            model = KeypointHMM(**PARAMS).fit(demos, client=client)
+            model = KeypointHMM(**PARAMS).fit(paths, client=client)
             out["fit_s"] = time.perf_counter() - t0
             peaks = client.run(_peak_mib)
             out["worker_peak_mib"] = max(peaks.values())
     else:
+        if mode == "threads":  # short demonstrations: processes otherwise
+            ndlfd._fitmap._THREAD_MIN_SAMPLES = 0
         n_jobs = 1 if mode == "serial" else 2
         t0 = time.perf_counter()
-        model = KeypointHMM(**PARAMS, n_jobs=n_jobs).fit(demos)
+        model = KeypointHMM(**PARAMS, n_jobs=n_jobs).fit(paths)
         out["fit_s"] = time.perf_counter() - t0
+        if mode == "processes":
+            from ndlfd._parallel import _PROCESS_POOLS
+
+            pool = _PROCESS_POOLS[2]
+            out["worker_peak_mib"] = max(
+                f.result() for f in [pool.submit(_peak_mib) for _ in range(8)]
+            )
     out["peak_mib"] = _peak_mib()
     stats = model.fit_stats_
     out["stats_mib"] = sum(a.nbytes for a in stats.to_arrays().values()) / 2**20
@@ -150,8 +201,8 @@ def run_one(mode: str, n: int) -> dict:
     return out
 
 
-def run_fresh(mode: str, n: int) -> dict:
-    cmd = [sys.executable, __file__, "--one", mode, str(n)]
+def run_fresh(mode: str, n: int, folder: Path) -> dict:
+    cmd = [sys.executable, __file__, "--one", mode, str(n), "--data", str(folder)]
     env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
     res = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
     if res.returncode != 0:
@@ -168,7 +219,7 @@ def report(rows: list[dict], wall_s: float) -> str:
         by_n.setdefault(r["n"], {})[r["mode"]] = r
     same = all(len({r["digest"] for r in d.values()}) == 1 for d in by_n.values())
     lines = [
-        "## Fitting at scale: serial, threads and Dask, 100 to"
+        "## Fitting at scale: serial, processes, threads and Dask, 100 to"
         f" {max(by_n):,} demonstrations",
         "",
         f"Command: `{COMMAND}{'' if max(by_n) <= 10_000 else ' --largest 100000'}`"
@@ -178,34 +229,38 @@ def report(rows: list[dict], wall_s: float) -> str:
         f" {numba.__version__}, dask {dask.__version__}; load average"
         f" {os.getloadavg()[0]:.2f} at the end (other jobs share the cores).",
         "",
-        f"Data: noisy 3-D spirals of {N_SAMPLES:,} samples, position only; fit"
-        " derives the velocity (6-D, 20 position and 10 velocity levels, m ="
-        f" 8,000,000), `{', '.join(f'{k}={v!r}' for k, v in PARAMS.items())}`."
-        " The demonstrations come from a re-iterable that makes each one on"
-        " demand (the time to make them, twice, is inside the fit time and shown"
-        " apart). Every run is a fresh process; Dask: `LocalCluster` of 2 worker"
-        " processes x 1 thread, start-up not counted, the client makes the"
-        " demonstrations and scatters them in chunks. `threads` is not run at"
-        " 100,000 (on 1,000-sample demonstrations it is no faster than serial:"
-        " the per-demonstration work is mostly Python, holding the GIL).",
+        f"Data: noisy 3-D spirals of {N_SAMPLES:,} samples, position only, one"
+        " NPZ file each (about 35 kB); fit derives the velocity (6-D, 20"
+        " position and 10 velocity levels, m = 8,000,000),"
+        f" `{', '.join(f'{k}={v!r}' for k, v in PARAMS.items())}`. `fit` gets"
+        " the list of paths and reads every file twice, on the worker that maps"
+        " it (reading is inside the fit time and shown apart, measured on a"
+        " sample). Every run is a fresh process. `processes`: `n_jobs=2`, the"
+        " default backend for short demonstrations, pool start-up included."
+        " `threads`: `n_jobs=2` forced onto threads (the per-demonstration work"
+        " is mostly Python and holds the GIL; not run at 100,000). Dask:"
+        " `LocalCluster` of 2 worker processes x 1 thread, start-up not counted."
+        " Worker MiB: the largest peak RSS of a pool process or Dask worker.",
         "",
-        "| demos | mode | fit s | of which making demos s | demos/s/core |"
-        " peak RSS MiB | largest worker MiB | statistics MiB | generate ms"
-        " (from a start) |",
-        "|---:|---|---:|---:|---:|---:|---:|---:|---:|",
+        "| demos | mode | fit s | of which reading s | demos/s/core |"
+        " peak RSS MiB | worker MiB | statistics MiB | generate ms"
+        " (from a start) | vs processes |",
+        "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for n, d in sorted(by_n.items()):
+        base = d.get("processes")
         for mode in MODES:
             if mode not in d:
                 continue
             r = d[mode]
             cores = 1 if mode == "serial" else 2
             worker = f"{r['worker_peak_mib']:.0f}" if "worker_peak_mib" in r else ""
+            ratio = f"{r['fit_s'] / base['fit_s']:.2f}x" if base else ""
             lines.append(
-                f"| {n:,} | {mode} | {r['fit_s']:.2f} | {r['make_s']:.2f} |"
+                f"| {n:,} | {mode} | {r['fit_s']:.2f} | {r['read_s']:.2f} |"
                 f" {n / r['fit_s'] / cores:.0f} | {r['peak_mib']:.0f} | {worker} |"
                 f" {r['stats_mib']:.1f} | {r['generate_ms']:.0f}"
-                f" ({r['generate_start_ms']:.0f}) |"
+                f" ({r['generate_start_ms']:.0f}) | {ratio} |"
             )
     any_n = max(by_n)
     r = next(iter(by_n[any_n].values()))
@@ -225,18 +280,20 @@ def main() -> None:
     ap.add_argument("--one", nargs=2, metavar=("MODE", "N"))
     ap.add_argument("--largest", type=int, default=10_000)
     ap.add_argument("--modes", default=",".join(MODES))
+    ap.add_argument("--data", type=Path, default=Path("/tmp/ndlfd-bench-scale"))
     args = ap.parse_args()
     if args.one:
-        print(json.dumps(run_one(args.one[0], int(args.one[1]))))
+        print(json.dumps(run_one(args.one[0], int(args.one[1]), args.data)))
         return
     sizes = [n for n in (100, 1_000, 10_000, 100_000) if n <= args.largest]
+    write_files(args.data, max(sizes))
     t0 = time.perf_counter()
     rows = []
     for n in sizes:
         for mode in args.modes.split(","):
             if n >= 100_000 and mode == "threads":
-                continue  # as serial on 1,000-sample demonstrations (see above)
-            r = run_fresh(mode, n)
+                continue  # no faster than serial here (see the report)
+            r = run_fresh(mode, n, args.data)
             print(json.dumps(r), flush=True)
             rows.append(r)
     text = report(rows, time.perf_counter() - t0)

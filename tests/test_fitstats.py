@@ -1,6 +1,5 @@
-"""Fit statistics: exact sums, exact merges, the template choice, map and reduce."""
+"""Fit statistics: exact sums, exact merges and the template choice."""
 
-import threading
 from collections import Counter
 from fractions import Fraction
 
@@ -14,7 +13,6 @@ from ndlfd._fitstats import (
     FitStats,
     RangeStats,
     from_limbs,
-    map_reduce,
     scale_exponents,
     template_keys,
     template_mask,
@@ -199,6 +197,22 @@ def test_range_stats_against_numpy():
     np.testing.assert_array_equal(r.demos_per_item, [2, 1, 1, 1, 1, 1])
 
 
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.integers(1, 6), min_size=1, max_size=12),
+    st.randoms(use_true_random=False),
+)
+def test_shortest_and_longest_whatever_the_merge_order(lengths, rnd):
+    # reference: the first item (by index) of the fewest / most samples
+    parts = [RangeStats.of(i, np.zeros((n, 1))) for i, n in enumerate(lengths)]
+    rnd.shuffle(parts)
+    k = rnd.randrange(len(parts))
+    r = parts[k].merge(*parts[:k], *parts[k + 1 :])
+    assert r.min_samples == min(lengths) and r.max_samples == max(lengths)
+    assert r.shortest_item == lengths.index(min(lengths))
+    assert r.longest_item == lengths.index(max(lengths))
+
+
 # -- templates ---------------------------------------------------------------------
 
 
@@ -245,52 +259,6 @@ def test_template_choice_spreads_over_the_indices():
     chosen = np.flatnonzero(template_mask(2000, 200, 0))
     per_tenth = np.bincount(chosen // 200, minlength=10)
     assert per_tenth.min() >= 8 and per_tenth.max() <= 35
-
-
-# -- map and reduce ----------------------------------------------------------------
-
-
-def _count_chunk(spec, chunk):
-    if any(u == spec for u in chunk):
-        raise ValidationError(f"unit {spec} is bad")
-    return RangeStats(
-        np.zeros(1), np.zeros(1), len(chunk),
-        np.array(chunk, dtype=np.int64), np.ones(len(chunk), dtype=np.int64),
-    )  # fmt: skip
-
-
-@pytest.mark.parametrize("n_jobs", [1, 3])
-@pytest.mark.parametrize("chunk_size", [None, 1, 7])
-def test_map_reduce_sees_every_unit_once(n_jobs, chunk_size):
-    seen_threads = set()
-
-    def units():
-        for i in range(100):
-            seen_threads.add(threading.get_ident())
-            yield i
-
-    r = map_reduce(_count_chunk, -1, units(), total=100, n_jobs=n_jobs,
-                   chunk_size=chunk_size, progress=False)  # fmt: skip
-    np.testing.assert_array_equal(r.items, np.arange(100))
-    assert r.n_samples == 100
-    assert seen_threads == {threading.get_ident()}  # consumed in the caller
-    assert map_reduce(_count_chunk, -1, iter(()), n_jobs=n_jobs) is None
-
-
-@pytest.mark.parametrize("n_jobs", [1, 3])
-def test_map_reduce_raises_the_failing_units_error(n_jobs):
-    with pytest.raises(ValidationError, match="unit 57 is bad"):
-        map_reduce(_count_chunk, 57, range(100), total=100, n_jobs=n_jobs,
-                   chunk_size=4, progress=False)  # fmt: skip
-
-
-def test_progress_bar_when_asked(capsys):
-    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=True,
-               desc="counting")  # fmt: skip
-    assert "counting" in capsys.readouterr().err
-    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=False,
-               desc="counting")  # fmt: skip
-    assert capsys.readouterr().err == ""
 
 
 def test_counter_reference_of_key_states(per_demo):

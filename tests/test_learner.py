@@ -672,20 +672,44 @@ def dask_client():
         yield client
 
 
+def _run_in(where, request, monkeypatch):
+    """(KeypointHMM parameters, fit arguments) that run a fit ``where``."""
+    import ndlfd._fitmap as _fitmap
+    import ndlfd._parallel as _parallel
+
+    seen = []
+    for name in ("_run_threads", "_run_processes"):
+        real = getattr(_parallel, name)
+
+        def spy(*args, _real=real, _name=name):
+            seen.append(_name)
+            return _real(*args)
+
+        monkeypatch.setitem(_parallel.BACKENDS._items, name[5:], spy)
+    if where == "threads":  # short demonstrations go to processes otherwise
+        monkeypatch.setattr(_fitmap, "_THREAD_MIN_SAMPLES", 1)
+    params = {"serial": dict(n_jobs=1), "threads": dict(n_jobs=2),
+              "processes": dict(n_jobs=2), "dask": {}}[where]  # fmt: skip
+    fit = {"client": request.getfixturevalue("dask_client")} if where == "dask" else {}
+    return params, fit, seen
+
+
+@pytest.mark.parametrize("where", ["threads", "processes", "dask"])
 @pytest.mark.parametrize("max_templates", [200, 9])
-def test_serial_threads_and_dask_give_the_same_model(dask_client, max_templates):
+def test_serial_and_parallel_fits_give_the_same_model(
+    where, max_templates, request, monkeypatch
+):
     demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(40)]
     kw = dict(epsilon=0.02, n_time_bins=20, max_templates=max_templates,
               random_state=7)  # fmt: skip
     serial = KeypointHMM(**kw, n_jobs=1).fit(demos)
-    threads = KeypointHMM(**kw, n_jobs=2).fit(demos)
-    dask = KeypointHMM(**kw).fit(demos, client=dask_client)
+    params, fit, seen = _run_in(where, request, monkeypatch)
     timing = np.linspace(0.0, 2.0, 150)
-    _assert_same_model(serial, threads, timing)
-    _assert_same_model(serial, dask, timing)
+    _assert_same_model(serial, KeypointHMM(**kw, **params).fit(demos, **fit), timing)
     lazy = _Reiterable(_waves(40))
-    _assert_same_model(serial, KeypointHMM(**kw, n_jobs=2).fit(lazy), timing)
-    _assert_same_model(serial, KeypointHMM(**kw).fit(lazy, client=dask_client), timing)
+    _assert_same_model(serial, KeypointHMM(**kw, **params).fit(lazy, **fit), timing)
+    # each pass ran where asked
+    assert seen == ([] if where == "dask" else [f"_run_{where}"] * 4)
     assert serial.n_demos_ == 40
     if max_templates < 40:
         from ndlfd._fitstats import template_mask
@@ -759,12 +783,9 @@ def test_a_generator_is_refused_with_what_to_pass_instead():
         KeypointHMM().fit([Demonstration.from_arrays(t, position=P), 3])
 
 
-@pytest.mark.parametrize("where", ["serial", "threads", "dask"])
-def test_a_corrupt_demonstration_is_named(where, request):
-    run = {"serial": dict(n_jobs=1), "threads": dict(n_jobs=2), "dask": {}}[where]
-    fit = {}
-    if where == "dask":
-        fit["client"] = request.getfixturevalue("dask_client")
+@pytest.mark.parametrize("where", ["serial", "threads", "processes", "dask"])
+def test_a_corrupt_demonstration_is_named(where, request, monkeypatch):
+    run, fit, _ = _run_in(where, request, monkeypatch)
     lazy = _Reiterable(_waves(30), bad=17)
     model = KeypointHMM(epsilon=0.02, n_time_bins=20, **run)
     with pytest.raises(ValidationError, match=r"^demos\[17\]: .*group 'position'"):
@@ -772,8 +793,10 @@ def test_a_corrupt_demonstration_is_named(where, request):
     assert not hasattr(model, "model_")
 
 
-@pytest.mark.parametrize("where", ["threads", "dask"])
-def test_files_are_read_in_each_pass_and_a_bad_one_is_named(where, request, tmp_path):
+@pytest.mark.parametrize("where", ["threads", "processes", "dask"])
+def test_files_are_read_in_each_pass_and_a_bad_one_is_named(
+    where, request, monkeypatch, tmp_path
+):
     from ndlfd import DataFileError
     from ndlfd.io import write_csv
 
@@ -782,12 +805,10 @@ def test_files_are_read_in_each_pass_and_a_bad_one_is_named(where, request, tmp_
     for i, d in enumerate(demos):
         write_csv(d, tmp_path / f"d{i:02d}.csv")
         paths.append(tmp_path / f"d{i:02d}.csv")
-    fit = {}
-    if where == "dask":
-        fit["client"] = request.getfixturevalue("dask_client")
-    kw = dict(epsilon=0.02, n_time_bins=20, n_jobs=2)
+    params, fit, _ = _run_in(where, request, monkeypatch)
+    kw = dict(epsilon=0.02, n_time_bins=20, **params)
     from_files = KeypointHMM(**kw).fit(paths, **fit)
-    from_demos = KeypointHMM(**kw).fit(demos)
+    from_demos = KeypointHMM(epsilon=0.02, n_time_bins=20, n_jobs=1).fit(demos)
     _assert_same_model(from_files, from_demos, np.linspace(0, 2, 50))
     (tmp_path / "d07.csv").write_text("t,x,y\n0,1,2\n1,oops,3\n")
     with pytest.raises(DataFileError, match=r"^demos\[7\]: .*d07\.csv"):
@@ -833,11 +854,12 @@ def test_fit_options_and_their_errors(capsys, monkeypatch):
 
 
 def test_batched_counting_and_the_prepared_cache_change_nothing(monkeypatch):
+    import ndlfd._fitmap as _fitmap
     import ndlfd.learner as learner
 
     demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(40)]
     kw = dict(epsilon=0.02, n_time_bins=20, n_jobs=1)
     ref = KeypointHMM(**kw).fit(demos)
     monkeypatch.setattr(learner, "_ESTIMATE_BATCH", 3)  # hmm.merge of 14 parts
-    monkeypatch.setattr(learner, "_CACHE_BYTES", 0)  # prepare again in pass 2
+    monkeypatch.setattr(_fitmap, "_CACHE_BYTES", 0)  # prepare again in pass 2
     _assert_same_model(ref, KeypointHMM(**kw).fit(demos), np.linspace(0, 2, 50))

@@ -28,6 +28,7 @@ from ._errors import (
     NdlfdWarning,
     NotFittedError,
     OptionError,
+    ParallelError,
     ValidationError,
 )
 from ._simplify import simplify, simplify_many
@@ -55,6 +56,7 @@ __all__ = [
     "NdlfdWarning",
     "NotFittedError",
     "OptionError",
+    "ParallelError",
     "TimeBins",
     "ValidationError",
     "__version__",

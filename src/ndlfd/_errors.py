@@ -14,6 +14,7 @@ __all__ = [
     "NdlfdWarning",
     "NotFittedError",
     "OptionError",
+    "ParallelError",
     "ValidationError",
 ]
 
@@ -48,6 +49,10 @@ class ModelFormatError(NdlfdError):
 
 class MissingExtraError(NdlfdError, ImportError):
     """An optional dependency is missing; the message says how to install it."""
+
+
+class ParallelError(NdlfdError, RuntimeError):
+    """A worker process died before it returned its result (killed, out of memory)."""
 
 
 class NdlfdWarning(UserWarning):

@@ -183,24 +183,38 @@ def load_npz(
     wrong = f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
     if p.is_dir():
         raise ModelFormatError(f"{p}: is a folder; expected an ndlfd {kind} file")
+    arrays = read_archive(p, ModelFormatError, f"{wrong} (.npz archive)")
+    return parse_metadata(arrays, p, kind=kind, version=version)
+
+
+def read_archive(p: Path, error: type[Exception], expected: str) -> dict:
+    """Every array of the ``.npz`` archive ``p``, never unpickling anything.
+
+    ``error`` is raised (with ``expected`` saying what the file should have
+    been) for a missing file or one that is not a readable archive.
+    """
     if not p.is_file():
-        raise ModelFormatError(f"{p}: no such file")
+        raise error(f"{p}: no such file")
     with open(p, "rb") as fh:
         magic = fh.read(4)
     if magic not in (b"PK\x03\x04", b"PK\x05\x06"):
-        raise ModelFormatError(
-            f"{wrong} (.npz archive); got {_describe_file(p)}, not readable as one"
-        )
+        raise error(f"{expected}; got {_describe_file(p)}, not readable as one")
     try:
         with open(p, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            arrays = {k: z[k] for k in z.files}
+            return {k: z[k] for k in z.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
         reason = f"{type(exc).__name__}: {exc}"
         if "pickle" in str(exc).lower():
             reason = "it holds pickled Python objects, which ndlfd never loads"
-        raise ModelFormatError(
-            f"{wrong} (.npz archive); the file is not readable as one ({reason})"
-        ) from None
+        raise error(f"{expected}; the file is not readable as one ({reason})") from None
+
+
+def parse_metadata(
+    arrays: dict, p: Path, *, kind: str, version: int | tuple[int, ...]
+) -> tuple[dict[str, np.ndarray], dict]:
+    """Split the ndlfd metadata off ``arrays`` (read from ``p``) and check it."""
+    wrong = f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
+    arrays = dict(arrays)
     raw = arrays.pop(_META_KEY, None)
     if raw is None or raw.shape != () or raw.dtype.kind != "U":
         raise ModelFormatError(

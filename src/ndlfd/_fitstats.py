@@ -20,28 +20,22 @@ in demonstration order, and the centroid sums are accumulated as integers (see
 :func:`to_limbs`). Serial, threaded and Dask fits therefore give the same
 model bit for bit.
 
-:func:`map_reduce` runs a map over chunks of work units in the calling thread,
-on local threads (``n_jobs``) or as Dask tasks (``client``) with a tree
-reduction, with an optional progress bar.
+The map steps themselves are in :mod:`ndlfd._fitmap`; :func:`ndlfd._parallel.map_reduce`
+runs them.
 """
 
 from __future__ import annotations
 
-import os
-import sys
-from collections import deque
-from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 
 import numpy as np
 
-from ._errors import MissingExtraError, ModelFormatError, ValidationError
+from ._errors import ModelFormatError, ValidationError
 
 __all__ = [
     "FitStats",
     "RangeStats",
     "from_limbs",
-    "map_reduce",
     "scale_exponents",
     "template_keys",
     "template_mask",
@@ -317,6 +311,10 @@ class RangeStats:
         Indices of the input items (a demonstration or a file) seen, sorted.
     demos_per_item : ndarray of shape (n_items,), dtype int64
         How many demonstrations each item held (a file may hold several).
+    min_samples, max_samples : int
+        Samples of the shortest and of the longest demonstration.
+    shortest_item, longest_item : int
+        The item that holds it (the first such item on ties).
 
     Examples
     --------
@@ -325,6 +323,8 @@ class RangeStats:
     >>> ab = a + b
     >>> ab.data_min, ab.data_max, ab.n_samples, ab.n_demos
     (array([-1.,  4.]), array([1., 9.]), 3, 2)
+    >>> ab.min_samples, ab.shortest_item, ab.max_samples, ab.longest_item
+    (1, 1, 2, 0)
     """
 
     data_min: np.ndarray
@@ -332,6 +332,10 @@ class RangeStats:
     n_samples: int
     items: np.ndarray
     demos_per_item: np.ndarray
+    min_samples: int = 0
+    max_samples: int = 0
+    shortest_item: int = 0
+    longest_item: int = 0
 
     @classmethod
     def of(cls, item: int, *arrays: np.ndarray) -> RangeStats:
@@ -341,12 +345,17 @@ class RangeStats:
         else:
             lo = np.min([a.min(axis=0) for a in arrays], axis=0)
             hi = np.max([a.max(axis=0) for a in arrays], axis=0)
+        lengths = [a.shape[0] for a in arrays]
         return cls(
             lo,
             hi,
-            int(sum(a.shape[0] for a in arrays)),
+            int(sum(lengths)),
             np.array([item], dtype=np.int64),
             np.array([len(arrays)], dtype=np.int64),
+            min(lengths),
+            max(lengths),
+            item,
+            item,
         )
 
     @property
@@ -359,12 +368,18 @@ class RangeStats:
         parts = (self, *others)
         items = np.concatenate([p.items for p in parts])
         order = _sorted_unique_index(items, "item")
+        short = min(parts, key=lambda p: (p.min_samples, p.shortest_item))
+        long = min(parts, key=lambda p: (-p.max_samples, p.longest_item))
         return RangeStats(
             np.min([p.data_min for p in parts], axis=0),
             np.max([p.data_max for p in parts], axis=0),
             sum(p.n_samples for p in parts),
             _take(items, order),
             _take(np.concatenate([p.demos_per_item for p in parts]), order),
+            short.min_samples,
+            long.max_samples,
+            short.shortest_item,
+            long.longest_item,
         )
 
     __add__ = merge
@@ -749,233 +764,3 @@ def _check_consistent(a: dict) -> None:
         raise ModelFormatError(
             "inconsistent fit statistics (tampered file?): " + "; ".join(problems)
         )
-
-
-# ----------------------------------------------------------------- map and reduce
-
-
-class _Tree:
-    """Merge results as they come, pairwise by level (a binary-counter tree)."""
-
-    def __init__(self) -> None:
-        self._stack: list[tuple[int, object]] = []
-
-    def push(self, item) -> None:
-        level = 0
-        while self._stack and self._stack[-1][0] == level:
-            _, other = self._stack.pop()
-            item = other.merge(item)
-            level += 1
-        self._stack.append((level, item))
-
-    def result(self):
-        if not self._stack:
-            return None
-        items = [x for _, x in self._stack]
-        return items[0].merge(*items[1:]) if len(items) > 1 else items[0]
-
-
-def _chunks(units: Iterable, size: int) -> Iterator[list]:
-    chunk = []
-    for u in units:
-        chunk.append(u)
-        if len(chunk) >= size:
-            yield chunk
-            chunk = []
-    if chunk:
-        yield chunk
-
-
-class _NoBar:
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        return None
-
-    def update(self, n: int) -> None:
-        return None
-
-
-def progress_bar(progress, total, desc: str):
-    """A tqdm bar: always (True), never (False), or on a terminal after 1 s (None)."""
-    if progress is False or (progress is None and not _stderr_is_terminal()):
-        return _NoBar()
-    from tqdm import tqdm
-
-    delay = 1.0 if progress is None else 0.0
-    return tqdm(total=total, desc=desc, unit="demo", leave=False, delay=delay)
-
-
-def _stderr_is_terminal() -> bool:
-    try:
-        return sys.stderr.isatty()
-    except (AttributeError, ValueError):
-        return False
-
-
-def require_distributed():
-    """Import :mod:`distributed` or say how to install it."""
-    try:
-        import distributed
-    except ImportError:
-        raise MissingExtraError(
-            "fitting on Dask needs dask and distributed; install them with: pip"
-            ' install "ndlfd[dask]"'
-        ) from None
-    return distributed
-
-
-def check_client(client):
-    """A :class:`distributed.Client` (``True``: the current default client)."""
-    distributed = require_distributed()
-    if client is True:
-        try:
-            return distributed.get_client()
-        except ValueError:
-            raise ValidationError(
-                "client=True uses the running Dask client, but there is none;"
-                " start one with distributed.Client(...) or pass it"
-            ) from None
-    if not isinstance(client, distributed.Client):
-        raise ValidationError(
-            "client must be a distributed.Client (or True); got"
-            f" {type(client).__name__}"
-        )
-    return client
-
-
-def _merge2(a, b):
-    return a.merge(b)
-
-
-def map_reduce(
-    fn: Callable,
-    spec,
-    units: Iterable,
-    *,
-    total: int | None = None,
-    n_jobs: int | None = None,
-    client=None,
-    progress=None,
-    desc: str = "",
-    chunk_size: int | None = None,
-):
-    """``fn(spec, chunk)`` over chunks of work units, results merged exactly.
-
-    Parameters
-    ----------
-    fn : callable
-        A module-level function ``(spec, list of units) -> stats`` where
-        ``stats`` has ``merge``. It must not submit to the thread pool.
-    spec : object
-        Passed to every call (sent once to the Dask cluster).
-    units : iterable
-        The work units, consumed once and lazily: at most a few chunks per
-        worker are in flight, so an out-of-core source is never held whole.
-    total : int, optional
-        Number of units, for the progress bar and the chunk size.
-    n_jobs : int, optional
-        Local threads (``None``: one per CPU). Ignored with ``client``.
-    client : distributed.Client, optional
-        Run the chunks as Dask tasks and merge them on the workers (a tree
-        reduction); only the result comes back.
-    progress : bool or None
-        See :func:`progress_bar`.
-    desc : str
-        Progress bar label.
-    chunk_size : int, optional
-        Units per task; by default about four tasks per worker, at most 256
-        units (64 locally).
-
-    Returns
-    -------
-    stats
-        The merged result, or None if there were no units.
-    """
-    if client is not None:
-        workers = max(sum(client.nthreads().values()), 1)
-        cap = 256
-    else:
-        workers = n_jobs if n_jobs is not None else (os.cpu_count() or 1)
-        cap = 64
-    if chunk_size is None and workers <= 1:
-        chunk_size = cap  # serial: no balancing needed, fewest merges
-    elif chunk_size is None:
-        chunk_size = cap if total is None else -(-total // (4 * workers))
-        chunk_size = int(min(max(chunk_size, 1), cap))
-    chunks = _chunks(units, chunk_size)
-    with progress_bar(progress, total, desc) as bar:
-        if client is not None:
-            return _run_dask(fn, spec, chunks, client, workers, bar)
-        return _run_local(fn, spec, chunks, workers, bar)
-
-
-def _run_local(fn, spec, chunks, workers, bar):
-    tree = _Tree()
-    if workers <= 1:
-        for chunk in chunks:
-            n = len(chunk)
-            tree.push(fn(spec, chunk))
-            del chunk  # not held while the next chunk is read
-            bar.update(n)
-        return tree.result()
-    from ._simplify import _pool
-
-    pool = _pool(workers)
-    window: deque = deque()
-    try:
-        for chunk in chunks:
-            window.append((pool.submit(fn, spec, chunk), len(chunk)))
-            while len(window) >= 2 * workers:
-                fut, n = window.popleft()
-                tree.push(fut.result())
-                bar.update(n)
-        while window:
-            fut, n = window.popleft()
-            tree.push(fut.result())
-            bar.update(n)
-    finally:
-        for fut, _ in window:
-            fut.cancel()
-    return tree.result()
-
-
-def _run_dask(fn, spec, chunks, client, workers, bar):
-    distributed = require_distributed()
-    spec_f = client.scatter(spec, broadcast=True, hash=False)
-    done = distributed.as_completed()
-    sizes: dict = {}
-    live: set = set()
-    ready: list = []
-
-    def settle(fut):
-        live.discard(fut)
-        if fut.status != "finished":
-            fut.result()  # raises the task's error on this side
-            raise RuntimeError(f"Dask task {fut.key} ended as {fut.status}")
-        bar.update(sizes.pop(fut.key, 0))
-        if ready:
-            merged = client.submit(_merge2, ready.pop(), fut, pure=False)
-            live.add(merged)
-            done.add(merged)
-        else:
-            ready.append(fut)
-
-    try:
-        for chunk in chunks:
-            data = client.scatter([chunk], hash=False)[0]
-            fut = client.submit(fn, spec_f, data, pure=False)
-            del data
-            sizes[fut.key] = len(chunk)
-            live.add(fut)
-            done.add(fut)
-            while len(live) >= 2 * workers:
-                settle(next(done))
-        while live:
-            settle(next(done))
-        return ready[0].result() if ready else None
-    finally:
-        for fut in (*live, *ready):
-            fut.cancel()
-        spec_f.cancel()

@@ -33,7 +33,6 @@ from __future__ import annotations
 import glob
 import os
 import re
-import zipfile
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -41,7 +40,13 @@ from pathlib import Path
 import numpy as np
 
 from ._errors import DataFileError, MissingExtraError, ModelFormatError, ValidationError
-from ._fileformat import _describe_file, atomic_path, load_npz, save_npz
+from ._fileformat import (
+    _META_KEY,
+    atomic_path,
+    parse_metadata,
+    read_archive,
+    save_npz,
+)
 from ._validation import check_points
 from .demo import Demonstration, default_columns
 from .orientation import QUATERNION_ORDERS
@@ -66,7 +71,6 @@ __all__ = [
 
 _NPZ_KIND = "Demonstration"
 _NPZ_VERSION = 1
-_META_KEY = "__ndlfd__"
 
 #: The file suffixes (any case) that a folder given to :func:`read_demos`
 #: contributes.
@@ -948,9 +952,9 @@ def write_npz(demo: Demonstration, path: str | os.PathLike) -> Path:
     )
 
 
-def _read_ndlfd_npz(p: Path) -> Demonstration:
+def _read_ndlfd_npz(p: Path, arrays: dict) -> Demonstration:
     try:
-        arrays, meta = load_npz(p, kind=_NPZ_KIND, version=_NPZ_VERSION)
+        arrays, meta = parse_metadata(arrays, p, kind=_NPZ_KIND, version=_NPZ_VERSION)
     except ModelFormatError as exc:
         raise DataFileError(str(exc)) from None
     missing = [k for k in ("t", "X") if k not in arrays]
@@ -966,36 +970,13 @@ def _read_ndlfd_npz(p: Path) -> Demonstration:
         raise _wrap(p, exc) from None
 
 
-def _plain_npz(p: Path) -> dict[str, np.ndarray] | None:
-    """The arrays of a plain ``.npz`` file; None for an ndlfd file."""
-    if not p.is_file():
-        raise DataFileError(f"{p}: no such file")
-    with open(p, "rb") as fh:
-        magic = fh.read(4)
-    if magic not in (b"PK\x03\x04", b"PK\x05\x06"):
-        raise DataFileError(
-            f"{p}: expected an .npz archive of numeric arrays; got"
-            f" {_describe_file(p)}, not readable as one"
-        )
-    try:
-        with open(p, "rb") as fh, np.load(fh, allow_pickle=False) as z:
-            if _META_KEY in z.files:
-                return None
-            return {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, KeyError) as exc:
-        reason = f"{type(exc).__name__}: {exc}"
-        if "pickle" in str(exc).lower():
-            reason = "it holds pickled Python objects, which ndlfd never loads"
-        raise DataFileError(
-            f"{p}: expected an .npz archive of numeric arrays; the file is not"
-            f" readable as one ({reason})"
-        ) from None
-
-
 def _read_npz(p: Path, how, **mapping) -> tuple[Demonstration, ColumnMapping]:
-    arrays = _plain_npz(p)
-    if arrays is None:
-        demo = _read_ndlfd_npz(p)
+    """A Demonstration file (``write_npz``) or a plain archive of arrays."""
+    arrays = read_archive(
+        p, DataFileError, f"{p}: expected an .npz archive of numeric arrays"
+    )
+    if _META_KEY in arrays:
+        demo = _read_ndlfd_npz(p, arrays)
         groups = tuple(
             (g, tuple(c for c, h in zip(demo.columns, demo.groups, strict=True)
                       if h == g))

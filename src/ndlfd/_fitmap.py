@@ -1,0 +1,425 @@
+"""The map steps of :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>` and the two passes.
+
+A fit reads its demonstrations twice (see :mod:`ndlfd._fitstats`):
+
+1. :func:`scan`: the groups and columns from the first demonstration, then per
+   column the range over all (:class:`~ndlfd._fitstats.RangeStats`), from which
+   the scaler is made;
+2. :func:`count`: per demonstration its key points, codebook states, time bins
+   and centroid sums (:class:`~ndlfd._fitstats.FitStats`).
+
+Each pass is :func:`ndlfd._parallel.map_reduce` of a map step over chunks of
+*items* (a :class:`~ndlfd.Demonstration`, a file path, or a
+:class:`~ndlfd.io.DemoFile`), in this thread, on threads, in processes or on
+Dask. Errors name the item (``demos[i]``, with its file) they come from.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import threading
+from collections.abc import Iterable, Iterator, Mapping, Sized
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ._errors import DataFileError, NdlfdError, ValidationError
+from ._fitstats import FitStats, RangeStats, scale_exponents, template_mask
+from ._parallel import check_client, map_reduce
+from ._simplify import simplify
+from .codebook import Codebook, TimeBins
+from .demo import Demonstration
+from .normalize import GroupScaler
+
+if TYPE_CHECKING:
+    from .learner import KeypointHMM
+
+__all__ = ["Scan", "count", "scan"]
+
+_NOT_DEMOS = (
+    "demos must be a Demonstration, a list (or any re-iterable) of them, or a list"
+    " of file paths"
+)
+
+
+def _as_source(demos):
+    """The training set as a re-iterable of items (Demonstrations or file paths)."""
+    if isinstance(demos, Demonstration):
+        return [demos]
+    if isinstance(demos, (str, bytes, os.PathLike)):
+        raise ValidationError(
+            f"{_NOT_DEMOS}; got the single path {demos!r}. Pass [path] or a list of"
+            " files, or read a folder with ndlfd.io.read_demos."
+        )
+    if isinstance(demos, (np.ndarray, Mapping)) or not isinstance(demos, Iterable):
+        raise ValidationError(
+            f"{_NOT_DEMOS}; got {type(demos).__name__}. Load files with"
+            " ndlfd.io.read_demos."
+        )
+    if isinstance(demos, Iterator):
+        raise ValidationError(
+            f"demos is a one-shot iterator ({type(demos).__name__}), but fitting"
+            " reads the demonstrations twice (their ranges, then their key"
+            " points). Pass a list, a re-iterable (an object whose __iter__ starts"
+            " over each time) or a list of file paths."
+        )
+    return demos
+
+
+def _read_item(item, i: int) -> list[Demonstration]:
+    """The demonstrations of one input item (a Demonstration or a file)."""
+    if isinstance(item, Demonstration):
+        return [item]
+    if isinstance(item, (str, os.PathLike)):
+        from .io import read_demos
+
+        try:
+            demos = read_demos(item)
+        except NdlfdError as exc:
+            raise type(exc)(f"demos[{i}]: {exc}") from exc
+        except (OSError, ValueError) as exc:
+            raise DataFileError(
+                f"demos[{i}]: {item}: cannot be read ({type(exc).__name__}: {exc})"
+            ) from exc
+        if not demos:
+            raise DataFileError(f"demos[{i}]: {item}: holds no demonstration")
+        return demos
+    raise ValidationError(
+        f"demos[{i}] must be a Demonstration or a file path; got {type(item).__name__}"
+    )
+
+
+def _where(i: int, item, k: int, n: int) -> str:
+    if isinstance(item, Demonstration):
+        return f"demos[{i}]"
+    if n == 1:
+        return f"demos[{i}] ({item})"
+    return f"demos[{i}] ({item}, demonstration {k})"
+
+
+def _located(where: str, fn, *args):
+    """``fn(*args)``, with errors naming the demonstration they come from."""
+    try:
+        return fn(*args)
+    except NdlfdError as exc:
+        raise type(exc)(f"{where}: {exc}") from exc
+    except (ValueError, TypeError, ArithmeticError, LookupError) as exc:
+        raise ValidationError(f"{where}: {type(exc).__name__}: {exc}") from exc
+
+
+def _changed(what: str) -> ValidationError:
+    return ValidationError(
+        f"the demonstrations changed between the two passes of fit ({what}); fit"
+        " needs a re-iterable that yields the same demonstrations each time"
+    )
+
+
+#: With ``n_jobs=None`` a local fit uses threads when demonstrations have at
+#: least this many samples on average. The per-demonstration work of shorter
+#: ones is mostly Python (holding the GIL): on 1,000-sample demonstrations two
+#: threads were slower than one, on 20,000-sample ones 1.3 times faster.
+_THREAD_MIN_SAMPLES = 5000
+
+#: Bytes of prepared demonstrations (groups selected, velocity derived) that a
+#: local fit keeps from the first pass for the second, for the Demonstration
+#: objects the caller's list holds anyway (never for files or re-iterables).
+_CACHE_BYTES = 256 * 2**20
+
+
+class _PreparedCache:
+    """Prepared demonstrations of pass 1 kept for pass 2, up to a byte budget."""
+
+    def __init__(self, budget: int) -> None:
+        self._left = budget
+        self._items: dict = {}
+        self._lock = threading.Lock()
+
+    def put(self, i: int, demo: Demonstration) -> None:
+        size = demo.X.nbytes + demo.t.nbytes
+        with self._lock:
+            if size <= self._left:
+                self._left -= size
+                self._items[i] = demo
+
+    def get(self, i: int) -> Demonstration | None:
+        with self._lock:
+            return self._items.get(i)
+
+    def pop(self, i: int) -> Demonstration | None:
+        with self._lock:
+            return self._items.pop(i, None)
+
+
+@dataclass(frozen=True)
+class _FitSpec:
+    """What the per-demonstration map steps need (sent to the workers)."""
+
+    est: KeypointHMM  # the parameters (an unfitted copy)
+    groups: tuple[str, ...] = ()
+    columns: tuple[str, ...] = ()
+    col_groups: tuple[str, ...] = ()
+    scaler: GroupScaler | None = None
+    codebook: Codebook | None = None
+    time_bins: TimeBins | None = None
+    weights: np.ndarray | None = None
+    exponents: np.ndarray | None = None
+    templates: np.ndarray | None = None
+    cache: _PreparedCache | None = None
+
+    def prepared(self, demo: Demonstration) -> Demonstration:
+        d = self.est._prepare(demo, self.groups)
+        if d.columns != self.columns or d.groups != self.col_groups:
+            raise ValidationError(
+                "all demonstrations must have the same columns; the first has"
+                f" {self.columns} and this one has {d.columns}"
+            )
+        return d
+
+
+def _probe(spec: _FitSpec, unit):
+    """Groups and learned columns, from the first demonstration of the first item."""
+    i, item = unit
+    demos = _read_item(item, i)
+    groups = spec.est._wanted_groups(demos[0])
+    d = _located(_where(i, item, 0, len(demos)), spec.est._prepare, demos[0], groups)
+    if spec.cache is not None and isinstance(item, Demonstration):
+        spec.cache.put(i, d)
+    return groups, d.columns, d.groups, d.n_samples
+
+
+def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
+    """Pass 1: per-column min and max of the demonstrations of some items."""
+    parts = []
+    for i, item in chunk:
+        if isinstance(item, Demonstration) and spec.cache is not None:
+            d = spec.cache.get(i)  # the first one, from the probe
+            if d is None:
+                d = _located(f"demos[{i}]", spec.prepared, item)
+                spec.cache.put(i, d)
+            parts.append(RangeStats.of(i, d.X))
+            continue
+        demos = _read_item(item, i)
+        arrays = [
+            _located(_where(i, item, k, len(demos)), spec.prepared, d).X
+            for k, d in enumerate(demos)
+        ]
+        parts.append(RangeStats.of(i, *arrays))
+    return parts[0].merge(*parts[1:])
+
+
+def _count_one(spec: _FitSpec, demo: Demonstration, j: int, d=None) -> FitStats:
+    est = spec.est
+    if d is None:
+        d = spec.prepared(demo)
+    u = spec.scaler.transform(d, weighted=False)
+    idx = simplify(
+        u,
+        None if est.n_points is not None else est.epsilon,
+        distance=est.distance,
+        weights=spec.weights,
+        times=d.t if est.distance == "sed" else None,
+        n_points=est.n_points,
+        n_jobs=1,
+    )
+    states, clipped = spec.codebook.encode(u[idx], return_n_clipped=True)
+    tau = spec.time_bins.normalize(d.t)
+    return FitStats.of_demo(
+        j,
+        u,
+        tau,
+        idx,
+        states,
+        spec.time_bins.transform(tau)[idx],
+        exponents=spec.exponents,
+        n_clipped=clipped,
+        template=bool(spec.templates[j]),
+    )
+
+
+def _map_counts(spec: _FitSpec, chunk) -> FitStats:
+    """Pass 2: key points, states, bins, centroid sums and templates of some items."""
+    parts = []
+    for i, start, expected, item in chunk:
+        if spec.cache is not None and isinstance(item, Demonstration):
+            d = spec.cache.pop(i)  # prepared in pass 1
+            if d is not None:
+                where = f"demos[{i}]"
+                parts.append(_located(where, _count_one, spec, item, start, d))
+                continue
+        demos = _read_item(item, i)
+        if len(demos) != expected:
+            raise _changed(
+                f"demos[{i}] held {expected} demonstration(s), now {len(demos)}"
+            )
+        for k, d in enumerate(demos):
+            where = _where(i, item, k, len(demos))
+            parts.append(_located(where, _count_one, spec, d, start + k))
+    return parts[0].merge(*parts[1:])
+
+
+def _count_units(source, counts: np.ndarray):
+    start = 0
+    n = 0
+    for i, item in enumerate(source):
+        if i >= counts.size:
+            raise _changed(f"{counts.size} item(s) in the first, more in the second")
+        yield i, start, int(counts[i]), item
+        start += int(counts[i])
+        n = i + 1
+    if n != counts.size:
+        raise _changed(f"{counts.size} item(s) in the first, {n} in the second")
+
+
+#: With ``n_jobs=None`` a local fit of short demonstrations (below
+#: :data:`_THREAD_MIN_SAMPLES`) uses worker processes only from this many
+#: input items on: fewer take well under a second serially.
+_PROCESS_MIN_ITEMS = 256
+
+
+def _workers(est, mean_length: float, total: int | None) -> tuple[int, str]:
+    """(workers, backend) of a local map: threads for long demonstrations.
+
+    The kernels release the GIL, so long demonstrations scale on threads; the
+    per-demonstration work of short ones is mostly Python, so they go to
+    processes (:mod:`ndlfd._parallel`).
+    """
+    cpus = os.cpu_count() or 1
+    if mean_length >= _THREAD_MIN_SAMPLES:
+        return (est.n_jobs if est.n_jobs is not None else cpus), "threads"
+    if est.n_jobs is not None:
+        return est.n_jobs, "processes"
+    if total is not None and total < _PROCESS_MIN_ITEMS:
+        return 1, "threads"
+    return cpus, "processes"
+
+
+@dataclass
+class Scan:
+    """What pass 1 of a fit found (see :func:`scan`).
+
+    Attributes
+    ----------
+    source : iterable
+        The training items, to be read again by :func:`count`.
+    spec : _FitSpec
+        The groups and columns, and the parameters of the map steps.
+    ranges : RangeStats
+        Per-column ranges, demonstrations per item, fewest and most samples.
+    total : int or None
+        Number of items, when the source is sized.
+    run : dict
+        ``client`` and ``progress`` of the fit.
+    """
+
+    source: Iterable
+    spec: _FitSpec
+    ranges: RangeStats
+    total: int | None
+    run: dict[str, Any]
+
+
+def scan(est, demos, *, client=None, progress=None) -> Scan:
+    """Pass 1 of ``est.fit(demos)``: groups, columns and per-column ranges."""
+    source = _as_source(demos)
+    if client is not None:
+        client = check_client(client)
+    total = len(source) if isinstance(source, Sized) else None
+    run = dict(client=client, progress=progress)
+
+    # the groups and columns, from the first demonstration
+    items = iter(source)
+    try:
+        first = next(items)
+    except StopIteration:
+        raise ValidationError(
+            "demos must hold at least one demonstration; got none"
+        ) from None
+    # the Demonstrations of an in-memory list: keep them prepared between the
+    # passes (local fits on threads only; they are in memory anyway)
+    local_list = client is None and isinstance(source, (list, tuple))
+    spec = _FitSpec(
+        est=type(est)(**est.get_params()),
+        cache=_PreparedCache(_CACHE_BYTES) if local_list else None,
+    )
+    if client is not None and not isinstance(first, Demonstration):
+        probe = client.submit(_probe, spec, (0, first), pure=False).result()
+    else:
+        probe = _probe(spec, (0, first))
+    groups, columns, col_groups, first_length = probe
+    workers, backend = _workers(est, first_length, total)
+    spec = replace(
+        spec,
+        groups=groups,
+        columns=columns,
+        col_groups=col_groups,
+        cache=spec.cache if backend == "threads" else None,
+    )
+    units = itertools.chain([(0, first)], enumerate(items, start=1))
+    del first
+    ranges = map_reduce(
+        _map_ranges,
+        spec,
+        units,
+        total=total,
+        desc="fit 1/2 ranges",
+        n_jobs=workers,
+        backend=backend,
+        **run,
+    )
+    return Scan(source, spec, ranges, total, run)
+
+
+def count(est, done: Scan) -> tuple[_FitSpec, FitStats]:
+    """Pass 2 of ``est.fit``: the fit statistics, with the scaler of pass 1.
+
+    ``est`` may differ from the estimator :func:`scan` had only in parameters
+    that pass 1 does not use (``n_time_bins``, ``epsilon``, ``n_points``).
+    """
+    spec, ranges = done.spec, done.ranges
+    scaler = est._scaler_from_ranges(ranges, spec.columns, spec.col_groups)
+    # |u| <= 2**E per column: u is monotone in x, so the extremes bound it
+    ends = scaler.transform(
+        np.vstack([ranges.data_min, ranges.data_max]), weighted=False
+    )
+    w = scaler.column_weights_
+    if est.n_points is not None and est.n_points > ranges.min_samples:
+        raise ValidationError(
+            f"n_points must be between 2 and {ranges.min_samples}, the number of"
+            " samples of the shortest demonstration"
+            f" (demos[{ranges.shortest_item}]); got {est.n_points}"
+        )
+    spec = replace(
+        spec,
+        est=type(est)(**est.get_params()),
+        scaler=scaler,
+        codebook=Codebook.from_groups(
+            est._levels_by_group(spec.groups), spec.col_groups
+        ),
+        time_bins=TimeBins(est.n_time_bins),
+        weights=None if np.all(w == 1.0) else w,
+        exponents=scale_exponents(np.abs(ends).max(axis=0)),
+        templates=template_mask(ranges.n_demos, est.max_templates, est.random_state),
+    )
+    counts = ranges.demos_per_item
+    workers, backend = _workers(est, ranges.n_samples / ranges.n_demos, counts.size)
+    stats = map_reduce(
+        _map_counts,
+        spec,
+        _count_units(done.source, counts),
+        total=counts.size,
+        desc="fit 2/2 key points",
+        n_jobs=workers,
+        backend=backend,
+        **done.run,
+    )
+    if stats.n_demos != ranges.n_demos or (
+        int(stats.n_samples.sum()) != ranges.n_samples
+    ):
+        raise _changed(
+            f"{ranges.n_demos} demonstration(s) of {ranges.n_samples} samples"
+            f" in the first, {stats.n_demos} of {int(stats.n_samples.sum())} in"
+            " the second"
+        )
+    return spec, stats

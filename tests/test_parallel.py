@@ -1,0 +1,93 @@
+"""map_reduce: every unit once, in any backend; errors and dead workers reported."""
+
+import os
+import threading
+
+import numpy as np
+import pytest
+
+from ndlfd import OptionError, ParallelError, ValidationError
+from ndlfd._fitstats import RangeStats
+from ndlfd._parallel import BACKENDS, map_reduce, start_method
+
+
+def _count_chunk(spec, chunk):
+    if any(u == spec for u in chunk):
+        raise ValidationError(f"unit {spec} is bad")
+    return RangeStats(
+        np.zeros(1), np.zeros(1), len(chunk),
+        np.array(chunk, dtype=np.int64), np.ones(len(chunk), dtype=np.int64),
+    )  # fmt: skip
+
+
+def _pid_chunk(spec, chunk):
+    """RangeStats whose 'samples' count the units run outside the caller."""
+    r = _count_chunk(-1, chunk)
+    outside = len(chunk) if os.getpid() != spec else 0
+    return RangeStats(r.data_min, r.data_max, outside, r.items, r.demos_per_item)
+
+
+def _die(spec, chunk):
+    if spec in chunk:
+        os._exit(3)  # as a worker killed by the OOM killer
+    return _count_chunk(-1, chunk)
+
+
+@pytest.mark.parametrize("backend", ["threads", "processes"])
+@pytest.mark.parametrize("n_jobs", [1, 3])
+@pytest.mark.parametrize("chunk_size", [None, 1, 7])
+def test_map_reduce_sees_every_unit_once(backend, n_jobs, chunk_size):
+    seen_threads = set()
+
+    def units():
+        for i in range(100):
+            seen_threads.add(threading.get_ident())
+            yield i
+
+    r = map_reduce(_count_chunk, -1, units(), total=100, n_jobs=n_jobs,
+                   backend=backend, chunk_size=chunk_size,
+                   progress=False)  # fmt: skip
+    np.testing.assert_array_equal(r.items, np.arange(100))
+    assert r.n_samples == 100
+    assert seen_threads == {threading.get_ident()}  # consumed in the caller
+    assert map_reduce(_count_chunk, -1, iter(()), n_jobs=n_jobs) is None
+
+
+def test_processes_run_in_other_processes_and_serial_in_this_one():
+    me = os.getpid()
+    far = map_reduce(_pid_chunk, me, range(50), n_jobs=2, backend="processes")
+    near = map_reduce(_pid_chunk, me, range(50), n_jobs=1, backend="processes")
+    assert (far.n_samples, near.n_samples) == (50, 0)
+    assert far.n_demos == near.n_demos == 50
+
+
+@pytest.mark.parametrize("backend", ["threads", "processes"])
+@pytest.mark.parametrize("n_jobs", [1, 3])
+def test_map_reduce_raises_the_failing_units_error(backend, n_jobs):
+    with pytest.raises(ValidationError, match="unit 57 is bad"):
+        map_reduce(_count_chunk, 57, range(100), total=100, n_jobs=n_jobs,
+                   backend=backend, chunk_size=4, progress=False)  # fmt: skip
+
+
+def test_a_dead_worker_process_is_a_clear_error_and_the_pool_recovers():
+    with pytest.raises(ParallelError, match=r"ended unexpectedly.*n_jobs=1"):
+        map_reduce(_die, 33, range(100), n_jobs=2, backend="processes",
+                   chunk_size=4)  # fmt: skip
+    r = map_reduce(_die, -1, range(100), n_jobs=2, backend="processes")
+    np.testing.assert_array_equal(r.items, np.arange(100))
+
+
+def test_unknown_backend_lists_the_choices():
+    with pytest.raises(OptionError, match=r"'processes', 'threads'|'threads'"):
+        map_reduce(_count_chunk, -1, range(3), backend="mpi")
+    assert set(BACKENDS) == {"threads", "processes"}
+    assert start_method() in ("fork", "spawn")
+
+
+def test_progress_bar_when_asked(capsys):
+    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=True,
+               desc="counting")  # fmt: skip
+    assert "counting" in capsys.readouterr().err
+    map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=False,
+               desc="counting")  # fmt: skip
+    assert capsys.readouterr().err == ""
