@@ -1030,3 +1030,39 @@ def test_fit_on_a_dask_scheduler_gives_the_local_model(tmp_path, capsys):
     assert rc == 2 and err == [
         "ndlfd fit: error: --n-jobs must be an integer >= 1; got 0"
     ]
+
+
+@pytest.mark.parametrize("n_jobs", ["1", "2"])
+def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
+    tmp_path, capsys, monkeypatch, n_jobs
+):
+    import ndlfd.io
+
+    folder = _write_reach(tmp_path / "d", demos=_reach_demos(7))
+    reads: list[str] = []
+    real = ndlfd.io._read_file
+
+    def counting(p, *args, **kw):
+        reads.append(Path(p).name)
+        return real(p, *args, **kw)
+
+    monkeypatch.setattr(ndlfd.io, "_read_file", counting)
+    args = ("fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "1")
+    rc, err = cli(capsys, *args)
+    assert rc == 0, err
+    # the first file here (groups, checks) and by fit (columns), then every
+    # file once per pass
+    names = sorted(p.name for p in folder.iterdir())
+    assert reads == [names[0], names[0], *names, *names]
+    assert err[0].startswith("read 7 demonstration(s) from 7 file(s): time=t;")
+    # the same model as from the demonstrations in memory
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    demos = ndlfd.io.read_demos(folder)
+    ref = KeypointHMM(n_time_bins=model.n_time_bins, n_jobs=1).fit(demos)
+    assert model.fit_stats_ == ref.fit_stats_
+    # a corrupt file in the middle: one line naming it, on any number of workers
+    (folder / "reach3.csv").write_text("t,x,y,z,qw,qx,qy,qz\n0,1,2,3,1,0,0,0\n1,x\n")
+    args = ("fit", folder, "-o", tmp_path / "bad.ndlfd", "--n-jobs", n_jobs)
+    rc, err = cli(capsys, *args)
+    assert rc != 0 and not (tmp_path / "bad.ndlfd").exists()
+    assert len(err) == 1 and "reach3.csv" in err[0] and "demos[" not in err[0]

@@ -204,13 +204,21 @@ def test_range_stats_against_numpy():
 )
 def test_shortest_and_longest_whatever_the_merge_order(lengths, rnd):
     # reference: the first item (by index) of the fewest / most samples
-    parts = [RangeStats.of(i, np.zeros((n, 1))) for i, n in enumerate(lengths)]
+    # and the notes: distinct texts by first item, with their counts
+    notes = [[f"kind {n % 3}"] for n in lengths]
+    parts = [
+        RangeStats.of(i, np.zeros((n, 1)), notes=notes[i])
+        for i, n in enumerate(lengths)
+    ]
     rnd.shuffle(parts)
     k = rnd.randrange(len(parts))
     r = parts[k].merge(*parts[:k], *parts[k + 1 :])
     assert r.min_samples == min(lengths) and r.max_samples == max(lengths)
     assert r.shortest_item == lengths.index(min(lengths))
     assert r.longest_item == lengths.index(max(lengths))
+    flat = [n[0] for n in notes]
+    want = [(t, flat.index(t), flat.count(t)) for t in dict.fromkeys(flat)]
+    assert list(r.notes) == want
 
 
 # -- templates ---------------------------------------------------------------------

@@ -422,6 +422,41 @@ def test_read_demos_folder_glob_list(tmp_path):
     assert read_demos(r, time_column=None)[0].t.tolist() == [0.0, 1.0]
 
 
+def test_demo_files_read_lazily_like_read_demos(tmp_path):
+    import pickle
+
+    from ndlfd import KeypointHMM
+    from ndlfd.io import DemoFile, DemoFiles
+
+    demos = [_rich_demo(6, s) for s in range(3)]
+    for i, d in enumerate(demos):
+        write_csv(d, tmp_path / f"d{i}.csv")
+    (tmp_path / "d1.csv").rename(tmp_path / "renamed.csv")  # no longer sorted last
+    files = DemoFiles(tmp_path)
+    assert len(files) == 3 and all(isinstance(f, DemoFile) for f in files)
+    assert [f.path.name for f in files] == ["d0.csv", "d2.csv", "renamed.csv"]
+    assert [x for f in files for x in f.read()] == read_demos(tmp_path)
+    assert [f.path for f in files[1:]] == [f.path for f in list(files)[1:]]
+    # items travel to worker processes (pickled), not their data
+    f = pickle.loads(pickle.dumps(files[0]))
+    assert f == files[0] and f.read() == [demos[0]]
+    # the column mapping goes with every file
+    sub = tmp_path / "sub"
+    sub.mkdir()
+    (sub / "r.csv").write_text("stamp,a,b\n0,1,2\n1,3,4\n")
+    mapped = DemoFiles(sub, time_column="stamp", groups={"position": ["a", "b"]})
+    assert mapped[0].read() == read_demos(
+        sub, time_column="stamp", groups={"position": ["a", "b"]}
+    )
+    with pytest.raises(ValidationError, match=r"DemoFiles got .*\['colums'\]"):
+        DemoFiles(sub, colums=["a"])
+    # fitting from it: the model of the demonstrations in memory
+    kw = dict(epsilon=0.1, n_time_bins=5, n_jobs=1)
+    a = KeypointHMM(**kw).fit(DemoFiles(tmp_path / "*.csv"))
+    b = KeypointHMM(**kw).fit(read_demos(tmp_path / "*.csv"))
+    assert a.fit_stats_ == b.fit_stats_
+
+
 def test_read_demos_errors(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(

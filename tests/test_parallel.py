@@ -91,3 +91,24 @@ def test_progress_bar_when_asked(capsys):
     map_reduce(_count_chunk, -1, range(10), total=10, n_jobs=1, progress=False,
                desc="counting")  # fmt: skip
     assert capsys.readouterr().err == ""
+
+
+def _warn_chunk(spec, chunk):
+    import warnings
+
+    from ndlfd import NdlfdWarning
+
+    warnings.warn(f"chunk of {len(chunk)} in process {os.getpid()}", NdlfdWarning,
+                  stacklevel=1)  # fmt: skip
+    return _count_chunk(-1, chunk)
+
+
+def test_warnings_of_worker_processes_are_given_again_here():
+    from ndlfd import NdlfdWarning
+
+    with pytest.warns(NdlfdWarning) as caught:
+        map_reduce(_warn_chunk, None, range(20), n_jobs=2, backend="processes",
+                   chunk_size=5)  # fmt: skip
+    texts = {str(w.message) for w in caught}
+    assert len(texts) >= 1 and all(t.startswith("chunk of 5") for t in texts)
+    assert all(f"process {os.getpid()}" not in t for t in texts)

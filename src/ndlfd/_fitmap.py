@@ -21,6 +21,7 @@ import os
 import threading
 from collections.abc import Iterable, Iterator, Mapping, Sized
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -68,35 +69,56 @@ def _as_source(demos):
     return demos
 
 
-def _read_item(item, i: int) -> list[Demonstration]:
-    """The demonstrations of one input item (a Demonstration or a file)."""
+def _file(item):
+    """A path or DemoFile item as a DemoFile; None for anything else."""
+    from .io import DemoFile
+
+    if isinstance(item, (str, os.PathLike)):
+        return DemoFile(Path(item))
+    return item if isinstance(item, DemoFile) else None
+
+
+def _label(i: int, item) -> str:
+    """How errors name an item: ``demos[i]``, with its file; the CLI: the file."""
+    f = _file(item)
+    if f is None:
+        return f"demos[{i}]"
+    return str(f.path) if f.hints == "cli" else f"demos[{i}] ({f.path})"
+
+
+def _read_item(item, i: int, notes: list | None = None) -> list[Demonstration]:
+    """The demonstrations of one input item (a Demonstration or a file).
+
+    ``notes`` gets how each demonstration of a file read for the command line
+    was read (its :class:`~ndlfd.io.ColumnMapping`).
+    """
     if isinstance(item, Demonstration):
         return [item]
-    if isinstance(item, (str, os.PathLike)):
-        from .io import read_demos
-
-        try:
-            demos = read_demos(item)
-        except NdlfdError as exc:
-            raise type(exc)(f"demos[{i}]: {exc}") from exc
-        except (OSError, ValueError) as exc:
-            raise DataFileError(
-                f"demos[{i}]: {item}: cannot be read ({type(exc).__name__}: {exc})"
-            ) from exc
-        if not demos:
-            raise DataFileError(f"demos[{i}]: {item}: holds no demonstration")
-        return demos
-    raise ValidationError(
-        f"demos[{i}] must be a Demonstration or a file path; got {type(item).__name__}"
-    )
+    f = _file(item)
+    if f is None:
+        raise ValidationError(
+            f"demos[{i}] must be a Demonstration or a file path; got"
+            f" {type(item).__name__}"
+        )
+    head = "" if f.hints == "cli" else f"demos[{i}]: "
+    try:
+        pairs = f.read_with_mappings()
+    except NdlfdError as exc:  # the message names the file
+        raise type(exc)(f"{head}{exc}") from exc
+    except (OSError, ValueError) as exc:
+        raise DataFileError(
+            f"{head}{f.path}: cannot be read ({type(exc).__name__}: {exc})"
+        ) from exc
+    if not pairs:
+        raise DataFileError(f"{head}{f.path}: holds no demonstration")
+    if notes is not None and f.hints == "cli":
+        notes.extend(str(m) for _, m in pairs)
+    return [d for d, _ in pairs]
 
 
 def _where(i: int, item, k: int, n: int) -> str:
-    if isinstance(item, Demonstration):
-        return f"demos[{i}]"
-    if n == 1:
-        return f"demos[{i}] ({item})"
-    return f"demos[{i}] ({item}, demonstration {k})"
+    """The label of demonstration ``k`` of the ``n`` of item ``i``."""
+    return _label(i, item) + ("" if n == 1 else f", demonstration {k}")
 
 
 def _located(where: str, fn, *args):
@@ -200,12 +222,13 @@ def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
                 spec.cache.put(i, d)
             parts.append(RangeStats.of(i, d.X))
             continue
-        demos = _read_item(item, i)
+        notes: list[str] = []
+        demos = _read_item(item, i, notes)
         arrays = [
             _located(_where(i, item, k, len(demos)), spec.prepared, d).X
             for k, d in enumerate(demos)
         ]
-        parts.append(RangeStats.of(i, *arrays))
+        parts.append(RangeStats.of(i, *arrays, notes=notes))
     return parts[0].merge(*parts[1:])
 
 

@@ -26,6 +26,7 @@ runs them.
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
@@ -297,6 +298,10 @@ def _take(a: np.ndarray, order):
 # ----------------------------------------------------------------- pass 1
 
 
+def _by_item(note: tuple) -> tuple:
+    return note[1], note[0]
+
+
 @dataclass(frozen=True, eq=False)
 class RangeStats:
     """Pass-1 statistics: per-column range and how many demonstrations per item.
@@ -315,6 +320,10 @@ class RangeStats:
         Samples of the shortest and of the longest demonstration.
     shortest_item, longest_item : int
         The item that holds it (the first such item on ties).
+    notes : tuple of (str, int, int)
+        Distinct notes on the demonstrations (how their files were read),
+        each with the first item it came from and how many demonstrations
+        had it, in the order of their first items.
 
     Examples
     --------
@@ -336,10 +345,14 @@ class RangeStats:
     max_samples: int = 0
     shortest_item: int = 0
     longest_item: int = 0
+    notes: tuple = ()
 
     @classmethod
-    def of(cls, item: int, *arrays: np.ndarray) -> RangeStats:
-        """The statistics of the demonstrations (value arrays) of one item."""
+    def of(cls, item: int, *arrays: np.ndarray, notes=()) -> RangeStats:
+        """The statistics of the demonstrations (value arrays) of one item.
+
+        ``notes`` holds a note (a string) per demonstration, or nothing.
+        """
         if len(arrays) == 1:
             lo, hi = arrays[0].min(axis=0), arrays[0].max(axis=0)
         else:
@@ -356,6 +369,7 @@ class RangeStats:
             max(lengths),
             item,
             item,
+            tuple((t, item, c) for t, c in Counter(notes).items()),
         )
 
     @property
@@ -370,6 +384,10 @@ class RangeStats:
         order = _sorted_unique_index(items, "item")
         short = min(parts, key=lambda p: (p.min_samples, p.shortest_item))
         long = min(parts, key=lambda p: (-p.max_samples, p.longest_item))
+        notes: dict[str, list[int]] = {}
+        for text, first, n in (x for p in parts for x in p.notes):
+            seen = notes.setdefault(text, [first, 0])
+            seen[0], seen[1] = min(seen[0], first), seen[1] + n
         return RangeStats(
             np.min([p.data_min for p in parts], axis=0),
             np.max([p.data_max for p in parts], axis=0),
@@ -380,6 +398,7 @@ class RangeStats:
             long.max_samples,
             short.shortest_item,
             long.longest_item,
+            tuple(sorted(((t, f, n) for t, (f, n) in notes.items()), key=_by_item)),
         )
 
     __add__ = merge

@@ -26,6 +26,7 @@ import multiprocessing
 import os
 import sys
 import threading
+import warnings
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ProcessPoolExecutor
@@ -222,20 +223,20 @@ def _run_serial(fn, spec, chunks, bar):
     return tree.result()
 
 
-def _run_pool(pool, fn, spec, chunks, workers, bar):
+def _run_pool(submit, chunks, workers, bar, unpack=lambda r: r):
     """Chunks on an executor, at most two per worker in flight, merged in order."""
     tree = _Tree()
     window: deque = deque()
     try:
         for chunk in chunks:
-            window.append((pool.submit(fn, spec, chunk), len(chunk)))
+            window.append((submit(chunk), len(chunk)))
             while len(window) >= 2 * workers:
                 fut, n = window.popleft()
-                tree.push(fut.result())
+                tree.push(unpack(fut.result()))
                 bar.update(n)
         while window:
             fut, n = window.popleft()
-            tree.push(fut.result())
+            tree.push(unpack(fut.result()))
             bar.update(n)
     finally:
         for fut, _ in window:
@@ -246,13 +247,38 @@ def _run_pool(pool, fn, spec, chunks, workers, bar):
 def _run_threads(fn, spec, chunks, workers, bar):
     from ._simplify import _pool
 
-    return _run_pool(_pool(workers), fn, spec, chunks, workers, bar)
+    pool = _pool(workers)
+    return _run_pool(lambda c: pool.submit(fn, spec, c), chunks, workers, bar)
+
+
+def _recording(fn, spec, chunk):
+    """``fn(spec, chunk)`` and every warning it gave.
+
+    All are recorded: the caller's filters (which a persistent worker does not
+    share) decide in :func:`_rewarn` what to show, ignore or raise.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = fn(spec, chunk)
+    return result, [w.message for w in caught]
+
+
+def _rewarn(pair):
+    """The result of :func:`_recording`, its warnings given again here."""
+    result, messages = pair
+    for message in messages:
+        warnings.warn(message, stacklevel=2)
+    return result
 
 
 def _run_processes(fn, spec, chunks, workers, bar):
     pool = _process_pool(workers)
+
+    def submit(chunk):
+        return pool.submit(_recording, fn, spec, chunk)
+
     try:
-        return _run_pool(pool, fn, spec, chunks, workers, bar)
+        return _run_pool(submit, chunks, workers, bar, unpack=_rewarn)
     except BrokenProcessPool as exc:
         _drop_process_pool(pool)
         raise ParallelError(

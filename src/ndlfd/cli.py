@@ -17,6 +17,7 @@ import os
 import re
 import sys
 import warnings
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -214,12 +215,9 @@ def _column_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _describe_mappings(maps, n_files: int) -> str:
+def _describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str:
     """One line: how the files were read (the distinct mappings, with counts)."""
-    texts: dict[str, int] = {}
-    for m in maps:
-        texts[str(m)] = texts.get(str(m), 0) + 1
-    head = f"read {len(maps)} demonstration(s) from {n_files} file(s)"
+    head = f"read {n_demos} demonstration(s) from {n_files} file(s)"
     if len(texts) == 1:
         return f"{head}: {next(iter(texts))}"
     return f"{head}: " + " | ".join(f"{k} as {t}" for t, k in texts.items())
@@ -244,7 +242,8 @@ def _read_sources(args, sources, *, flag: str, progress: bool = False):
         raise ValidationError(f"{flag}: the files hold no demonstration")
     demos = [d for d, _ in pairs]
     maps = [m for _, m in pairs]
-    _say(args, _describe_mappings(maps, len(paths)))
+    texts = Counter(str(m) for m in maps)
+    _say(args, _describe_mappings(texts, len(maps), len(paths)))
     return demos, maps
 
 
@@ -329,6 +328,36 @@ def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
     n = [d.n_samples for d in demos]
     lo, hi = int(np.argmin(n)), int(np.argmax(n))
     return n[lo], maps[lo].source, n[hi], maps[hi].source
+
+
+def _check_bounds(args, ranges, paths, default_bins: int) -> tuple[int, str]:
+    """``--n-points`` and ``--time-bins`` against the demonstrations' lengths.
+
+    Returns the time bins (the default lowered to the longest demonstration's
+    samples) and a note saying so.
+    """
+    fewest, most = ranges.min_samples, ranges.max_samples
+    if args.n_points is not None and args.n_points > fewest:
+        raise ValidationError(
+            f"--n-points must be between 2 and {fewest} (the number of samples of"
+            f" the shortest demonstration, {paths[ranges.shortest_item]}); got"
+            f" {args.n_points}"
+        )
+    time_bins, note = args.time_bins, ""
+    if time_bins is None:
+        time_bins = min(default_bins, most)
+        if time_bins < default_bins:
+            note = (
+                f" (the default {default_bins} lowered to the longest"
+                f" demonstration's {most} samples)"
+            )
+    elif time_bins > most:
+        raise ValidationError(
+            f"--time-bins must be between 2 and {most} (the number of samples of"
+            f" the longest demonstration, {paths[ranges.longest_item]}); got"
+            f" {time_bins}"
+        )
+    return time_bins, note
 
 
 # --------------------------------------------------------------------- simplify
@@ -605,9 +634,22 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     _check_range(args.pseudo_emission, "--pseudo-emission", low=0)
     if args.n_jobs is not None:
         _check_range(args.n_jobs, "--n-jobs", low=1)
-    demos, maps = _read_sources(args, args.demos, flag="demos", progress=True)
+    # the files are read as a stream (twice, on the workers): only the first
+    # one here, for the groups and the checks that name the flags
+    from . import _fitmap
+    from .io import _CLI_HINTS, DemoFiles, _read_file, demo_files
+
+    options = _column_options(args)
+    paths = demo_files(args.demos)
+    news: list = []
+    with _noting(paths[0], news):
+        pairs = _read_file(paths[0], _CLI_HINTS, **options)
+    _tell(news)
+    if not pairs:
+        raise ValidationError(f"demos: {paths[0]} holds no demonstration")
+    first, first_map = pairs[0]
     if groups is None:  # the library's groups="auto", resolved here to report it
-        groups = list(KeypointHMM()._wanted_groups(demos[0]))
+        groups = list(KeypointHMM()._wanted_groups(first))
     for what, names in (("--levels", levels), ("--weights", weights)):
         if isinstance(names, dict):
             unknown = [g for g in names if g not in groups]
@@ -625,34 +667,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f"--levels must give the codebook levels of group {lacking[0]!r},"
                 f" which has no default (e.g. --levels {lacking[0]}=10)"
             )
-
-    fewest, fewest_src, most, most_src = _sample_bounds(demos, maps)
-    if args.n_points is not None and args.n_points > fewest:
-        raise ValidationError(
-            f"--n-points must be between 2 and {fewest} (the number of samples of"
-            f" the shortest demonstration, {fewest_src}); got {args.n_points}"
-        )
+    _, derived = _prepare_groups([first], [first_map], groups)
     defaults = KeypointHMM()
-    time_bins, note = args.time_bins, ""
-    if time_bins is None:
-        time_bins = min(defaults.n_time_bins, most)
-        if time_bins < defaults.n_time_bins:
-            note = (
-                f" (the default {defaults.n_time_bins} lowered to the longest"
-                f" demonstration's {most} samples)"
-            )
-    elif time_bins > most:
-        raise ValidationError(
-            f"--time-bins must be between 2 and {most} (the number of samples of"
-            f" the longest demonstration, {most_src}); got {time_bins}"
-        )
-    prepared, derived = _prepare_groups(demos, maps, groups)
     model = KeypointHMM(
         groups=groups,
         levels=levels,
         epsilon=args.epsilon if args.epsilon is not None else defaults.epsilon,
-        n_time_bins=time_bins,
-        n_points=args.n_points,
+        n_time_bins=args.time_bins or defaults.n_time_bins,
+        n_points=None,  # checked against the shortest demonstration first
         distance=args.distance,
         normalization=args.normalization,
         weights=weights,
@@ -662,13 +684,22 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         decoder=args.decoder,
         n_jobs=args.n_jobs,
     )
+    files = DemoFiles._for_cli(paths, **options)
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        model.fit(prepared, client=client)
+        scanned = _fitmap.scan(model, files, client=client)
+        ranges = scanned.ranges
+        n_demos = ranges.n_demos
+        mappings = {text: n for text, _, n in ranges.notes}
+        _say(args, _describe_mappings(mappings, n_demos, len(paths)))
+        time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
+        model.set_params(n_time_bins=time_bins, n_points=args.n_points)
+        spec, stats = _fitmap.count(model, scanned)
     finally:
         if client is not None:
             client.close()
+    model._set_from_spec(spec, stats)
     elapsed = time.perf_counter() - t0
     model.save(out)
     k = model.n_keypoints_
@@ -677,13 +708,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     )
     _say(
         args,
-        f"fitted {len(demos)} demonstration(s) in {elapsed:.2f} s on {learned}:"
+        f"fitted {n_demos} demonstration(s) in {elapsed:.2f} s on {learned}:"
         f" key points {k.min()}-{k.max()} (median {int(np.median(k))}),"
         f" {model.n_states_used_} of {model.codebook_.n_states} states used,"
         f" {time_bins} time bins{note} -> {out}",
     )
-    present = dict.fromkeys(g for d in demos for g in d.group_names)
-    unused = [g for g in present if g not in groups]
+    unused = [g for g in first.group_names if g not in groups]
     if unused:
         _say(
             args,

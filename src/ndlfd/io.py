@@ -34,7 +34,7 @@ import glob
 import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -57,6 +57,8 @@ __all__ = [
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
+    "DemoFile",
+    "DemoFiles",
     "demo_files",
     "group_of_column",
     "read_csv",
@@ -1275,15 +1277,107 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     >>> print(maps[0])
     time=t; position=x,y
     """
-    unknown = sorted(set(kwargs) - set(_MAPPING_DEFAULTS))
-    if unknown:
-        raise ValidationError(
-            f"read_demos got unexpected argument(s) {unknown}; expected"
-            f" {', '.join(_MAPPING_DEFAULTS)} or return_mappings"
-        )
-    mapping = {**_MAPPING_DEFAULTS, **kwargs}
+    mapping = _mapping("read_demos", kwargs, "or return_mappings")
     pairs = [pair for p in _expand(source) for pair in _read_file(p, **mapping)]
     demos = [d for d, _ in pairs]
     if return_mappings:
         return demos, [m for _, m in pairs]
     return demos
+
+
+def _mapping(who: str, kwargs: dict, more: str = "") -> dict:
+    """The column mapping options with their defaults; unknown names refused."""
+    unknown = sorted(set(kwargs) - set(_MAPPING_DEFAULTS))
+    if unknown:
+        raise ValidationError(
+            f"{who} got unexpected argument(s) {unknown}; expected"
+            f" {', '.join(_MAPPING_DEFAULTS)} {more}".rstrip()
+        )
+    return {**_MAPPING_DEFAULTS, **kwargs}
+
+
+@dataclass(frozen=True)
+class DemoFile:
+    """One data file and how to read it: an item of :class:`DemoFiles`.
+
+    It is read only when :meth:`read` is called (on whichever worker maps it
+    in :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>`).
+
+    Attributes
+    ----------
+    path : Path
+    mapping : dict
+        ``time_column``, ``groups``, ``quaternion_order`` and ``drop`` (see
+        :func:`read_csv`).
+    """
+
+    path: Path
+    mapping: dict = field(default_factory=lambda: dict(_MAPPING_DEFAULTS))
+    #: How error messages name the settings: ``"library"`` (parameters) or
+    #: ``"cli"`` (the command line's flags).
+    hints: str = field(default="library", repr=False)
+
+    def read(self) -> list[Demonstration]:
+        """The file's demonstrations (several for an HDF5 file of episodes)."""
+        return [d for d, _ in self.read_with_mappings()]
+
+    def read_with_mappings(self) -> list[tuple[Demonstration, ColumnMapping]]:
+        """The file's demonstrations, each with the :class:`ColumnMapping` used."""
+        how = _CLI_HINTS if self.hints == "cli" else _LIBRARY_HINTS
+        return _read_file(self.path, how, **self.mapping)
+
+
+class DemoFiles(Sequence):
+    """The data files of a folder, glob pattern or list, read lazily.
+
+    A sequence of :class:`DemoFile` (a file and the column mapping to read it
+    with) that holds no data: pass it to :meth:`KeypointHMM.fit
+    <ndlfd.KeypointHMM.fit>` to fit from files that do not fit in memory
+    together; each pass reads each file once, on the worker that maps it.
+
+    Parameters
+    ----------
+    source : str, path-like or list of them
+        As :func:`read_demos` takes it (a folder, a glob pattern, files).
+    **mapping
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
+        :func:`read_csv`.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from ndlfd import KeypointHMM, synth
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> demos, _ = synth.make_dataset("square", n_demos=4, random_state=0)
+    >>> for i, d in enumerate(demos):
+    ...     _ = write_csv(d, folder / f"demo_{i}.csv")
+    >>> files = DemoFiles(folder)
+    >>> len(files), files[0].path.name, files[0].read()[0] == demos[0]
+    (4, 'demo_0.csv', True)
+    >>> KeypointHMM(epsilon=0.1, n_time_bins=20).fit(files).n_demos_
+    4
+    """
+
+    def __init__(self, source, **mapping) -> None:
+        self._mapping = _mapping("DemoFiles", mapping)
+        self._hints = "library"
+        self.paths = tuple(_expand(source))
+
+    @classmethod
+    def _for_cli(cls, paths, **mapping) -> DemoFiles:
+        files = cls.__new__(cls)
+        files._mapping = _mapping("DemoFiles", mapping)
+        files._hints = "cli"
+        files.paths = tuple(paths)
+        return files
+
+    def __len__(self) -> int:
+        return len(self.paths)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return DemoFile(self.paths[i], dict(self._mapping), self._hints)
+
+    def __repr__(self) -> str:
+        return f"DemoFiles({len(self)} files, first {str(self.paths[0])!r})"
