@@ -179,7 +179,7 @@ def run_one(mode: str, n: int, folder: Path) -> dict:
         if mode == "processes":
             from ndlfd._parallel import _PROCESS_POOLS
 
-            pool = _PROCESS_POOLS[2]
+            (pool,) = _PROCESS_POOLS.values()
             out["worker_peak_mib"] = max(
                 f.result() for f in [pool.submit(_peak_mib) for _ in range(8)]
             )

@@ -112,3 +112,24 @@ def test_warnings_of_worker_processes_are_given_again_here():
     texts = {str(w.message) for w in caught}
     assert len(texts) >= 1 and all(t.startswith("chunk of 5") for t in texts)
     assert all(f"process {os.getpid()}" not in t for t in texts)
+
+
+def test_spawned_workers_give_the_same_result(monkeypatch):
+    # what Python 3.12+ and macOS get: fresh interpreters that import ndlfd
+    import ndlfd._parallel as _parallel
+
+    monkeypatch.setattr(_parallel, "start_method", lambda: "spawn")
+    me = os.getpid()
+    r = map_reduce(_pid_chunk, me, range(30), n_jobs=2, backend="processes")
+    np.testing.assert_array_equal(r.items, np.arange(30))
+    assert r.n_samples == 30  # all of it ran in the spawned processes
+    assert (2, "spawn") in _parallel._PROCESS_POOLS
+
+
+def test_a_daemonic_process_maps_on_threads_instead(monkeypatch):
+    import multiprocessing
+
+    monkeypatch.setattr(multiprocessing.current_process(), "daemon", True)
+    me = os.getpid()
+    r = map_reduce(_pid_chunk, me, range(30), n_jobs=2, backend="processes")
+    assert r.n_samples == 0 and r.n_demos == 30  # here, on threads

@@ -272,6 +272,10 @@ def _rewarn(pair):
 
 
 def _run_processes(fn, spec, chunks, workers, bar):
+    if multiprocessing.current_process().daemon:
+        # a daemonic process (a Dask or multiprocessing.Pool worker) may not
+        # start processes of its own
+        return _run_threads(fn, spec, chunks, workers, bar)
     pool = _process_pool(workers)
 
     def submit(chunk):
@@ -297,7 +301,7 @@ BACKENDS.add("threads", _run_threads)
 BACKENDS.add("processes", _run_processes)
 
 
-_PROCESS_POOLS: dict[int, ProcessPoolExecutor] = {}
+_PROCESS_POOLS: dict[tuple[int, str], ProcessPoolExecutor] = {}
 _PROCESS_LOCK = threading.Lock()
 
 
@@ -315,12 +319,13 @@ def start_method() -> str:
 
 def _process_pool(workers: int) -> ProcessPoolExecutor:
     """A persistent pool of ``workers`` processes (started once per session)."""
+    key = (workers, start_method())
     with _PROCESS_LOCK:
-        pool = _PROCESS_POOLS.get(workers)
+        pool = _PROCESS_POOLS.get(key)
         if pool is None or getattr(pool, "_broken", False):
-            ctx = multiprocessing.get_context(start_method())
+            ctx = multiprocessing.get_context(key[1])
             pool = ProcessPoolExecutor(workers, mp_context=ctx)
-            _PROCESS_POOLS[workers] = pool
+            _PROCESS_POOLS[key] = pool
         return pool
 
 

@@ -882,8 +882,9 @@ def _add_fit(sub) -> None:
         "--n-jobs",
         type=int,
         default=None,
-        help="threads for the reduction (default: threads only for long"
-        " demonstrations, where they pay off)",
+        help="workers reading and reducing the files: processes for short"
+        " demonstrations, threads for long ones (>= 5,000 samples); default one"
+        " per CPU from 256 files on, else 1; the model is the same",
     )
     p.add_argument(
         "--scheduler",

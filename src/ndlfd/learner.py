@@ -150,13 +150,17 @@ class KeypointHMM:
     derive_velocity : bool, default=True
         Derive a missing velocity group from position and time.
     n_jobs : int, optional
-        Threads for the per-demonstration work of :meth:`fit` (normalize,
-        reduce, encode, count) and for aligning the templates in generation.
-        ``None``: in fit, one per CPU for long demonstrations (5,000 samples
-        or more on average) and the calling thread otherwise, as the work of a
-        short demonstration is mostly Python and gains nothing from threads;
-        in generation one per CPU. The model does not depend on it. Ignored by
-        :meth:`fit` with a Dask ``client``.
+        Workers for the per-demonstration work of :meth:`fit` (read, prepare,
+        normalize, reduce, encode, count) and threads for aligning the
+        templates in generation. In fit, long demonstrations (5,000 samples or
+        more on average) go to threads, as the kernels release the GIL; the
+        work of shorter ones is mostly Python, so they go to worker processes
+        (a persistent pool: ``fork`` on Linux before Python 3.12, ``spawn``
+        otherwise, which imports the caller's main module: guard a script
+        with ``if __name__ == "__main__":``). ``None``: one per CPU, except
+        that fewer than 256 short demonstrations are fitted in the calling
+        thread. The model does not depend on it. Ignored by :meth:`fit` with
+        a Dask ``client``.
     max_templates : int or None, default=200
         How many training demonstrations are kept whole as templates of the
         blended generation (the path is their aligned, weighted average). The
@@ -393,7 +397,8 @@ class KeypointHMM:
         if it is a blend template (see ``max_templates``). Only these
         statistics are kept, never all demonstrations at once (unless the
         caller's list holds them), and the model is the same bit for bit
-        serially, on threads (``n_jobs``) or on Dask (``client``).
+        serially, on threads or processes (``n_jobs``) or on Dask
+        (``client``).
 
         Parameters
         ----------
@@ -402,7 +407,8 @@ class KeypointHMM:
             *re-iterable* (an object whose ``__iter__`` starts over each
             time, e.g. one that reads files lazily), iterated exactly twice.
             File paths are read with :func:`ndlfd.io.read_demos` (a file may
-            hold several demonstrations) in each pass, on the workers. A
+            hold several demonstrations) in each pass, on the workers;
+            :class:`ndlfd.io.DemoFiles` does so with a column mapping. A
             one-shot iterator such as a generator is refused: two passes are
             needed.
         y : None
@@ -431,6 +437,9 @@ class KeypointHMM:
             A file that cannot be read.
         MissingExtraError
             ``client`` without Dask installed.
+        ParallelError
+            A worker process died (killed, out of memory, or an unguarded
+            script under ``spawn``).
 
         Examples
         --------
