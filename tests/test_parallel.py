@@ -133,3 +133,27 @@ def test_a_daemonic_process_maps_on_threads_instead(monkeypatch):
     me = os.getpid()
     r = map_reduce(_pid_chunk, me, range(30), n_jobs=2, backend="processes")
     assert r.n_samples == 0 and r.n_demos == 30  # here, on threads
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    distributed = pytest.importorskip("distributed")
+    with (
+        distributed.LocalCluster(n_workers=2, processes=False, threads_per_worker=1,
+                                 dashboard_address=None) as cluster,
+        distributed.Client(cluster) as client,
+    ):  # fmt: skip
+        yield client
+
+
+@pytest.mark.parametrize("chunk_size", [1, 3, 64])
+def test_dask_sees_every_unit_once_and_reports_the_failing_one(dask_client, chunk_size):
+    # 100 units in 1, 3 or 64 per task: many levels of the merge tree, or one
+    r = map_reduce(_count_chunk, -1, range(100), total=100, client=dask_client,
+                   chunk_size=chunk_size)  # fmt: skip
+    np.testing.assert_array_equal(r.items, np.arange(100))
+    assert r.n_samples == 100
+    with pytest.raises(ValidationError, match="unit 57 is bad"):
+        map_reduce(_count_chunk, 57, range(100), client=dask_client,
+                   chunk_size=chunk_size)  # fmt: skip
+    assert map_reduce(_count_chunk, -1, [], client=dask_client) is None

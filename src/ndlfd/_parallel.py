@@ -338,12 +338,19 @@ def _drop_process_pool(pool: ProcessPoolExecutor) -> None:
 
 
 def _run_dask(fn, spec, chunks, client, workers, bar):
+    """Chunks as Dask tasks, merged on the workers in a balanced tree.
+
+    Results are merged as they finish, but only with one of the same level (as
+    :class:`_Tree` does locally), so each statistic is copied O(log n) times:
+    merging every result into one growing total would copy it O(n) times.
+    """
     distributed = require_distributed()
     spec_f = client.scatter(spec, broadcast=True, hash=False)
     done = distributed.as_completed()
     sizes: dict = {}
+    level: dict = {}
     live: set = set()
-    ready: list = []
+    ready: dict[int, object] = {}  # level -> a finished result waiting for a pair
 
     def settle(fut):
         live.discard(fut)
@@ -351,12 +358,15 @@ def _run_dask(fn, spec, chunks, client, workers, bar):
             fut.result()  # raises the task's error on this side
             raise RuntimeError(f"Dask task {fut.key} ended as {fut.status}")
         bar.update(sizes.pop(fut.key, 0))
-        if ready:
-            merged = client.submit(_merge2, ready.pop(), fut, pure=False)
-            live.add(merged)
-            done.add(merged)
-        else:
-            ready.append(fut)
+        lvl = level.pop(fut.key, 0)
+        other = ready.pop(lvl, None)
+        if other is None:
+            ready[lvl] = fut
+            return
+        merged = client.submit(_merge2, other, fut, pure=False)
+        level[merged.key] = lvl + 1
+        live.add(merged)
+        done.add(merged)
 
     try:
         for chunk in chunks:
@@ -370,8 +380,17 @@ def _run_dask(fn, spec, chunks, client, workers, bar):
                 settle(next(done))
         while live:
             settle(next(done))
-        return ready[0].result() if ready else None
+        if not ready:
+            return None
+        rest = [ready[k] for k in sorted(ready)]
+        if len(rest) == 1:
+            return rest[0].result()
+        return client.submit(_merge_all, *rest, pure=False).result()
     finally:
-        for fut in (*live, *ready):
+        for fut in (*live, *ready.values()):
             fut.cancel()
         spec_f.cancel()
+
+
+def _merge_all(first, *others):
+    return first.merge(*others)
