@@ -863,3 +863,16 @@ def test_batched_counting_and_the_prepared_cache_change_nothing(monkeypatch):
     monkeypatch.setattr(learner, "_ESTIMATE_BATCH", 3)  # hmm.merge of 14 parts
     monkeypatch.setattr(_fitmap, "_CACHE_BYTES", 0)  # prepare again in pass 2
     _assert_same_model(ref, KeypointHMM(**kw).fit(demos), np.linspace(0, 2, 50))
+
+
+def test_a_long_first_demonstration_then_short_ones_on_two_workers():
+    # pass 1 picks threads (by the first), pass 2 processes (by the mean): the
+    # prepared cache of pass 1 stays local, and the model is the same
+    long_t = np.linspace(0.0, 2.0, 6000)
+    long_P = np.column_stack([np.sin(long_t), np.cos(long_t)])
+    demos = [Demonstration.from_arrays(long_t, position=long_P)]
+    demos += [Demonstration.from_arrays(t, position=P) for t, P in _waves(12)]
+    kw = dict(epsilon=0.02, n_time_bins=20)
+    serial = KeypointHMM(**kw, n_jobs=1).fit(demos)
+    _assert_same_model(serial, KeypointHMM(**kw, n_jobs=2).fit(demos),
+                       np.linspace(0.0, 2.0, 80))  # fmt: skip

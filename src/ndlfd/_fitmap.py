@@ -379,7 +379,7 @@ def scan(est, demos, *, client=None, progress=None) -> Scan:
         groups=groups,
         columns=columns,
         col_groups=col_groups,
-        cache=spec.cache if backend == "threads" else None,
+        cache=None if backend == "processes" and workers > 1 else spec.cache,
     )
     units = itertools.chain([(0, first)], enumerate(items, start=1))
     del first
@@ -429,6 +429,8 @@ def count(est, done: Scan) -> tuple[_FitSpec, FitStats]:
     )
     counts = ranges.demos_per_item
     workers, backend = _workers(est, ranges.n_samples / ranges.n_demos, counts.size)
+    if backend == "processes" and workers > 1:
+        spec = replace(spec, cache=None)  # prepared again there (a lock: local)
     stats = map_reduce(
         _map_counts,
         spec,

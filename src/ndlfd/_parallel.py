@@ -129,10 +129,6 @@ def check_client(client):
     return client
 
 
-def _merge2(a, b):
-    return a.merge(b)
-
-
 def map_reduce(
     fn: Callable,
     spec,
@@ -363,7 +359,7 @@ def _run_dask(fn, spec, chunks, client, workers, bar):
         if other is None:
             ready[lvl] = fut
             return
-        merged = client.submit(_merge2, other, fut, pure=False)
+        merged = client.submit(_merge_all, other, fut, pure=False)
         level[merged.key] = lvl + 1
         live.add(merged)
         done.add(merged)
