@@ -234,15 +234,18 @@ def report(rows: list[dict], wall_s: float) -> str:
         " position and 10 velocity levels, m = 8,000,000),"
         f" `{', '.join(f'{k}={v!r}' for k, v in PARAMS.items())}`. `fit` gets"
         " the list of paths and reads every file twice, on the worker that maps"
-        " it (reading is inside the fit time and shown apart, measured on a"
-        " sample). Every run is a fresh process. `processes`: `n_jobs=2`, the"
+        " it. Reading: the time one core takes to read every file twice"
+        " (`read_demos`, timed on a sample of up to 500 files before the fit,"
+        " from a cold or warm page cache as it comes); it is inside the fit"
+        " time, spread over the workers. Every run is a fresh process."
+        " `processes`: `n_jobs=2`, the"
         " default backend for short demonstrations, pool start-up included."
         " `threads`: `n_jobs=2` forced onto threads (the per-demonstration work"
         " is mostly Python and holds the GIL; not run at 100,000). Dask:"
         " `LocalCluster` of 2 worker processes x 1 thread, start-up not counted."
         " Worker MiB: the largest peak RSS of a pool process or Dask worker.",
         "",
-        "| demos | mode | fit s | of which reading s | demos/s/core |"
+        "| demos | mode | fit s | reading s (1 core) | demos/s/core |"
         " peak RSS MiB | worker MiB | statistics MiB | generate ms"
         " (from a start) | vs processes |",
         "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|",
