@@ -583,11 +583,14 @@ def test_committed_v2_model_file_still_loads_and_generates_the_same():
         want = read_csv(expected)
         np.testing.assert_array_equal(got.t, want.t)
         np.testing.assert_allclose(got.X, want.X, rtol=0, atol=1e-12)
-        # a fresh fit of the recorded data and parameters generates the same
-        fresh = mk.build().generate(mk.GRID, dense=True, **kw)
+        # a fresh fit of the recorded data and parameters generates the same,
+        # matching raw samples as format 2 did; today's default does not
+        fresh = mk.build(match_window=0.0).generate(mk.GRID, dense=True, **kw)
         np.testing.assert_array_equal(fresh.X, got.X)
+        assert not np.array_equal(mk.build().generate(mk.GRID, dense=True).X, got.X)
     # every demonstration was a template; the statistics are a fresh fit's
     assert model.max_templates is None and model.template_indices_.size == 6
+    assert model.match_window == 0.0 and KeypointHMM().match_window == 0.05
     assert model.fit_stats_ == mk.build().fit_stats_
 
 
@@ -876,3 +879,28 @@ def test_a_long_first_demonstration_then_short_ones_on_two_workers():
     serial = KeypointHMM(**kw, n_jobs=1).fit(demos)
     _assert_same_model(serial, KeypointHMM(**kw, n_jobs=2).fit(demos),
                        np.linspace(0.0, 2.0, 80))  # fmt: skip
+
+
+def test_match_window_is_checked_saved_and_zero_for_older_files(tmp_path):
+    from ndlfd._fileformat import load_npz, save_npz
+
+    demos = [Demonstration.from_arrays(t, position=P) for t, P in _waves(8)]
+    for bad in (-0.1, 0.6, float("nan"), "wide"):
+        with pytest.raises(ValidationError, match="match_window"):
+            KeypointHMM(match_window=bad).fit(demos)
+    model = KeypointHMM(epsilon=0.02, n_time_bins=20, match_window=0.1).fit(demos)
+    model.save(tmp_path / "m.ndlfd")
+    again = KeypointHMM.load(tmp_path / "m.ndlfd")
+    assert again.match_window == 0.1
+    t = np.linspace(0.0, 2.0, 60)
+    _assert_same_model(model, again, t)
+    # the same file as format 3 wrote it (no match_window): raw matching
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=4)
+    del meta["params"]["match_window"]
+    extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
+    save_npz(tmp_path / "v3.ndlfd", arrays, kind="KeypointHMM", version=3,
+             metadata=extra)  # fmt: skip
+    old = KeypointHMM.load(tmp_path / "v3.ndlfd")
+    raw = KeypointHMM(epsilon=0.02, n_time_bins=20, match_window=0.0).fit(demos)
+    assert old.match_window == 0.0
+    _assert_same_model(old, raw, t)

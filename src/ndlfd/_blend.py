@@ -15,7 +15,12 @@ Three steps, each exact and cheap:
    values encoded to their states, are a skeleton. Each training
    demonstration is aligned to it by a monotone dynamic programme (the sample
    of the demonstration matched to each skeleton point, ends pinned, least
-   total squared distance in normalized units).
+   total squared distance in normalized units). The distances are taken from
+   a moving average of the demonstration (:data:`MATCH_WINDOW`), so a sample
+   is not matched *for* its noise: matching raw samples picks, at every
+   skeleton point, the ones whose noise lies towards it, and on noisy data the
+   blend then spikes towards the skeleton (whose centroids are of key points,
+   noise extremes themselves).
 3. **Blend.** Between consecutive skeleton points every demonstration's
    matched segment is time-warped onto the skeleton's times (the weighted mean
    of the matched samples' normalized times) and the segments are averaged
@@ -38,6 +43,7 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "MATCH_WINDOW",
     "align_many",
     "align_to_skeleton",
     "blend",
@@ -55,6 +61,14 @@ __all__ = [
 #: single shapes and 0.133, 0.135, 0.136 and 0.152 on Multi_Models; narrower
 #: kernels copy the nearest demonstration, wider ones start to mix routes.
 BANDWIDTH_FACTOR = 4.0
+
+#: Half-width of the moving average the alignment matches on, as a fraction of
+#: a demonstration's samples (each side). Measured (leave-one-out DTW, ratio to
+#: the mean of the demonstrations): the paper's noisy square (100 training
+#: demonstrations, seeds 0-2) 1.049, 1.035, 1.065 with raw samples and 1.007,
+#: 0.998, 0.999 with 0.05; single LASA shapes, time only, 0.939 and 0.941 (ratio
+#: of medians over 7 folds x 26 shapes): smooth data hardly notice it.
+MATCH_WINDOW = 0.05
 
 
 def segment_states(key_bins: np.ndarray, key_states: np.ndarray, n_bins: int):
@@ -122,7 +136,11 @@ def _align_kernel(U, C, strict):  # pragma: no cover - compiled
 
 
 def align_many(
-    U_list, C: np.ndarray, n_jobs=None, max_candidates: int | None = None
+    U_list,
+    C: np.ndarray,
+    n_jobs=None,
+    max_candidates: int | None = None,
+    window: float = 0.0,
 ) -> list[np.ndarray]:
     """:func:`align_to_skeleton` for many demonstrations, on threads.
 
@@ -137,7 +155,7 @@ def align_many(
         The skeleton points.
     n_jobs : int, optional
         Threads; ``None`` means one per CPU.
-    max_candidates : int, optional
+    max_candidates, window : optional
         See :func:`align_to_skeleton`.
 
     Returns
@@ -146,17 +164,42 @@ def align_many(
     """
     from ._simplify import _pool
 
+    def one(U):
+        return align_to_skeleton(U, C, max_candidates, window)
+
     workers = min(n_jobs or os.cpu_count() or 1, len(U_list))
-    if workers <= 1:
-        return [align_to_skeleton(U, C, max_candidates) for U in U_list]
     C = np.ascontiguousarray(C, dtype=np.float64)
-    return list(
-        _pool(workers).map(lambda U: align_to_skeleton(U, C, max_candidates), U_list)
-    )
+    if workers <= 1:
+        return [one(U) for U in U_list]
+    return list(_pool(workers).map(one, U_list))
+
+
+def moving_average(U: np.ndarray, half: int) -> np.ndarray:
+    """Mean of the rows ``i - half .. i + half`` (fewer at the ends) of each row.
+
+    Examples
+    --------
+    >>> moving_average(np.array([[0.0], [3.0], [0.0], [3.0]]), 1)
+    array([[1.5],
+           [1. ],
+           [2. ],
+           [1.5]])
+    """
+    U = np.asarray(U, dtype=np.float64)
+    if half <= 0:
+        return U
+    n = U.shape[0]
+    c = np.concatenate([np.zeros((1, U.shape[1])), np.cumsum(U, axis=0)])
+    i = np.arange(n)
+    lo, hi = np.maximum(i - half, 0), np.minimum(i + half + 1, n)
+    return (c[hi] - c[lo]) / (hi - lo)[:, None]
 
 
 def align_to_skeleton(
-    U: np.ndarray, C: np.ndarray, max_candidates: int | None = None
+    U: np.ndarray,
+    C: np.ndarray,
+    max_candidates: int | None = None,
+    window: float = 0.0,
 ) -> np.ndarray:
     """Samples of a demonstration matched to the skeleton points.
 
@@ -170,6 +213,9 @@ def align_to_skeleton(
         Match only to this many samples, evenly spread (always with the first
         and the last): the cost is ``O(n_keys * max_candidates * n_dims)``
         instead of ``O(n_keys * n_samples * n_dims)``.
+    window : float, default=0.0
+        Match on the :func:`moving_average` of ``U`` over ``round(window *
+        n_samples)`` rows each side (0: the raw samples).
 
     Returns
     -------
@@ -188,6 +234,7 @@ def align_to_skeleton(
     U = np.asarray(U, dtype=np.float64)
     C = np.ascontiguousarray(C, dtype=np.float64)
     n = U.shape[0]
+    U = moving_average(U, round(window * n))
     cand = None
     if max_candidates is not None and n > max_candidates:
         cand = np.unique(np.r_[np.linspace(0, n - 1, max_candidates).astype(np.int64)])

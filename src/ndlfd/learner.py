@@ -17,6 +17,7 @@ import numpy as np
 
 from . import _fitmap, hmm
 from ._blend import (
+    MATCH_WINDOW,
     align_many,
     blend,
     condition_weights,
@@ -61,8 +62,9 @@ _FORMAT_KIND = "KeypointHMM"
 #: Version 3 stores the fit statistics (:class:`~ndlfd._fitstats.FitStats`):
 #: every demonstration's key points, states, bins and first/last samples, the
 #: exact centroid sums, and the full values of the blend templates only.
-#: Versions 1 and 2 still load and generate as before.
-_FORMAT_VERSION = 3
+#: Version 4 adds the parameter ``match_window``; older files load with 0
+#: (raw matching). Versions 1 to 3 still load and generate as before.
+_FORMAT_VERSION = 4
 
 #: The scaler's range modes under the learner's parameter name (the errors
 #: then say "normalization").
@@ -168,6 +170,13 @@ class KeypointHMM:
         every demonstration; only the full values, which cannot be kept for
         100,000 demonstrations, are limited. With at most ``max_templates``
         demonstrations all are templates. ``None`` keeps all.
+    match_window : float, default=0.05
+        The blended generation matches each decoded key point to a sample of
+        every template's moving average over this fraction of its samples on
+        each side (0: raw samples), so that noisy samples are not matched for
+        their noise, which makes the path spike towards the key points (see
+        :mod:`ndlfd._blend`). Between 0 and 0.5. Models saved before it
+        existed (format 3 and older) load with 0, and generate as they did.
     random_state : None, int or Generator, default=None
         Chooses the templates when there are more than ``max_templates``
         demonstrations: those whose key ``splitmix64(s + (i + 1) *
@@ -241,6 +250,7 @@ class KeypointHMM:
         derive_velocity=True,
         n_jobs=None,
         max_templates=200,
+        match_window=MATCH_WINDOW,
         random_state=None,
     ):
         self.groups = groups
@@ -259,6 +269,7 @@ class KeypointHMM:
         self.derive_velocity = derive_velocity
         self.n_jobs = n_jobs
         self.max_templates = max_templates
+        self.match_window = match_window
         self.random_state = random_state
 
     # ------------------------------------------------------------------ params
@@ -304,6 +315,11 @@ class KeypointHMM:
             check_positive_int(self.n_jobs, "n_jobs")
         if self.max_templates is not None:
             check_positive_int(self.max_templates, "max_templates")
+        w = check_nonnegative_scalar(self.match_window, "match_window")
+        if w > 0.5:
+            raise ValidationError(
+                f"match_window must be between 0 and 0.5; got {self.match_window!r}"
+            )
         if not (
             self.random_state is None
             or isinstance(
@@ -834,7 +850,8 @@ class KeypointHMM:
         C = self.centroids_[np.searchsorted(self.centroid_states_, skel)]
         values = [self.train_values_[j] for j in templates]
         taus = [self.train_tau_[j] for j in templates]
-        index = align_many(values, C, self.n_jobs, _ALIGN_CANDIDATES)
+        window = float(self.match_window)
+        index = align_many(values, C, self.n_jobs, _ALIGN_CANDIDATES, window)
         key_tau = skeleton_times(taus, index, tw[templates])
         # every alignment pins the ends to samples at tau 0 and 1: exact ends
         key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -956,7 +973,7 @@ class KeypointHMM:
     def save(self, path: str | os.PathLike) -> None:
         """Save the fitted learner (``.npz`` + JSON metadata, never pickle).
 
-        Format version 3: the scaler's ranges, the codebook levels and the fit
+        Format version 4: the scaler's ranges, the codebook levels and the fit
         statistics (:meth:`FitStats.to_arrays`, keys ``stats_*``); loading
         rebuilds the HMMs and centroids from them exactly. A model loaded from
         a version-1 file is written as version 1.
@@ -996,7 +1013,7 @@ class KeypointHMM:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> KeypointHMM:
-        """Load a learner written by :meth:`save` (format versions 1 to 3).
+        """Load a learner written by :meth:`save` (format versions 1 to 4).
 
         Parameters
         ----------
@@ -1019,6 +1036,8 @@ class KeypointHMM:
                 params.update(generation="paper", decoder="viterbi")
             if version < 3:  # every demonstration was kept whole
                 params.update(max_templates=None)
+            if version < 4:  # matched raw samples
+                params.update(match_window=0.0)
             columns = tuple(meta["columns"])
             col_groups = tuple(meta["column_groups"])
             if isinstance(params.get("groups"), list):
@@ -1145,6 +1164,7 @@ _PARAM_NAMES = (
     "derive_velocity",
     "n_jobs",
     "max_templates",
+    "match_window",
     "random_state",
 )
 

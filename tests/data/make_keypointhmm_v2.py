@@ -6,7 +6,7 @@ written by ndlfd up to commit bbb93c1; the fixture was made with that code:
     git archive bbb93c1 src/ndlfd | tar -x -C /tmp/v2
     PYTHONPATH=/tmp/v2/src .venv/bin/python tests/data/make_keypointhmm_v2.py
 
-Today's code writes format 3, so this script cannot re-create the file; it is
+Today's code writes format 4, so this script cannot re-create the file; it is
 kept to show what the file holds. The file also records what the model
 generated on the grid below (blended generation, unconditioned and from a
 start), so tests/test_learner.py notices a change of loading or generation.
@@ -31,12 +31,12 @@ GRID = np.linspace(0.0, 5.0, 26)
 START = {"position": [0.2, -0.1]}
 
 
-def build():
-    """Fit the fixture model."""
+def build(**overrides):
+    """Fit the fixture model (``overrides``: parameters that came later)."""
     from ndlfd import KeypointHMM, synth
 
     train, _ = synth.make_dataset("square", n_demos=6, random_state=11)
-    return KeypointHMM(**PARAMS).fit(train)
+    return KeypointHMM(**PARAMS, **overrides).fit(train)
 
 
 def main() -> None:
