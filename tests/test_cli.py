@@ -417,6 +417,19 @@ def test_fit_pseudo_emission(fit_setup):
     np.testing.assert_allclose(B[rows], want, rtol=1e-14)
 
 
+def test_fit_match_window_changes_the_generation_not_the_fit(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    assert default.match_window == KeypointHMM().match_window == 0.05
+    model = _fit(folder, tmp / "mw.ndlfd", "--match-window", "0")
+    assert model.match_window == 0.0
+    assert model.fit_stats_ == default.fit_stats_
+    t = np.linspace(0.0, 2.0, 40)
+    ref = KeypointHMM(**{**default.get_params(), "match_window": 0.0})
+    got = model.generate(t, dense=True).X
+    np.testing.assert_array_equal(got, ref.fit(_demos).generate(t, dense=True).X)
+    assert not np.array_equal(got, default.generate(t, dense=True).X)
+
+
 def test_fit_start_changes_the_decoder_not_the_fit(fit_setup):
     folder, _demos, default, tmp = fit_setup
     model = _fit(folder, tmp / "s1.ndlfd", "--start", "state1")
@@ -753,6 +766,8 @@ def test_hdf5_without_h5py_says_how_to_install_it(tmp_path, capsys, monkeypatch)
          " {d}/reach0.csv has only position, orientation"),
         (["--pseudo-emission", "-1"], "--pseudo-emission must be a finite number"
          " >= 0; got -1.0"),
+        (["--match-window", "0.7"], "--match-window must be between 0 and 0.5;"
+         " got 0.7"),
     ],
 )  # fmt: skip
 def test_fit_settings_out_of_range_are_one_line_errors(tmp_path, capsys, args,

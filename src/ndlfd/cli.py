@@ -632,6 +632,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     if args.time_bins is not None:
         _check_range(args.time_bins, "--time-bins", low=2)
     _check_range(args.pseudo_emission, "--pseudo-emission", low=0)
+    _check_range(args.match_window, "--match-window", low=0, high=0.5)
     if args.n_jobs is not None:
         _check_range(args.n_jobs, "--n-jobs", low=1)
     # the files are read as a stream (twice, on the workers): only the first
@@ -683,6 +684,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         generation=args.generation,
         decoder=args.decoder,
         n_jobs=args.n_jobs,
+        match_window=args.match_window,
     )
     files = DemoFiles._for_cli(paths, **options)
     t0 = time.perf_counter()
@@ -878,6 +880,14 @@ def _add_fit(sub) -> None:
         help="emission pseudo-count >= 0 (default 0)",
     )
     p.add_argument("--start", default="learned", choices=STARTS.names)
+    p.add_argument(
+        "--match-window",
+        type=float,
+        default=defaults.match_window,
+        help="the blend matches key points on each demonstration's moving average"
+        " over this fraction of its samples each side, 0 to 0.5 (default"
+        f" {defaults.match_window}; 0: raw samples, which spike on noisy data)",
+    )
     p.add_argument(
         "--n-jobs",
         type=int,
