@@ -214,3 +214,19 @@ def test_no_spikes_towards_the_skeleton_on_noisy_data(seed):
     assert np.linalg.norm(P - M, axis=1).max() < 0.5
     ratio = dtw_distance(P, T, normalize=True) / dtw_distance(M, T, normalize=True)
     assert ratio < 1.02
+
+
+def test_condition_weights_with_a_known_bandwidth_are_the_same():
+    from ndlfd._blend import BANDWIDTH_FACTOR, condition_bandwidth
+
+    rng = np.random.default_rng(4)
+    pts = rng.normal(size=(50, 3))
+    target = rng.normal(size=3)
+    h = condition_bandwidth(pts)
+    # reference: the median nearest-other distance by brute force
+    D = np.linalg.norm(pts[:, None] - pts[None], axis=2)
+    np.fill_diagonal(D, np.inf)
+    assert h == pytest.approx(BANDWIDTH_FACTOR * np.median(D.min(axis=1)), rel=1e-12)
+    np.testing.assert_array_equal(
+        condition_weights(pts, target), condition_weights(pts, target, h)
+    )

@@ -904,3 +904,17 @@ def test_match_window_is_checked_saved_and_zero_for_older_files(tmp_path):
     raw = KeypointHMM(epsilon=0.02, n_time_bins=20, match_window=0.0).fit(demos)
     assert old.match_window == 0.0
     _assert_same_model(old, raw, t)
+
+
+def test_a_refit_forgets_the_conditioning_widths_of_the_last_fit():
+    a = [Demonstration.from_arrays(t, position=P) for t, P in _waves(10, seed=1)]
+    b = [Demonstration.from_arrays(t, position=3 * P) for t, P in _waves(10, seed=2)]
+    kw = dict(epsilon=0.02, n_time_bins=20)
+    start = {"position": [0.0, 0.1]}
+    t = np.linspace(0.0, 2.0, 50)
+    model = KeypointHMM(**kw).fit(a)
+    model.generate(t, dense=True, start=start)  # widths of a, kept
+    model.fit(b)
+    got = model.generate(t, dense=True, start=start)
+    fresh = KeypointHMM(**kw).fit(b).generate(t, dense=True, start=start)
+    np.testing.assert_array_equal(got.X, fresh.X)

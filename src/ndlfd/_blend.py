@@ -47,6 +47,7 @@ __all__ = [
     "align_many",
     "align_to_skeleton",
     "blend",
+    "condition_bandwidth",
     "condition_weights",
     "fade_ramp",
     "pin_offset",
@@ -296,7 +297,33 @@ def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
     return X
 
 
-def condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
+def condition_bandwidth(points: np.ndarray) -> float:
+    """Kernel width of :func:`condition_weights` for these points.
+
+    :data:`BANDWIDTH_FACTOR` times the median distance from each point to its
+    nearest other one (the width of the whole set if most coincide; 1 for a
+    single point). A k-d tree makes it ``O(n log n)``.
+
+    Examples
+    --------
+    >>> condition_bandwidth(np.array([[0.0], [0.5], [3.0], [3.5]]))
+    2.0
+    """
+    from scipy.spatial import cKDTree
+
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] < 2:
+        return 1.0
+    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
+    h = BANDWIDTH_FACTOR * float(np.median(nearest))
+    if not h > 0:  # most points coincide: the width of the whole set
+        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+    return h
+
+
+def condition_weights(
+    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
+) -> np.ndarray:
     """Gaussian-kernel weights of demonstrations for a requested start or goal.
 
     The bandwidth is :data:`BANDWIDTH_FACTOR` times the median, over the
@@ -310,6 +337,8 @@ def condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
         Each demonstration's first (or last) sample, normalized units.
     target : ndarray of shape (n_dims,)
         The requested start (or goal), normalized units.
+    bandwidth : float, optional
+        :func:`condition_bandwidth` of ``points``, if known already.
 
     Returns
     -------
@@ -322,17 +351,11 @@ def condition_weights(points: np.ndarray, target: np.ndarray) -> np.ndarray:
     >>> np.round(condition_weights(pts, np.array([5.0, 5.05])), 3)
     array([0.   , 0.   , 1.   , 0.969])
     """
-    from scipy.spatial import cKDTree
-
     points = np.asarray(points, dtype=np.float64)
     d = np.linalg.norm(points - target, axis=1)
     if points.shape[0] < 2:
         return np.ones(points.shape[0])
-    # O(n log n): many demonstrations are fine
-    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
-    h = BANDWIDTH_FACTOR * float(np.median(nearest))
-    if not h > 0:  # most points coincide: the width of the whole set
-        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+    h = condition_bandwidth(points) if bandwidth is None else bandwidth
     logw = -0.5 * (d / h) ** 2
     return np.exp(logw - logw.max())
 

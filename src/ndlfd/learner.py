@@ -20,6 +20,7 @@ from ._blend import (
     MATCH_WINDOW,
     align_many,
     blend,
+    condition_bandwidth,
     condition_weights,
     fade_ramp,
     pin_offset,
@@ -536,6 +537,7 @@ class KeypointHMM:
         self.centroid_states_, self.centroids_ = stats.centroids()
         self.segment_model_ = self._segment_model(np.arange(stats.n_demos))
         self.fit_stats_ = stats
+        self._widths = {}  # conditioning kernel widths, computed when first asked
 
     def _segment_model(self, demos: np.ndarray) -> hmm.DiscreteHMM:
         nt = self.n_time_bins
@@ -816,7 +818,12 @@ class KeypointHMM:
             self._physical_row(cond)[None, :], weighted=False
         )[0, cols]
         pts = (self.first_values_ if end == 0 else self.last_values_)[:, cols]
-        return condition_weights(pts, target)
+        # the kernel width depends on the training points only: once per model
+        key = (end, tuple(cols))
+        widths = self.__dict__.setdefault("_widths", {})
+        if key not in widths:
+            widths[key] = condition_bandwidth(pts)
+        return condition_weights(pts, target, widths[key])
 
     def _physical_row(self, cond) -> np.ndarray:
         row = self.scaler_.data_min_.copy()
