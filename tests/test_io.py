@@ -723,3 +723,18 @@ def test_read_demos_folder_takes_every_format_in_any_case(tmp_path):
     ]  # fmt: skip
     with pytest.raises(ValidationError, match=r"unexpected argument\(s\) \['group'\]"):
         read_demos(tmp_path, group={})
+
+
+@pytest.mark.parametrize("compress", [False, True])
+def test_write_npz_stores_or_deflates_and_reads_back_the_same(tmp_path, compress):
+    import zipfile
+
+    d = _rich_demo(40, 3)
+    p = write_npz(d, tmp_path / "d.npz", compress=compress)
+    assert read_npz(p) == d
+    with zipfile.ZipFile(p) as z:
+        kinds = {i.compress_type for i in z.infolist()}
+    assert kinds == {zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED}
+    if not compress:  # the default (the archive's time stamps differ: not bytes)
+        with zipfile.ZipFile(write_npz(d, tmp_path / "default.npz")) as z:
+            assert {i.compress_type for i in z.infolist()} == {zipfile.ZIP_STORED}

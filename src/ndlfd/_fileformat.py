@@ -84,6 +84,7 @@ def save_npz(
     kind: str,
     version: int,
     metadata: Mapping | None = None,
+    compress: bool = True,
 ) -> Path:
     """Write ``arrays`` and JSON ``metadata`` atomically to an ``.npz`` file.
 
@@ -99,6 +100,9 @@ def save_npz(
         The format version of ``kind``, checked on load.
     metadata : mapping, optional
         JSON-serialisable values stored beside the arrays.
+    compress : bool, default=True
+        Deflate the arrays (``np.savez_compressed``); ``False`` stores them as
+        they are (``np.savez``), larger but about twice as fast to read.
 
     Returns
     -------
@@ -115,7 +119,7 @@ def save_npz(
     payload[_META_KEY] = np.array(json.dumps(meta, sort_keys=True))
     final = Path(path)
     with atomic_path(final) as tmp, open(tmp, "wb") as fh:
-        np.savez_compressed(fh, **payload)
+        (np.savez_compressed if compress else np.savez)(fh, **payload)
     return final
 
 

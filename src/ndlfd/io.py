@@ -924,7 +924,9 @@ def write_csv(
 
 
 # --------------------------------------------------------------------------- NPZ demos
-def write_npz(demo: Demonstration, path: str | os.PathLike) -> Path:
+def write_npz(
+    demo: Demonstration, path: str | os.PathLike, *, compress: bool = False
+) -> Path:
     """Write a demonstration to an ndlfd ``.npz`` file (no pickle), atomically.
 
     The archive holds ``t`` and ``X`` and JSON metadata with the columns and
@@ -936,6 +938,10 @@ def write_npz(demo: Demonstration, path: str | os.PathLike) -> Path:
         The demonstration.
     path : str or path-like
         Destination (written as given).
+    compress : bool, default=False
+        Deflate the arrays. Recorded values compress little (a 1,000-sample
+        noisy 3-D path: 29 kB instead of 33 kB), and an uncompressed file
+        reads about twice as fast, which counts when a fit reads 100,000.
 
     Returns
     -------
@@ -951,6 +957,7 @@ def write_npz(demo: Demonstration, path: str | os.PathLike) -> Path:
         kind=_NPZ_KIND,
         version=_NPZ_VERSION,
         metadata={"columns": list(demo.columns), "groups": list(demo.groups)},
+        compress=compress,
     )
 
 
