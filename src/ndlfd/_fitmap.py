@@ -141,8 +141,8 @@ def _changed(what: str) -> ValidationError:
 #: A local fit maps on threads when demonstrations have at least this many
 #: samples on average, and on processes otherwise. The per-demonstration work
 #: of shorter ones is mostly Python (holding the GIL): on 1,000-sample
-#: demonstrations two threads were slower than one and two processes 2 times
-#: faster (benchmarks/RESULTS.md); on 20,000-sample ones threads were 1.3
+#: demonstrations two threads were slower than one and two processes 1.7 to 1.9
+#: times faster (benchmarks/RESULTS.md); on 20,000-sample ones threads were 1.3
 #: times faster.
 _THREAD_MIN_SAMPLES = 5000
 

@@ -686,6 +686,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         n_jobs=args.n_jobs,
         match_window=args.match_window,
     )
+    model._check_params()  # as fit does: the passes below are fit's
     files = DemoFiles._for_cli(paths, **options)
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
