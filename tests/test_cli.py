@@ -10,6 +10,7 @@ import pytest
 from ndlfd import synth
 from ndlfd._simplify import simplify
 from ndlfd.cli import main
+from ndlfd.demo import Demonstration
 from ndlfd.io import read_csv, read_table, write_csv, write_table
 from ndlfd.learner import KeypointHMM
 
@@ -1017,8 +1018,6 @@ def test_simplify_normalizes_groups_like_fit(tmp_path, capsys):
 
 
 def ndlfd_demo(t, pos, q):
-    from ndlfd.demo import Demonstration
-
     return Demonstration.from_arrays(t, position=pos, orientation=q)
 
 
@@ -1081,3 +1080,10 @@ def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
     rc, err = cli(capsys, *args)
     assert rc != 0 and not (tmp_path / "bad.ndlfd").exists()
     assert len(err) == 1 and "reach3.csv" in err[0] and "demos[" not in err[0]
+    # a file past the first without a learned group: the flag that maps it
+    write_csv(Demonstration.from_arrays([0.0, 1.0, 2.0], force=np.ones((3, 2))),
+              folder / "reach3.csv")  # fmt: skip
+    rc, err = cli(capsys, *args)
+    assert rc != 0 and len(err) == 1
+    assert "reach3.csv: a demonstration lacks group(s) position, velocity" in err[0]
+    assert "map its columns with --group position=NAME" in err[0]

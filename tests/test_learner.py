@@ -791,7 +791,11 @@ def test_a_corrupt_demonstration_is_named(where, request, monkeypatch):
     run, fit, _ = _run_in(where, request, monkeypatch)
     lazy = _Reiterable(_waves(30), bad=17)
     model = KeypointHMM(epsilon=0.02, n_time_bins=20, **run)
-    with pytest.raises(ValidationError, match=r"^demos\[17\]: .*group 'position'"):
+    want = (
+        r"^demos\[17\]: a demonstration lacks group\(s\) position, velocity;"
+        r" it has force$"
+    )
+    with pytest.raises(ValidationError, match=want):
         model.fit(lazy, **fit)
     assert not hasattr(model, "model_")
 

@@ -191,9 +191,10 @@ class _FitSpec:
     exponents: np.ndarray | None = None
     templates: np.ndarray | None = None
     cache: _PreparedCache | None = None
+    cli: bool = False  # errors name the command line's flags
 
     def prepared(self, demo: Demonstration) -> Demonstration:
-        d = self.est._prepare(demo, self.groups)
+        d = self.est._prepare(demo, self.groups, self.cli)
         if d.columns != self.columns or d.groups != self.col_groups:
             raise ValidationError(
                 "all demonstrations must have the same columns; the first has"
@@ -367,6 +368,7 @@ def scan(est, demos, *, client=None, progress=None) -> Scan:
     spec = _FitSpec(
         est=type(est)(**est.get_params()),
         cache=_PreparedCache(_CACHE_BYTES) if local_list else None,
+        cli=getattr(source, "_hints", None) == "cli",
     )
     if client is not None and not isinstance(first, Demonstration):
         probe = client.submit(_probe, spec, (0, first), pure=False).result()

@@ -349,18 +349,27 @@ class KeypointHMM:
             raise ValidationError(f"groups must not repeat a name; got {groups!r}")
         return groups
 
-    def _prepare(self, demo: Demonstration, groups: Sequence[str]) -> Demonstration:
+    def _prepare(
+        self, demo: Demonstration, groups: Sequence[str], cli: bool = False
+    ) -> Demonstration:
         if (
             "velocity" in groups
             and "velocity" not in demo.group_names
+            and "position" in demo.group_names
             and self.derive_velocity
         ):
             demo = with_velocity(demo)
         missing = [g for g in groups if g not in demo.group_names]
         if missing:
+            hint = (
+                f"; map its columns with --group {missing[0]}=NAME,... or leave it"
+                " out of --groups"
+                if cli
+                else ""
+            )
             raise ValidationError(
                 f"a demonstration lacks group(s) {', '.join(missing)}; it has"
-                f" {', '.join(demo.group_names)}"
+                f" {', '.join(demo.group_names)}{hint}"
             )
         return demo.select(*groups)
 
