@@ -184,11 +184,16 @@ def load_npz(
     metadata : dict
     """
     p = Path(path)
-    wrong = f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
+    wrong = _not_a(p, kind)
     if p.is_dir():
         raise ModelFormatError(f"{p}: is a folder; expected an ndlfd {kind} file")
     arrays = read_archive(p, ModelFormatError, f"{wrong} (.npz archive)")
     return parse_metadata(arrays, p, kind=kind, version=version)
+
+
+def _not_a(p: Path, kind: str) -> str:
+    """The head of the error for a file that is not an ndlfd ``kind`` file."""
+    return f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
 
 
 def read_archive(p: Path, error: type[Exception], expected: str) -> dict:
@@ -217,7 +222,7 @@ def parse_metadata(
     arrays: dict, p: Path, *, kind: str, version: int | tuple[int, ...]
 ) -> tuple[dict[str, np.ndarray], dict]:
     """Split the ndlfd metadata off ``arrays`` (read from ``p``) and check it."""
-    wrong = f"{p}: not an ndlfd {_noun(kind)} file: expected an ndlfd {kind} file"
+    wrong = _not_a(p, kind)
     arrays = dict(arrays)
     raw = arrays.pop(_META_KEY, None)
     if raw is None or raw.shape != () or raw.dtype.kind != "U":

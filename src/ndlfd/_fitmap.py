@@ -19,8 +19,9 @@ from __future__ import annotations
 import itertools
 import os
 import threading
-from collections.abc import Iterable, Iterator, Mapping, Sized
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sized
 from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -32,6 +33,7 @@ from ._parallel import check_client, map_reduce
 from ._simplify import simplify
 from .codebook import Codebook, TimeBins
 from .demo import Demonstration
+from .io import DemoFile
 from .normalize import GroupScaler
 
 if TYPE_CHECKING:
@@ -71,8 +73,6 @@ def _as_source(demos):
 
 def _file(item):
     """A path or DemoFile item as a DemoFile; None for anything else."""
-    from .io import DemoFile
-
     if isinstance(item, (str, os.PathLike)):
         return DemoFile(Path(item))
     return item if isinstance(item, DemoFile) else None
@@ -121,14 +121,20 @@ def _where(i: int, item, k: int, n: int) -> str:
     return _label(i, item) + ("" if n == 1 else f", demonstration {k}")
 
 
-def _located(where: str, fn, *args):
-    """``fn(*args)``, with errors naming the demonstration they come from."""
+def _located(where: str | Callable[[], str], fn, *args):
+    """``fn(*args)``, with errors naming the demonstration they come from.
+
+    ``where`` may be a callable that makes the name: it is called only on an
+    error, so the per-demonstration hot path builds no label.
+    """
     try:
         return fn(*args)
     except NdlfdError as exc:
-        raise type(exc)(f"{where}: {exc}") from exc
+        label = where() if callable(where) else where
+        raise type(exc)(f"{label}: {exc}") from exc
     except (ValueError, TypeError, ArithmeticError, LookupError) as exc:
-        raise ValidationError(f"{where}: {type(exc).__name__}: {exc}") from exc
+        label = where() if callable(where) else where
+        raise ValidationError(f"{label}: {type(exc).__name__}: {exc}") from exc
 
 
 def _changed(what: str) -> ValidationError:
@@ -208,7 +214,8 @@ def _probe(spec: _FitSpec, unit):
     i, item = unit
     demos = _read_item(item, i)
     groups = spec.est._wanted_groups(demos[0])
-    d = _located(_where(i, item, 0, len(demos)), spec.est._prepare, demos[0], groups)
+    where = partial(_where, i, item, 0, len(demos))
+    d = _located(where, spec.est._prepare, demos[0], groups)
     if spec.cache is not None and isinstance(item, Demonstration):
         spec.cache.put(i, d)
     return groups, d.columns, d.groups, d.n_samples
@@ -228,7 +235,7 @@ def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
         notes: list[str] = []
         demos = _read_item(item, i, notes)
         arrays = [
-            _located(_where(i, item, k, len(demos)), spec.prepared, d).X
+            _located(partial(_where, i, item, k, len(demos)), spec.prepared, d).X
             for k, d in enumerate(demos)
         ]
         parts.append(RangeStats.of(i, *arrays, notes=notes))
@@ -280,7 +287,7 @@ def _map_counts(spec: _FitSpec, chunk) -> FitStats:
                 f"demos[{i}] held {expected} demonstration(s), now {len(demos)}"
             )
         for k, d in enumerate(demos):
-            where = _where(i, item, k, len(demos))
+            where = partial(_where, i, item, k, len(demos))
             parts.append(_located(where, _count_one, spec, d, start + k))
     return parts[0].merge(*parts[1:])
 

@@ -829,10 +829,9 @@ class KeypointHMM:
         pts = (self.first_values_ if end == 0 else self.last_values_)[:, cols]
         # the kernel width depends on the training points only: once per model
         key = (end, tuple(cols))
-        widths = self.__dict__.setdefault("_widths", {})
-        if key not in widths:
-            widths[key] = condition_bandwidth(pts)
-        return condition_weights(pts, target, widths[key])
+        if key not in self._widths:  # reset by every fit and load
+            self._widths[key] = condition_bandwidth(pts)
+        return condition_weights(pts, target, self._widths[key])
 
     def _physical_row(self, cond) -> np.ndarray:
         row = self.scaler_.data_min_.copy()
