@@ -922,3 +922,52 @@ def test_a_refit_forgets_the_conditioning_widths_of_the_last_fit():
     got = model.generate(t, dense=True, start=start)
     fresh = KeypointHMM(**kw).fit(b).generate(t, dense=True, start=start)
     np.testing.assert_array_equal(got.X, fresh.X)
+
+
+def _tight_starts(n=300, seed=0):
+    """One smooth 2-D motion whose starts lie within 0.003 of each other."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, 120)
+    base = np.column_stack([2.0 * t, np.sin(np.pi * t)])
+    demos = []
+    for _ in range(n):
+        P = base + rng.normal(0.0, 0.002, base.shape)
+        P[0] = rng.uniform(-0.0015, 0.0015, 2)
+        demos.append(Demonstration(t, P, ["x", "y"], ["position"] * 2))
+    return demos
+
+
+@pytest.mark.parametrize("offset", [0.02, 0.5, 30.0])
+def test_a_start_nearest_to_a_demonstration_that_is_no_template(offset):
+    # the kernel weight of every kept template underflows to 0 when the start
+    # lies beyond a demonstration that is not among them: a path all the same
+    demos = _tight_starts()
+    model = KeypointHMM(max_templates=200, epsilon=0.05).fit(demos)
+    starts = model.first_values_[:, :2]
+    others = np.setdiff1d(np.arange(len(demos)), model.template_indices_)
+    centre = starts.mean(axis=0)
+    j = others[np.argmax(np.linalg.norm(starts[others] - centre, axis=1))]
+    away = (starts[j] - centre) / np.linalg.norm(starts[j] - centre)
+    here = demos[j].X[0] + offset * away  # demonstration j is the nearest
+    path = model.generate(demos[0].t, dense=True, start={"position": here})
+    P = path.get("position")
+    assert np.isfinite(P).all()
+    np.testing.assert_allclose(P[0], here, atol=1e-12)
+    # it ends where the demonstrations end
+    np.testing.assert_allclose(P[-1], [2.0, 0.0], atol=0.05)
+
+
+def test_the_same_demonstrations_give_the_same_model_and_path_without_a_seed():
+    demos = _tight_starts(n=40, seed=3)
+    a = KeypointHMM(max_templates=10, epsilon=0.05).fit(demos)
+    b = KeypointHMM(max_templates=10, epsilon=0.05).fit(demos)
+    np.testing.assert_array_equal(a.template_indices_, b.template_indices_)
+    t = demos[0].t
+    np.testing.assert_array_equal(
+        a.generate(t, dense=True).X, b.generate(t, dense=True).X
+    )
+    # a seed asks for another choice; the same seed for the same one
+    c = KeypointHMM(max_templates=10, epsilon=0.05, random_state=5).fit(demos)
+    d = KeypointHMM(max_templates=10, epsilon=0.05, random_state=5).fit(demos)
+    np.testing.assert_array_equal(c.template_indices_, d.template_indices_)
+    assert not np.array_equal(a.template_indices_, c.template_indices_)

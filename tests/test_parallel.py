@@ -123,7 +123,7 @@ def test_spawned_workers_give_the_same_result(monkeypatch):
     r = map_reduce(_pid_chunk, me, range(30), n_jobs=2, backend="processes")
     np.testing.assert_array_equal(r.items, np.arange(30))
     assert r.n_samples == 30  # all of it ran in the spawned processes
-    assert (2, "spawn") in _parallel._PROCESS_POOLS
+    assert (2, "spawn") in _parallel._PROCESS_POOLS  # kept until shutdown
 
 
 def test_a_daemonic_process_maps_on_threads_instead(monkeypatch):
@@ -157,3 +157,74 @@ def test_dask_sees_every_unit_once_and_reports_the_failing_one(dask_client, chun
         map_reduce(_count_chunk, 57, range(100), client=dask_client,
                    chunk_size=chunk_size)  # fmt: skip
     assert map_reduce(_count_chunk, -1, [], client=dask_client) is None
+
+
+# ------------------------------------------------------- after a fork or spawn
+
+_PARENT: dict = {}
+
+
+def _squares(n=12, seed=0):
+    from ndlfd import synth
+
+    return synth.make_dataset("square", n_demos=n, random_state=seed)
+
+
+def _fit_and_generate_here(_):
+    """In a worker: the parent's model (inherited by fork) and a new fit."""
+    from ndlfd import KeypointHMM
+
+    train, test = _squares()
+    model = KeypointHMM(epsilon=0.1, n_time_bins=30, n_jobs=2).fit(train)
+    out = [model.generate(test, dense=True).X]
+    if "model" in _PARENT:  # forked: the parent's own model
+        out.append(_PARENT["model"].generate(test, dense=True).X)
+    return out
+
+
+@pytest.mark.parametrize("method", ["fork", "forkserver", "spawn"])
+def test_workers_started_after_use_fit_and_generate(method):
+    # the parent used the thread pool (n_jobs=2 aligns on threads); a forked
+    # child inherits the pool object but not its threads, and once waited
+    # for them for ever
+    import multiprocessing
+
+    from ndlfd import KeypointHMM, _parallel
+
+    train, test = _squares()
+    model = KeypointHMM(epsilon=0.1, n_time_bins=30, n_jobs=2).fit(train)
+    expected = model.generate(test, dense=True).X
+    assert _parallel._THREAD_POOLS, "the parent should hold a thread pool"
+    _PARENT["model"] = model
+    try:
+        ctx = multiprocessing.get_context(method)
+        with ctx.Pool(2) as pool:
+            results = pool.map_async(_fit_and_generate_here, range(2)).get(120)
+    finally:
+        _PARENT.clear()
+    for out in results:
+        assert len(out) == (2 if method == "fork" else 1)
+        for X in out:
+            np.testing.assert_array_equal(X, expected)
+
+
+def test_a_fit_on_processes_ends_its_workers():
+    from ndlfd import KeypointHMM, _parallel, keep_workers
+
+    train, _ = _squares(n=40)
+    kw = dict(epsilon=0.1, n_time_bins=30, n_jobs=2)
+    # n_jobs=2 maps short demonstrations on worker processes
+    _parallel.shutdown()
+    serial = KeypointHMM(**{**kw, "n_jobs": 1}).fit(train)
+    model = KeypointHMM(**kw).fit(train)
+    assert not _parallel._PROCESS_POOLS  # ended when fit returned
+    np.testing.assert_array_equal(model.centroids_, serial.centroids_)
+    with keep_workers():
+        KeypointHMM(**kw).fit(train)
+        pools = dict(_parallel._PROCESS_POOLS)
+        assert pools  # kept for the next fit in the block
+        KeypointHMM(**kw).fit(train)
+        assert dict(_parallel._PROCESS_POOLS) == pools  # the same workers
+    assert not _parallel._PROCESS_POOLS
+    _parallel.shutdown()
+    assert not _parallel._THREAD_POOLS

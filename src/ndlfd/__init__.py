@@ -31,6 +31,7 @@ from ._errors import (
     ParallelError,
     ValidationError,
 )
+from ._parallel import keep_workers, shutdown
 from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
 from .datasets import load_lasa
@@ -66,10 +67,12 @@ __all__ = [
     "evaluation",
     "hmm",
     "io",
+    "keep_workers",
     "load_lasa",
     "metrics",
     "orientation",
     "plot",
+    "shutdown",
     "simplify",
     "simplify_many",
     "synth",

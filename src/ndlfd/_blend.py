@@ -42,12 +42,15 @@ import os
 import numpy as np
 from numba import njit
 
+from ._parallel import thread_pool
+
 __all__ = [
     "MATCH_WINDOW",
     "align_many",
     "align_to_skeleton",
     "blend",
     "condition_bandwidth",
+    "condition_log_weights",
     "condition_weights",
     "fade_ramp",
     "pin_offset",
@@ -163,7 +166,6 @@ def align_many(
     -------
     indices : list of ndarray of shape (n_keys,)
     """
-    from ._simplify import _pool
 
     def one(U):
         return align_to_skeleton(U, C, max_candidates, window)
@@ -172,7 +174,7 @@ def align_many(
     C = np.ascontiguousarray(C, dtype=np.float64)
     if workers <= 1:
         return [one(U) for U in U_list]
-    return list(_pool(workers).map(one, U_list))
+    return list(thread_pool(workers).map(one, U_list))
 
 
 def moving_average(U: np.ndarray, half: int) -> np.ndarray:
@@ -351,13 +353,32 @@ def condition_weights(
     >>> np.round(condition_weights(pts, np.array([5.0, 5.05])), 3)
     array([0.   , 0.   , 1.   , 0.969])
     """
-    points = np.asarray(points, dtype=np.float64)
-    d = np.linalg.norm(points - target, axis=1)
-    if points.shape[0] < 2:
-        return np.ones(points.shape[0])
-    h = condition_bandwidth(points) if bandwidth is None else bandwidth
-    logw = -0.5 * (d / h) ** 2
+    logw = condition_log_weights(points, target, bandwidth)
     return np.exp(logw - logw.max())
+
+
+def condition_log_weights(
+    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
+) -> np.ndarray:
+    """Logarithms of :func:`condition_weights`, before normalizing.
+
+    Normalize them over any subset of the demonstrations with
+    ``np.exp(logw[subset] - logw[subset].max())``: however far the target
+    lies, the nearest demonstration of the subset weighs 1 (the weights over
+    all of them may underflow to 0 outside the nearest one's subset).
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0], [1.0], [3.0]])
+    >>> condition_log_weights(pts, np.array([0.0]), bandwidth=1.0)
+    array([-0. , -0.5, -4.5])
+    """
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] < 2:
+        return np.zeros(points.shape[0])
+    d = np.linalg.norm(points - target, axis=1)
+    h = condition_bandwidth(points) if bandwidth is None else bandwidth
+    return -0.5 * (d / h) ** 2
 
 
 def skeleton_times(tau_list, index_list, weights) -> np.ndarray:

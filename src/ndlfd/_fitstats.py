@@ -156,12 +156,17 @@ def _splitmix64(z: np.ndarray) -> np.ndarray:
 def seed_word(random_state) -> np.uint64:
     """One 64-bit word from ``random_state`` (None, an int >= 0 or a Generator).
 
-    ``None`` draws fresh entropy from the operating system; an int is mixed
-    by :class:`numpy.random.SeedSequence`; a Generator (or a legacy
-    RandomState) gives one draw.
+    An int is mixed by :class:`numpy.random.SeedSequence`; ``None`` is the
+    same as 0, so a fit without a seed is deterministic; a Generator (or a
+    legacy RandomState) gives one draw.
+
+    Examples
+    --------
+    >>> bool(seed_word(None) == seed_word(0))
+    True
     """
     if random_state is None:
-        seq = np.random.SeedSequence()
+        seq = np.random.SeedSequence(0)
     elif isinstance(random_state, np.random.Generator):
         seq = np.random.SeedSequence(int(random_state.integers(0, 2**63)))
     elif isinstance(random_state, np.random.RandomState):  # scikit-learn style

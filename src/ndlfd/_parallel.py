@@ -29,13 +29,22 @@ import threading
 import warnings
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
 
 from ._errors import MissingExtraError, ParallelError, ValidationError
 from ._registry import Registry
 
-__all__ = ["BACKENDS", "check_client", "map_reduce", "progress_bar"]
+__all__ = [
+    "BACKENDS",
+    "check_client",
+    "keep_workers",
+    "map_reduce",
+    "progress_bar",
+    "shutdown",
+    "thread_pool",
+]
 
 
 class _Tree:
@@ -241,9 +250,7 @@ def _run_pool(submit, chunks, workers, bar, unpack=lambda r: r):
 
 
 def _run_threads(fn, spec, chunks, workers, bar):
-    from ._simplify import _pool
-
-    pool = _pool(workers)
+    pool = thread_pool(workers)
     return _run_pool(lambda c: pool.submit(fn, spec, c), chunks, workers, bar)
 
 
@@ -297,10 +304,6 @@ BACKENDS.add("threads", _run_threads)
 BACKENDS.add("processes", _run_processes)
 
 
-_PROCESS_POOLS: dict[tuple[int, str], ProcessPoolExecutor] = {}
-_PROCESS_LOCK = threading.Lock()
-
-
 def start_method() -> str:
     """``"fork"`` where it is safe and available, else ``"spawn"``.
 
@@ -313,10 +316,73 @@ def start_method() -> str:
     return "spawn"
 
 
+# ------------------------------------------------------------------ the pools
+#
+# ndlfd owns its worker pools here and nowhere else. They are made on first
+# use and kept (starting threads costs milliseconds, processes more), with
+# three guarantees:
+#
+# - fork safety: a forked child (multiprocessing, a DataLoader worker,
+#   gunicorn --preload) inherits the parent's pool objects but not their
+#   threads or processes; ``os.register_at_fork`` forgets them in the child,
+#   which makes its own on first use instead of waiting forever on the
+#   parent's;
+# - worker processes go away after the fit that started them (unless a
+#   :func:`keep_workers` block asks to keep them across fits);
+# - :func:`shutdown` ends every pool now (the threads and processes are made
+#   again when needed).
+
+_THREAD_POOLS: dict[int, ThreadPoolExecutor] = {}
+_PROCESS_POOLS: dict[tuple[int, str], ProcessPoolExecutor] = {}
+_LOCK = threading.Lock()
+_KEEP = [0]  # depth of keep_workers blocks (any thread)
+
+
+def _forget_pools_in_child() -> None:
+    """After a fork, in the child: the inherited pools have no workers here."""
+    global _LOCK
+    _LOCK = threading.Lock()  # the parent may have held it while forking
+    _THREAD_POOLS.clear()
+    _PROCESS_POOLS.clear()
+    _KEEP[0] = 0
+
+
+if hasattr(os, "register_at_fork"):  # not on Windows, which cannot fork
+    os.register_at_fork(after_in_child=_forget_pools_in_child)
+
+
+def thread_pool(workers: int) -> ThreadPoolExecutor:
+    """A persistent pool of ``workers`` threads, shared by every caller.
+
+    Its tasks never wait on other tasks of the pool, so callers may share it
+    from several threads. A forked child gets a new pool on first use.
+
+    Parameters
+    ----------
+    workers : int
+        Number of threads.
+
+    Returns
+    -------
+    pool : concurrent.futures.ThreadPoolExecutor
+
+    Examples
+    --------
+    >>> list(thread_pool(2).map(abs, [-1, 2, -3]))
+    [1, 2, 3]
+    """
+    with _LOCK:
+        pool = _THREAD_POOLS.get(workers)
+        if pool is None:
+            pool = ThreadPoolExecutor(workers, thread_name_prefix="ndlfd-worker")
+            _THREAD_POOLS[workers] = pool
+        return pool
+
+
 def _process_pool(workers: int) -> ProcessPoolExecutor:
-    """A persistent pool of ``workers`` processes (started once per session)."""
+    """A pool of ``workers`` processes, kept until the fit ends."""
     key = (workers, start_method())
-    with _PROCESS_LOCK:
+    with _LOCK:
         pool = _PROCESS_POOLS.get(key)
         if pool is None or getattr(pool, "_broken", False):
             ctx = multiprocessing.get_context(key[1])
@@ -326,11 +392,75 @@ def _process_pool(workers: int) -> ProcessPoolExecutor:
 
 
 def _drop_process_pool(pool: ProcessPoolExecutor) -> None:
-    with _PROCESS_LOCK:
+    with _LOCK:
         for k, v in list(_PROCESS_POOLS.items()):
             if v is pool:
                 del _PROCESS_POOLS[k]
     pool.shutdown(wait=False, cancel_futures=True)
+
+
+def shutdown(*, threads: bool = True) -> None:
+    """End ndlfd's worker processes (and, by default, its threads) now.
+
+    Nothing else is needed: processes end after each fit on their own, and
+    threads are idle between calls. Use it in a long-running service that
+    wants every thread gone, or before forking by hand. Pools are made again
+    on the next call that needs one.
+
+    Parameters
+    ----------
+    threads : bool, default=True
+        Also end the thread pools (waiting for running tasks).
+
+    Examples
+    --------
+    >>> shutdown()
+    """
+    with _LOCK:
+        procs = list(_PROCESS_POOLS.values())
+        _PROCESS_POOLS.clear()
+        pools = list(_THREAD_POOLS.values()) if threads else []
+        if threads:
+            _THREAD_POOLS.clear()
+    for pool in procs:
+        pool.shutdown(wait=True, cancel_futures=True)
+    for pool in pools:
+        pool.shutdown(wait=True)
+
+
+@contextmanager
+def keep_workers():
+    """Keep worker processes alive between the fits inside this block.
+
+    By default a fit on worker processes (``n_jobs > 1`` on short
+    demonstrations) ends them when it returns, so a long-running process
+    does not hold their memory. Inside this block they are kept for the next
+    fit, and ended when the outermost block exits.
+
+    Examples
+    --------
+    >>> with keep_workers():
+    ...     pass
+    """
+    with _LOCK:
+        _KEEP[0] += 1
+    try:
+        yield
+    finally:
+        with _LOCK:
+            _KEEP[0] = max(_KEEP[0] - 1, 0)
+        release_workers()
+
+
+def release_workers() -> None:
+    """End the worker processes unless a :func:`keep_workers` block is open."""
+    with _LOCK:
+        if _KEEP[0] > 0 or not _PROCESS_POOLS:
+            return
+        procs = list(_PROCESS_POOLS.values())
+        _PROCESS_POOLS.clear()
+    for pool in procs:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _run_dask(fn, spec, chunks, client, workers, bar):

@@ -36,14 +36,13 @@ from __future__ import annotations
 import itertools
 import math
 import os
-import threading
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import _dp_kernels as K
 from ._errors import ValidationError
+from ._parallel import thread_pool
 from ._registry import Registry
 from ._validation import (
     as_float_array,
@@ -241,23 +240,6 @@ def _gather(pool, calls):
     return [first, *(f.result() for f in futures)]
 
 
-_POOLS: dict[int, ThreadPoolExecutor] = {}
-_POOLS_LOCK = threading.Lock()
-
-
-def _pool(workers: int) -> ThreadPoolExecutor:
-    """A persistent pool per thread count (starting threads costs milliseconds).
-
-    The tasks never wait on other tasks of the pool, so callers may share it.
-    """
-    with _POOLS_LOCK:
-        pool = _POOLS.get(workers)
-        if pool is None:
-            pool = ThreadPoolExecutor(workers, thread_name_prefix="ndlfd-simplify")
-            _POOLS[workers] = pool
-        return pool
-
-
 def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
     """Line-mode DP on two or more threads; same result as the serial kernel.
 
@@ -274,7 +256,7 @@ def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
-    pool = _pool(workers)
+    pool = thread_pool(workers)
     dp, scan_range, args = _line_layout(P, pool, workers, segment)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
         pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
@@ -537,4 +519,4 @@ def simplify_many(
         return [one(job) for job in jobs]
     # the persistent pool: starting threads per call costs more than a short
     # demonstration's reduction (one() never submits to the pool itself)
-    return list(_pool(min(workers, len(jobs))).map(one, jobs))
+    return list(thread_pool(min(workers, len(jobs))).map(one, jobs))

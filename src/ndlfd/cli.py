@@ -638,6 +638,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     # the files are read as a stream (twice, on the workers): only the first
     # one here, for the groups and the checks that name the flags
     from . import _fitmap
+    from ._parallel import keep_workers
     from .io import _CLI_HINTS, DemoFiles, _read_file, demo_files
 
     options = _column_options(args)
@@ -691,14 +692,15 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        scanned = _fitmap.scan(model, files, client=client)
-        ranges = scanned.ranges
-        n_demos = ranges.n_demos
-        mappings = {text: n for text, _, n in ranges.notes}
-        _say(args, _describe_mappings(mappings, n_demos, len(paths)))
-        time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
-        model.set_params(n_time_bins=time_bins, n_points=args.n_points)
-        spec, stats = _fitmap.count(model, scanned)
+        with keep_workers():  # one pool for both passes, ended after them
+            scanned = _fitmap.scan(model, files, client=client)
+            ranges = scanned.ranges
+            n_demos = ranges.n_demos
+            mappings = {text: n for text, _, n in ranges.notes}
+            _say(args, _describe_mappings(mappings, n_demos, len(paths)))
+            time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
+            model.set_params(n_time_bins=time_bins, n_points=args.n_points)
+            spec, stats = _fitmap.count(model, scanned)
     finally:
         if client is not None:
             client.close()

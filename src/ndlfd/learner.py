@@ -21,7 +21,7 @@ from ._blend import (
     align_many,
     blend,
     condition_bandwidth,
-    condition_weights,
+    condition_log_weights,
     fade_ramp,
     pin_offset,
     segment_states,
@@ -35,6 +35,7 @@ from ._errors import (
 from ._fileformat import load_npz, save_npz
 from ._fitstats import FitStats, RangeStats, scale_exponents, seed_word
 from ._hmm_model import _STARTS
+from ._parallel import keep_workers
 from ._registry import Registry
 from ._simplify import DISTANCES, simplify
 from ._validation import (
@@ -184,9 +185,10 @@ class KeypointHMM:
         0x9E3779B97F4A7C15)`` (``i`` the demonstration's index, ``s`` a 64-bit
         word drawn from ``random_state`` by :class:`numpy.random.SeedSequence`)
         are among the ``max_templates`` smallest. The choice depends on the
-        index only, so serial, threaded and Dask fits agree. An int gives the
-        same templates every time; ``None`` fresh ones (fresh entropy);
-        a Generator one draw. Nothing else is random.
+        index only, so serial, threaded and Dask fits agree. ``None`` (like
+        an int) gives the same templates every time: the word of
+        ``SeedSequence(0)``, so the same demonstrations always give the same
+        model and path; a Generator gives one draw. Nothing else is random.
 
     Attributes
     ----------
@@ -487,9 +489,10 @@ class KeypointHMM:
             raise ValidationError(
                 f"weights must be a mapping of group to weight; got {self.weights!r}"
             )
-        spec, stats = _fitmap.count(
-            self, _fitmap.scan(self, demos, client=client, progress=progress)
-        )
+        with keep_workers():  # one pool for both passes, ended after them
+            spec, stats = _fitmap.count(
+                self, _fitmap.scan(self, demos, client=client, progress=progress)
+            )
         self._set_from_spec(spec, stats)
         return self
 
@@ -818,10 +821,10 @@ class KeypointHMM:
         cols = self._cols("orientation")
         return cols if len(cols) == 4 else None
 
-    def _weights_for(self, cond, end: int) -> np.ndarray:
-        """Every demonstration's weight for a start (``end=0``) or goal (-1)."""
+    def _log_weights_for(self, cond, end: int) -> np.ndarray:
+        """Every demonstration's log weight for a start (``end=0``) or goal (-1)."""
         if cond is None:
-            return np.ones(self.n_demos_)
+            return np.zeros(self.n_demos_)
         cols = [c for g in cond for c in self._cols(g)]
         target = self.scaler_.transform(
             self._physical_row(cond)[None, :], weighted=False
@@ -831,7 +834,7 @@ class KeypointHMM:
         key = (end, tuple(cols))
         if key not in self._widths:  # reset by every fit and load
             self._widths[key] = condition_bandwidth(pts)
-        return condition_weights(pts, target, self._widths[key])
+        return condition_log_weights(pts, target, self._widths[key])
 
     def _physical_row(self, cond) -> np.ndarray:
         row = self.scaler_.data_min_.copy()
@@ -848,14 +851,16 @@ class KeypointHMM:
             )
         # the skeleton: from the statistics of every demonstration that carries
         # weight; the blend: from the templates among them
-        w = self._weights_for(start, 0) * self._weights_for(goal, -1)
-        w = w / w.max()
+        logw = self._log_weights_for(start, 0) + self._log_weights_for(goal, -1)
+        # normalized in log space over each set: however far the start, the
+        # nearest demonstration and the nearest template weigh 1
+        w = np.exp(logw - logw.max())
         demos = np.flatnonzero(w >= _KEEP_WEIGHT)
         model = (
             self.segment_model_ if demos.size == w.size else self._segment_model(demos)
         )
-        tw = w[self.template_indices_]
-        tw = tw / tw.max()
+        tlogw = logw[self.template_indices_]
+        tw = np.exp(tlogw - tlogw.max())
         templates = np.flatnonzero(tw >= _KEEP_WEIGHT)
         states, logp = self._run_decoder(model, np.arange(self.n_time_bins))
         change = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
