@@ -11,7 +11,7 @@ from ndlfd._blend import (
     align_to_skeleton,
     blend,
     condition_weights,
-    fade_ramp,
+    minimum_jerk,
     segment_states,
     skeleton_times,
 )
@@ -64,12 +64,12 @@ def test_segment_states_hand_worked():
     np.testing.assert_array_equal(got, [7, 7, 9, 9, 5, 5])
 
 
-def test_fade_ramp_is_minimum_jerk():
+def test_minimum_jerk_is_minimum_jerk():
     s = np.linspace(0, 1, 101)
-    r = fade_ramp(s)
+    r = minimum_jerk(s)
     np.testing.assert_allclose(r, 10 * s**3 - 15 * s**4 + 6 * s**5, atol=1e-15)
     assert r[0] == 0 and r[-1] == 1 and np.all(np.diff(r) >= 0)
-    np.testing.assert_allclose(r + fade_ramp(1 - s), 1.0, atol=1e-15)
+    np.testing.assert_allclose(r + minimum_jerk(1 - s), 1.0, atol=1e-15)
 
 
 def test_condition_weights_separate_two_routes():

@@ -10,7 +10,7 @@ import pytest
 from ndlfd import synth
 from ndlfd._simplify import simplify
 from ndlfd.cli import main
-from ndlfd.demo import Demonstration
+from ndlfd.demonstration import Demonstration
 from ndlfd.io import read_csv, read_table, write_csv, write_table
 from ndlfd.learner import KeypointHMM
 

@@ -162,7 +162,7 @@ def test_write_table_replaces_atomically(tmp_path):
 
 # ---------------------------------------------------------------- demonstrations
 from ndlfd._fileformat import save_npz  # noqa: E402
-from ndlfd.demo import Demonstration  # noqa: E402
+from ndlfd.demonstration import Demonstration  # noqa: E402
 from ndlfd.io import (  # noqa: E402
     group_of_column,
     read_csv,

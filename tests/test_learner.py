@@ -10,10 +10,10 @@ from ndlfd import (
     hmm,
     synth,
 )
-from ndlfd._blend import fade_ramp
+from ndlfd._blend import minimum_jerk
 from ndlfd._simplify import simplify
 from ndlfd.codebook import Codebook, TimeBins
-from ndlfd.demo import Demonstration
+from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 from ndlfd.metrics import dtw_distance
 from ndlfd.normalize import GroupScaler
@@ -451,7 +451,7 @@ def _reaches(n_demos=8, seed=2):
     for k in range(n_demos):
         duration = rng.uniform(2.6, 3.1)
         t = np.arange(0.0, duration, 1.0 / (50, 100, 125)[k % 3])
-        s = fade_ramp(t / t[-1])
+        s = minimum_jerk(t / t[-1])
         a = np.array([0.4, -0.2, 0.3]) + rng.normal(0, 0.01, 3)
         b = np.array([0.7, 0.25, 0.1]) + rng.normal(0, 0.01, 3)
         P = a + s[:, None] * (b - a)

@@ -5,7 +5,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from ndlfd._errors import NotFittedError, OptionError, ValidationError
-from ndlfd.demo import Demonstration
+from ndlfd.demonstration import Demonstration
 from ndlfd.normalize import GroupScaler
 
 

@@ -4,7 +4,7 @@ import pytest
 pytest.importorskip("matplotlib")
 
 from ndlfd import ValidationError
-from ndlfd.demo import Demonstration
+from ndlfd.demonstration import Demonstration
 from ndlfd.plot import (
     GEN_COLOR,
     new_figure,

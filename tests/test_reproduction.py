@@ -18,7 +18,7 @@ from hypothesis import strategies as st
 from ndlfd import synth
 from ndlfd._errors import OptionError, ValidationError
 from ndlfd._simplify import simplify
-from ndlfd.demo import Demonstration
+from ndlfd.demonstration import Demonstration
 from ndlfd.reproduction import (
     CHANNELS,
     DISTANCES,

@@ -4,7 +4,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ndlfd._errors import OptionError, ValidationError
-from ndlfd.demo import Demonstration, with_velocity
+from ndlfd.demonstration import Demonstration, with_velocity
 from ndlfd.synth import SHAPES, curve, make_dataset, spiral, square, square_spiral
 
 GENERATORS = {

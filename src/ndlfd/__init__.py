@@ -35,7 +35,7 @@ from ._parallel import keep_workers, shutdown
 from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
 from .datasets import load_lasa
-from .demo import Demonstration, with_velocity
+from .demonstration import Demonstration, with_velocity
 from .evaluation import evaluate
 from .hmm import DiscreteHMM
 from .learner import KeypointHMM

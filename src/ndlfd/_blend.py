@@ -52,7 +52,7 @@ __all__ = [
     "condition_bandwidth",
     "condition_log_weights",
     "condition_weights",
-    "fade_ramp",
+    "minimum_jerk",
     "pin_offset",
     "segment_states",
     "skeleton_times",
@@ -248,12 +248,12 @@ def align_to_skeleton(
     return index if cand is None else cand[index]
 
 
-def fade_ramp(s: np.ndarray) -> np.ndarray:
+def minimum_jerk(s: np.ndarray) -> np.ndarray:
     """Minimum-jerk ramp ``10 s^3 - 15 s^4 + 6 s^5`` from 0 at ``s=0`` to 1 at ``s=1``.
 
     Examples
     --------
-    >>> fade_ramp(np.array([0.0, 0.5, 1.0]))
+    >>> minimum_jerk(np.array([0.0, 0.5, 1.0]))
     array([0. , 0.5, 1. ])
     """
     s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
@@ -272,8 +272,8 @@ def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
     X : ndarray of shape (n_samples, n_dims)
         The path.
     fade : ndarray of shape (n_samples,)
-        How much of the offset each row takes: ``1 - fade_ramp(tau)`` to pin a
-        start (row 0), ``fade_ramp(tau)`` to pin a goal (the last row).
+        How much of the offset each row takes: ``1 - minimum_jerk(tau)`` to pin a
+        start (row 0), ``minimum_jerk(tau)`` to pin a goal (the last row).
     row : int
         The row that must land on ``target``.
     target : array-like of shape (n_cols,)
@@ -288,7 +288,7 @@ def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
     Examples
     --------
     >>> X = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
-    >>> pin_offset(X, 1.0 - fade_ramp(np.array([0.0, 0.5, 1.0])), 0, [0.0, 2.0])
+    >>> pin_offset(X, 1.0 - minimum_jerk(np.array([0.0, 0.5, 1.0])), 0, [0.0, 2.0])
     array([[0., 2.],
            [1., 1.],
            [2., 0.]])

@@ -32,7 +32,7 @@ from ._fitstats import FitStats, RangeStats, scale_exponents, template_mask
 from ._parallel import check_client, map_reduce
 from ._simplify import simplify
 from .codebook import Codebook, TimeBins
-from .demo import Demonstration
+from .demonstration import Demonstration
 from .io import DemoFile
 from .normalize import GroupScaler
 

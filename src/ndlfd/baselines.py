@@ -52,8 +52,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._blend import fade_ramp as minimum_jerk
-from ._blend import pin_offset
+from ._blend import minimum_jerk, pin_offset
 from ._errors import MissingExtraError, NotFittedError, ValidationError
 from ._registry import Registry
 from ._validation import (
@@ -62,9 +61,9 @@ from ._validation import (
     check_random_state,
     check_times,
 )
-from .demo import Demonstration
+from .demonstration import Demonstration, unit_time
 from .learner import KeypointHMM
-from .metrics import _unit_time, mean_demo_baseline
+from .metrics import mean_demo_baseline
 
 __all__ = [
     "BASELINES",
@@ -136,7 +135,7 @@ def _resampled(demos: Sequence[Demonstration], n: int) -> np.ndarray:
     grid = np.linspace(0.0, 1.0, n)
     out = []
     for d in demos:
-        s = _unit_time(d.t)
+        s = unit_time(d.t)
         P = d.get(GROUP)
         out.append(
             np.column_stack([np.interp(grid, s, P[:, c]) for c in range(P.shape[1])])
@@ -261,7 +260,7 @@ class MeanBaseline(_Generator):
         t = _check_times(times)
         start = self._check_start(start)
         path = mean_demo_baseline(self.demos_, t, GROUP)
-        return path if start is None else _faded_offset(path, _unit_time(t), start)
+        return path if start is None else _faded_offset(path, unit_time(t), start)
 
 
 @BASELINES.register("promp")
@@ -339,7 +338,7 @@ class ProMPBaseline(_Generator):
         path : ndarray of shape (n_samples, n_dims)
         """
         self._check_fitted()
-        tau = _unit_time(_check_times(times))
+        tau = unit_time(_check_times(times))
         start = self._check_start(start)
         model = self.promp_
         if start is not None:
@@ -441,7 +440,7 @@ class GMRBaseline(_Generator):
         path : ndarray of shape (n_samples, n_dims)
         """
         self._check_fitted()
-        tau = _unit_time(_check_times(times))
+        tau = unit_time(_check_times(times))
         start = self._check_start(start)
         q = ((tau - self.center_[0]) / self.scale_[0])[:, None]
         path = self.gmm_.predict(np.array([0]), q) * self.scale_[1:] + self.center_[1:]

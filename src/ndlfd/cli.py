@@ -288,7 +288,7 @@ def _prepare_groups(demos, maps, groups: list[str]):
 
     Errors name ``--groups`` and the file, like every check of the data.
     """
-    from .demo import with_velocity
+    from .demonstration import with_velocity
 
     out, news = [], []
     derived = False
@@ -368,7 +368,7 @@ def _own_group(name: str, j: int, taken) -> str:
 
 def _cmd_simplify(args: argparse.Namespace) -> int:
     from ._simplify import simplify
-    from .demo import KNOWN_GROUPS
+    from .demonstration import KNOWN_GROUPS
     from .io import (
         _CLI_HINTS,
         TIME_NAMES,
@@ -980,7 +980,7 @@ def _add_generate(sub) -> None:
 # ------------------------------------------------------------------------- plot
 def _cmd_plot(args: argparse.Namespace) -> int:
     from ._simplify import simplify_many
-    from .demo import Demonstration
+    from .demonstration import Demonstration
     from .io import _CLI_HINTS, _MAPPING_DEFAULTS, _parse_table, _read_file
     from .learner import KeypointHMM
     from .normalize import GroupScaler

@@ -20,6 +20,7 @@ from ._validation import (
     check_positive_int,
     check_times,
 )
+from .demonstration import unit_time
 
 __all__ = ["Codebook", "TimeBins"]
 
@@ -366,9 +367,7 @@ class TimeBins:
         tt = check_times(t, name="t")
         if tt.size == 0:
             raise ValidationError("t must hold at least one time stamp; got length 0")
-        if tt.size == 1:
-            return np.zeros(1)
-        return (tt - tt[0]) / (tt[-1] - tt[0])
+        return unit_time(tt)
 
     def transform(self, t) -> np.ndarray:
         """Return the time symbols of a time vector.

@@ -32,7 +32,7 @@ import numpy as np
 
 from ._errors import MissingExtraError
 from ._registry import Registry
-from .demo import Demonstration
+from .demonstration import Demonstration
 
 __all__ = ["LASA_SHAPES", "lasa_names", "load_lasa"]
 

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from . import synth
 from ._errors import MissingExtraError
-from .demo import Demonstration
+from .demonstration import Demonstration
 from .io import write_csv
 from .learner import KeypointHMM
 from .metrics import mean_demo_baseline, path_errors

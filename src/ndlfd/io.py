@@ -6,7 +6,7 @@ Two levels:
   table between a CSV file and numpy, nothing more.
 * :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
   :func:`read_hdf5` and :func:`read_demos` move whole
-  :class:`~ndlfd.demo.Demonstration` objects.
+  :class:`~ndlfd.demonstration.Demonstration` objects.
 
 The CSV dialect is deliberately small: one header row, numbers only below it,
 separated by commas, semicolons, tabs or whitespace (the header row decides
@@ -48,7 +48,7 @@ from ._fileformat import (
     save_npz,
 )
 from ._validation import check_points
-from .demo import Demonstration, default_columns
+from .demonstration import Demonstration, default_columns
 from .orientation import QUATERNION_ORDERS
 
 __all__ = [

@@ -22,7 +22,7 @@ from ._blend import (
     blend,
     condition_bandwidth,
     condition_log_weights,
-    fade_ramp,
+    minimum_jerk,
     pin_offset,
     segment_states,
     skeleton_times,
@@ -44,7 +44,7 @@ from ._validation import (
     check_times,
 )
 from .codebook import Codebook, TimeBins
-from .demo import Demonstration, with_velocity
+from .demonstration import Demonstration, unit_time, with_velocity
 from .normalize import SCALING_MODES, GroupScaler, _group_ranges
 from .orientation import normalize_quaternions
 
@@ -932,8 +932,7 @@ class KeypointHMM:
             X = self._renormalize(X)
             key_t = all_t
         if start is not None or goal is not None:
-            span = all_t[-1] - all_t[0]
-            tq = (key_t - all_t[0]) / span if span > 0 else np.zeros_like(key_t)
+            tq = unit_time(np.r_[all_t[0], key_t, all_t[-1]])[1:-1]
             X = self._pin(X, tq, start, goal)
         return Demonstration(key_t, X, self.columns_, self.column_groups_)
 
@@ -947,7 +946,7 @@ class KeypointHMM:
         if start is None and goal is None:
             return X
         n = X.shape[0] if n_dense is None else n_dense
-        ramp = fade_ramp(tq)
+        ramp = minimum_jerk(tq)
         X = X.copy()
         for cond, fade, row in ((start, 1.0 - ramp, 0), (goal, ramp, n - 1)):
             for g, v in (cond or {}).items():

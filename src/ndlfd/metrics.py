@@ -19,9 +19,10 @@ from numba import njit
 
 from ._errors import ValidationError
 from ._validation import check_nonnegative_scalar, check_points, check_times
+from .demonstration import unit_time
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .demo import Demonstration
+    from .demonstration import Demonstration
 
 __all__ = [
     "discrete_frechet",
@@ -188,15 +189,10 @@ def time_aligned_rmse(t_a, a, t_b, b) -> float:
     1.0
     """
     A, B = _pair(a, b)
-    ta = _unit_time(check_times(t_a, A.shape[0], "t_a"))
-    tb = _unit_time(check_times(t_b, B.shape[0], "t_b"))
+    ta = unit_time(check_times(t_a, A.shape[0], "t_a"))
+    tb = unit_time(check_times(t_b, B.shape[0], "t_b"))
     Bi = np.column_stack([np.interp(ta, tb, B[:, c]) for c in range(B.shape[1])])
     return float(np.sqrt(np.mean(np.sum((Bi - A) ** 2, axis=1))))
-
-
-def _unit_time(t: np.ndarray) -> np.ndarray:
-    span = t[-1] - t[0]
-    return (t - t[0]) / span if span > 0 else np.zeros_like(t)
 
 
 def endpoint_error(a, b) -> float:
@@ -399,7 +395,7 @@ def turning_ratio(test, generated, *, min_segment: float = 0.0) -> float:
 
 
 def _unit_times(demo) -> np.ndarray:
-    return _unit_time(np.asarray(demo.t, dtype=float))
+    return unit_time(np.asarray(demo.t, dtype=float))
 
 
 def mean_demo_baseline(demos, times, group: str = "position") -> np.ndarray:
@@ -435,7 +431,7 @@ def mean_demo_baseline(demos, times, group: str = "position") -> np.ndarray:
     demos = list(demos)
     if not demos:
         raise ValidationError("mean_demo_baseline needs at least one demonstration")
-    tau = _unit_time(check_times(times, name="times"))
+    tau = unit_time(check_times(times, name="times"))
     acc = None
     for d in demos:
         s = _unit_times(d)

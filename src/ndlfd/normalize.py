@@ -16,7 +16,7 @@ import numpy as np
 from ._errors import NotFittedError, ValidationError
 from ._registry import Registry
 from ._validation import check_points
-from .demo import Demonstration
+from .demonstration import Demonstration
 
 __all__ = ["SCALING_MODES", "GroupScaler"]
 
@@ -54,7 +54,7 @@ class GroupScaler:
     ----------
     groups : sequence of str of length n_dims, optional
         The group of each column. ``None`` (default) takes the groups from the
-        :class:`~ndlfd.demo.Demonstration` objects passed to :meth:`fit`; it is
+        :class:`~ndlfd.demonstration.Demonstration` objects passed to :meth:`fit`; it is
         required when fitting plain arrays. When both are given they must agree.
     mode : {"group", "per-dimension", "none"}, default="group"
         ``"group"``: per group one global min and max over all its columns and

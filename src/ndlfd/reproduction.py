@@ -29,7 +29,7 @@ from . import synth
 from ._errors import DecodeError, MissingExtraError
 from ._report import Report, image, markdown_table
 from ._simplify import simplify
-from .demo import Demonstration
+from .demonstration import Demonstration
 from .learner import KeypointHMM
 from .metrics import mean_demo_baseline, path_difference, path_errors
 from .normalize import GroupScaler

@@ -2,7 +2,8 @@
 
 Every generator samples a clean analytic path at a constant rate (``t_k = k·dt``,
 ``k = 0..n_points-1``, default ``dt = 0.1`` s) and returns a
-:class:`~ndlfd.demo.Demonstration` with a ``position`` and a ``velocity`` group.
+:class:`~ndlfd.demonstration.Demonstration` with a ``position`` and a ``velocity``
+group.
 The velocity is the analytic time derivative of the clean path at the sample
 times; noise is added afterwards, independently to both groups.
 
@@ -38,7 +39,7 @@ from ._validation import (
     check_positive_int,
     check_random_state,
 )
-from .demo import Demonstration
+from .demonstration import Demonstration
 
 __all__ = [
     "CURVE_SPEED_VARIATION",

@@ -5,7 +5,7 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from ndlfd._errors import OptionError, ValidationError
-from ndlfd.demo import Demonstration, default_columns, with_velocity
+from ndlfd.demonstration import Demonstration, default_columns, with_velocity
 
 
 def _demo(n=5):
@@ -417,7 +417,7 @@ def test_velocity_on_jittery_time_stamps_follows_the_true_derivative(seed, amp, 
     # up to amp*dt: neighbouring differences divide by jittered steps, the
     # window fit does not
     from ndlfd import NdlfdWarning
-    from ndlfd.demo import timing_jitter
+    from ndlfd.demonstration import timing_jitter
 
     rng = np.random.default_rng(seed)
     dt = 3.0 / n
@@ -448,7 +448,7 @@ def test_exact_irregular_stamps_keep_the_exact_derivative_without_warning():
 
 
 def test_window_derivative_is_exact_on_lines_and_matches_a_slow_fit():
-    from ndlfd.demo import window_derivative
+    from ndlfd.demonstration import window_derivative
 
     rng = np.random.default_rng(0)
     t = np.cumsum(rng.uniform(0.2, 1.0, 60))
@@ -472,7 +472,7 @@ def test_the_jitter_check_decides_as_its_definition(seed, spread, n):
     import warnings
 
     from ndlfd import NdlfdWarning
-    from ndlfd.demo import JITTER_TOL, _speed_roughness, timing_jitter
+    from ndlfd.demonstration import JITTER_TOL, _speed_roughness, timing_jitter
 
     rng = np.random.default_rng(seed)
     t = np.concatenate([[0.0], np.cumsum(rng.uniform(1 - spread, 1 + spread, n))])

@@ -39,6 +39,7 @@ __all__ = [
     "Demonstration",
     "default_columns",
     "timing_jitter",
+    "unit_time",
     "window_derivative",
     "with_velocity",
 ]
@@ -88,6 +89,33 @@ def default_columns(group: str, k: int) -> tuple[str, ...]:
             return tuple(short + a for a in axes[:k])
         return tuple(f"{long}{i}" for i in range(k))
     return tuple(f"{group}{i}" for i in range(k))
+
+
+def unit_time(t) -> np.ndarray:
+    """Time stamps mapped onto ``[0, 1]``, first to last (all 0 if they span 0).
+
+    The one time normalization of ndlfd: time bins, the blend, the metrics
+    and the baselines all use it.
+
+    Parameters
+    ----------
+    t : array-like of shape (n_samples,)
+        Increasing time stamps (checked by the caller).
+
+    Returns
+    -------
+    tau : ndarray of shape (n_samples,), dtype float64
+
+    Examples
+    --------
+    >>> unit_time([2.0, 3.0, 6.0])
+    array([0.  , 0.25, 1.  ])
+    >>> unit_time([5.0])
+    array([0.])
+    """
+    t = np.asarray(t, dtype=np.float64)
+    span = t[-1] - t[0]
+    return (t - t[0]) / span if span > 0 else np.zeros_like(t)
 
 
 def _check_names(names, d: int, what: str) -> tuple[str, ...]:
