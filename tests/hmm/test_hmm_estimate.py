@@ -153,23 +153,24 @@ def test_baseline_argument_checked():
         model.transition_baseline([3])
 
 
+def _labelled(m, min_size, max_size):
+    """Lists of (states, symbols) pairs over ``m`` states and 3 symbols."""
+    return st.lists(
+        st.integers(1, 6).flatmap(
+            lambda n: st.tuples(
+                st.lists(st.integers(0, m - 1), min_size=n, max_size=n),
+                st.lists(st.integers(0, 2), min_size=n, max_size=n),
+            )
+        ),
+        min_size=min_size,
+        max_size=max_size,
+    )
+
+
 @settings(max_examples=80, deadline=None)
 @given(
     st.integers(2, 9).flatmap(
-        lambda m: st.tuples(
-            st.just(m),
-            st.lists(
-                st.integers(1, 6).flatmap(
-                    lambda n: st.tuples(
-                        st.lists(st.integers(0, m - 1), min_size=n, max_size=n),
-                        st.lists(st.integers(0, 2), min_size=n, max_size=n),
-                    )
-                ),
-                min_size=2,
-                max_size=7,
-            ),
-            st.integers(1, 6),
-        )
+        lambda m: st.tuples(st.just(m), _labelled(m, 2, 7), st.integers(1, 6))
     ),
     st.sampled_from([None, 0.0, 0.5]),
     st.sampled_from([0.0, 0.25]),
@@ -215,21 +216,7 @@ def _assert_same_model(got, want):
 
 @settings(max_examples=60, deadline=None)
 @given(
-    st.integers(2, 9).flatmap(
-        lambda m: st.tuples(
-            st.just(m),
-            st.lists(
-                st.integers(1, 6).flatmap(
-                    lambda n: st.tuples(
-                        st.lists(st.integers(0, m - 1), min_size=n, max_size=n),
-                        st.lists(st.integers(0, 2), min_size=n, max_size=n),
-                    )
-                ),
-                min_size=3,
-                max_size=9,
-            ),
-        )
-    ),
+    st.integers(2, 9).flatmap(lambda m: st.tuples(st.just(m), _labelled(m, 3, 9))),
     st.data(),
     st.sampled_from([None, 0.0, 0.5]),
     st.sampled_from([0.0, 0.25]),
