@@ -34,7 +34,6 @@ from ._errors import (
 )
 from ._fileformat import load_npz, save_npz
 from ._fitstats import FitStats, RangeStats, scale_exponents, seed_word
-from ._hmm_model import _STARTS
 from ._parallel import keep_workers
 from ._registry import Registry
 from ._simplify import DISTANCES, simplify
@@ -74,7 +73,7 @@ NORMALIZATIONS = Registry("normalization")
 for _name in SCALING_MODES:
     NORMALIZATIONS.add(_name, SCALING_MODES.get(_name))
 #: Start modes of the decoders: the HMM's own registry.
-STARTS = _STARTS
+STARTS = hmm.STARTS
 
 
 def _decode_viterbi(model, symbols, start):

@@ -2,9 +2,10 @@
 
 Run from the repository root:  .venv/bin/python tests/data/make_hmm_v1.py
 
-The training data are the constants below (also imported by tests/test_hmm.py,
-which rebuilds the model and compares it with the loaded file). Re-run only on a
-deliberate format change, together with a new version number.
+The training data are the constants below (also imported by
+tests/hmm/test_hmm_format.py, which rebuilds the model and compares it with the
+loaded file). Re-run only on a deliberate format change, together with a new
+version number.
 """
 
 from __future__ import annotations

@@ -26,16 +26,26 @@ of (a) the states with a counted transition into ``j`` and (b) the best state
 overall under the row baseline alone, so a step costs ``O(states that can emit +
 counted transitions)``. The states never seen in training form one class with
 identical scores, represented by its lowest id.
+
+The package, in the order data flows: ``_counts`` (the counts as plain arrays:
+counting labelled sequences, merging counts, the ratio of one counted table),
+``_kernels`` (the compiled Viterbi), ``_decode`` (Viterbi and the posterior over
+plain arrays, never the model class; the start modes :data:`STARTS`),
+``_format`` (the file format, one reader per version) and ``_model``
+(:class:`DiscreteHMM` and the public functions, which pass a model's arrays to
+the decoders). A new decoder is a function over the counts or log tables in
+``_decode``; a new file version a reader in ``_format``.
 """
 
-from ._hmm_decode import Posterior, posterior, viterbi
-from ._hmm_format import FORMAT_KIND, FORMAT_VERSION
-from ._hmm_model import DENSE_LIMIT_BYTES, DiscreteHMM, estimate, merge
+from ._decode import STARTS, Posterior
+from ._format import FORMAT_KIND, FORMAT_VERSION
+from ._model import DENSE_LIMIT_BYTES, DiscreteHMM, estimate, merge, posterior, viterbi
 
 __all__ = [
     "DENSE_LIMIT_BYTES",
     "FORMAT_KIND",
     "FORMAT_VERSION",
+    "STARTS",
     "DiscreteHMM",
     "Posterior",
     "estimate",

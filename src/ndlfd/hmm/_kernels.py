@@ -9,6 +9,10 @@ order of their global ids (``gid[0..S-1]``). Slot ``S`` stands for the whole cla
 of states never seen in training: they all have identical rows of ``A`` and ``B``
 and identical incoming probabilities, hence identical Viterbi scores, and the class
 is represented by its lowest global id ``gid[S]``.
+
+The argmax with ties to the lowest global id (``s > best or (s == best and
+gid[i] < best_g)``) is written out in each loop of :func:`viterbi_sparse` on
+purpose: those are the kernel's inner loops, kept flat.
 """
 
 from __future__ import annotations

@@ -4,27 +4,133 @@ Arrays (with an optional key prefix, so a learner can embed a model in its own
 file): ``states`` (sorted seen state ids), ``transition_indptr`` /
 ``transition_targets`` / ``transition_counts`` (CSR over the seen states),
 ``emission_indptr`` / ``emission_symbols`` / ``emission_counts``,
-``start_counts`` and ``params`` (``n_states, n_symbols, p, r, n_sequences``).
-Every array's dtype, shape, range and consistency is checked before a model is
-built, so a tampered or foreign file is a :class:`ModelFormatError`, never a
+``start_counts``, ``sizes`` (``n_states, n_symbols, n_sequences``) and
+``pseudo`` (``p`` or NaN for the default ``1 / n_states``, ``r``). Every
+array's dtype, shape, range and consistency is checked before the counts are
+returned, so a tampered or foreign file is a :class:`ModelFormatError`, never a
 crash later.
+
+There is one version so far (:data:`FORMAT_VERSION` 1, read by
+:func:`counts_from_arrays_v1`); a new version gets its own reader beside it.
 """
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
-from ._errors import ModelFormatError
+from .._errors import ModelFormatError
+from .._fileformat import load_npz, save_npz
+from ._counts import Counts, row_sums
 
-__all__ = ["FORMAT_KIND", "FORMAT_VERSION", "model_from_arrays"]
+__all__ = [
+    "ARRAY_KEYS",
+    "FORMAT_KIND",
+    "FORMAT_VERSION",
+    "counts_from_arrays",
+    "counts_from_arrays_v1",
+    "counts_to_arrays",
+    "load_counts",
+    "save_counts",
+]
 
 FORMAT_KIND = "DiscreteHMM"
 FORMAT_VERSION = 1
 
+#: The count arrays, in the order they are written (then ``sizes``, ``pseudo``).
+ARRAY_KEYS = (
+    "states",
+    "transition_indptr",
+    "transition_targets",
+    "transition_counts",
+    "emission_indptr",
+    "emission_symbols",
+    "emission_counts",
+    "start_counts",
+)
 
-def model_from_arrays(cls, arrays, prefix: str):
-    """Build a ``cls`` (a DiscreteHMM class) from checked arrays."""
-    from ._hmm_model import _row_sums
+
+def counts_to_arrays(
+    counts: Counts, default_pseudo_transition: bool, prefix: str = ""
+) -> dict[str, np.ndarray]:
+    """The counts as named numeric arrays (copies).
+
+    Parameters
+    ----------
+    counts : Counts
+    default_pseudo_transition : bool
+        Whether ``p`` is the default ``1 / n_states`` (written as NaN).
+    prefix : str, default=""
+        Prepended to every key.
+
+    Returns
+    -------
+    arrays : dict of str to ndarray
+        :data:`ARRAY_KEYS`, ``sizes`` of shape (3,) and ``pseudo`` of shape (2,).
+    """
+    out = {prefix + k: getattr(counts, k).copy() for k in ARRAY_KEYS}
+    out[prefix + "sizes"] = np.array(
+        [counts.n_states, counts.n_symbols, counts.n_sequences], dtype=np.int64
+    )
+    p_param = np.nan if default_pseudo_transition else counts.pseudo_transition
+    out[prefix + "pseudo"] = np.array(
+        [p_param, counts.pseudo_emission], dtype=np.float64
+    )
+    return out
+
+
+def counts_from_arrays(arrays, prefix: str = "") -> tuple[Counts, float | None]:
+    """Counts from :func:`counts_to_arrays` output of the current version.
+
+    Parameters
+    ----------
+    arrays : mapping of str to ndarray
+        May hold other keys; only those starting with ``prefix`` are read.
+    prefix : str, default=""
+
+    Returns
+    -------
+    counts : Counts
+    pseudo_transition : float or None
+        The parameter as given to the model (``None``: the default ``1 / m``).
+
+    Raises
+    ------
+    ModelFormatError
+        If an array is missing or inconsistent (shape, dtype, range, counts).
+    """
+    return counts_from_arrays_v1(arrays, prefix)
+
+
+def save_counts(
+    path: str | os.PathLike, counts: Counts, default_pseudo_transition: bool
+) -> None:
+    """Write counts to an ``.npz`` file of kind ``DiscreteHMM`` (atomically)."""
+    save_npz(
+        path,
+        counts_to_arrays(counts, default_pseudo_transition),
+        kind=FORMAT_KIND,
+        version=FORMAT_VERSION,
+        metadata={
+            "n_states": counts.n_states,
+            "n_symbols": counts.n_symbols,
+            "n_seen_states": int(counts.states.shape[0]),
+        },
+    )
+
+
+def load_counts(path: str | os.PathLike) -> tuple[Counts, float | None]:
+    """Read what :func:`save_counts` wrote; errors name the file."""
+    arrays, _ = load_npz(path, kind=FORMAT_KIND, version=FORMAT_VERSION)
+    try:
+        return counts_from_arrays(arrays, "")
+    except ModelFormatError as exc:
+        raise ModelFormatError(f"{path}: {exc}") from None
+
+
+def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
+    """Read and check the arrays of format version 1 (:func:`counts_from_arrays`)."""
 
     def bad(msg: str):
         return ModelFormatError(f"invalid DiscreteHMM arrays: {msg}")
@@ -93,8 +199,8 @@ def model_from_arrays(cls, arrays, prefix: str):
         )
     # every occurrence of a state is entered by a transition or starts a sequence,
     # and either leaves by a transition or ends one
-    e_tot = _row_sums(e_indptr, e_cnt)
-    n_out = _row_sums(t_indptr, t_cnt)
+    e_tot = row_sums(e_indptr, e_cnt)
+    n_out = row_sums(t_indptr, t_cnt)
     n_in = np.bincount(t_dst, weights=t_cnt, minlength=n_seen).astype(np.int64)
     if (
         np.any(e_tot < 1)
@@ -105,15 +211,9 @@ def model_from_arrays(cls, arrays, prefix: str):
         raise bad(
             "emission counts are inconsistent with the transition and start counts"
         )
-    model = cls(
-        m,
-        nt,
-        pseudo_transition=None if np.isnan(p_param) else p_param,
-        pseudo_emission=r,
-    )
     p = 1.0 / m if np.isnan(p_param) else p_param
-    model._set_fitted(
-        m, nt, p, r, seen, t_indptr, t_dst, t_cnt, e_indptr, e_sym, e_cnt, f_cnt,
-        n_seq,
+    counts = Counts(
+        m, nt, p, r, n_seq, seen, t_indptr, t_dst, t_cnt, e_indptr, e_sym, e_cnt,
+        f_cnt,
     )  # fmt: skip
-    return model
+    return counts, None if np.isnan(p_param) else p_param

@@ -1,0 +1,401 @@
+"""Decoding the supervised discrete HMM: exact sparse Viterbi and the posterior.
+
+The decoders work on plain arrays, never on the model class: the counts of
+:class:`~ndlfd.hmm._counts.Counts` (the posterior) or the log tables that
+:func:`log_tables` builds from them once (Viterbi, in the compiled kernel of
+:mod:`ndlfd.hmm._kernels`). ``ndlfd.hmm.viterbi(model, ...)`` and
+``ndlfd.hmm.posterior(model, ...)`` pass a fitted model's arrays in.
+
+Both use the model's structure: the transition matrix is a per-row constant
+(the pseudo-count baseline) plus a sparse correction on the counted
+transitions. Viterbi's best predecessor of ``j`` is the better of the states
+with a counted transition into ``j`` and the best state under the baseline
+alone; one forward or backward step of the posterior is a rank-one term plus a
+sparse matrix-vector product. A step costs ``O(n_seen + counted transitions)``,
+never ``O(m)`` or ``O(m^2)``. All unseen states behave alike and are carried as
+one class.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._errors import DecodeError, ValidationError
+from .._registry import Registry
+from .._validation import check_int_sequence
+from ._counts import Counts, Table
+from ._kernels import viterbi_sparse
+
+__all__ = [
+    "STARTS",
+    "LogTables",
+    "Posterior",
+    "check_symbols",
+    "forward_backward",
+    "log_tables",
+    "viterbi_path",
+]
+
+#: Start distributions of the decoders. ``"learned"``: the learned ``pi``;
+#: ``"state1"``: MATLAB's convention, the chain is in state 0 before the first
+#: emission (row 0 of ``A``).
+STARTS: Registry[str] = Registry("start")
+STARTS.add("learned", "learned")
+STARTS.add("state1", "state1")
+
+_NEG_INF = -np.inf
+
+
+class Posterior(NamedTuple):
+    """Posterior state probabilities of a symbol sequence.
+
+    Attributes
+    ----------
+    states : ndarray of shape (n_seen,), dtype int64
+        The states seen in training (columns of ``probabilities``).
+    probabilities : ndarray of shape (n_steps, n_seen)
+        ``P(state at step t = states[k] | all symbols)``.
+    unseen : ndarray of shape (n_steps,)
+        Total posterior probability of all states never seen in training
+        (zero unless ``pseudo_emission > 0``).
+    log_likelihood : float
+        ``log P(symbols)`` under the model.
+    """
+
+    states: np.ndarray
+    probabilities: np.ndarray
+    unseen: np.ndarray
+    log_likelihood: float
+
+
+def check_symbols(symbols, n_symbols: int, start) -> tuple[str, np.ndarray]:
+    """The start mode and the symbols of a decoding call, checked.
+
+    Parameters
+    ----------
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1``, at least one.
+    n_symbols : int
+    start : str
+        A name in :data:`STARTS`.
+
+    Returns
+    -------
+    mode : str
+    obs : ndarray of shape (n_steps,), int64
+    """
+    mode = STARTS.get(start)
+    obs = check_int_sequence(symbols, "symbols", low=0, high=n_symbols)
+    if obs.size == 0:
+        raise ValidationError("symbols must hold at least one symbol; got length 0")
+    return mode, obs
+
+
+# --------------------------------------------------------------------------- Viterbi
+
+
+def _log(x) -> np.ndarray:
+    """Natural log with ``log(0) = -inf`` and no warning."""
+    with np.errstate(divide="ignore"):
+        return np.log(np.asarray(x, dtype=np.float64))
+
+
+def _log_table(table: Table, n_cols: int):
+    """Log-probabilities of one counted table (CSR over the seen states).
+
+    Each counted entry ``(i, c)`` gets the log of the ratio
+    ``log((count + pseudo) / (totals[i] + width * pseudo))`` (one float formula
+    for bit-exact ties); each row the baseline ``log(pseudo / (totals[i] +
+    width * pseudo))`` of its uncounted entries (``-inf`` when ``pseudo == 0``);
+    an unseen row ``log(1 / width)``.
+
+    Returns
+    -------
+    logp : ndarray, per entry in CSR order
+    row_base : ndarray of shape (n_rows,)
+    unseen : float
+    col_indptr, col_rows, col_logp : ndarray
+        The same entries grouped by column (CSC), rows ascending in a column.
+    """
+    totals = table.totals.astype(np.float64)
+    pseudo, cols = table.pseudo, table.columns
+    rows = table.rows()
+    wp = table.width * pseudo
+    logp = _log((table.counts + pseudo) / (totals[rows] + wp))
+    if pseudo > 0:
+        row_base = _log(pseudo / (totals + wp))
+        unseen = float(_log(np.array([pseudo / wp]))[0])
+    else:
+        row_base = np.full(totals.shape[0], _NEG_INF)
+        unseen = _NEG_INF
+    order = np.lexsort((rows, cols))
+    col_indptr = np.zeros(n_cols + 1, dtype=np.int64)
+    np.cumsum(np.bincount(cols, minlength=n_cols), out=col_indptr[1:])
+    return (
+        logp,
+        row_base,
+        unseen,
+        col_indptr,
+        np.ascontiguousarray(rows[order]),
+        np.ascontiguousarray(logp[order]),
+    )
+
+
+class LogTables(NamedTuple):
+    """The log tables of the Viterbi kernel (:func:`~._kernels.viterbi_sparse`).
+
+    The fields from ``gid`` to ``emit_all`` are the kernel's arguments of the
+    same names; ``starts`` maps each start mode to ``(start_base, start_idx,
+    start_logp)``.
+    """
+
+    n_symbols: int
+    gid: np.ndarray
+    has_unseen: bool
+    in_indptr: np.ndarray
+    in_src: np.ndarray
+    in_logp: np.ndarray
+    row_base: np.ndarray
+    unseen_trans: float
+    em_indptr: np.ndarray
+    em_state: np.ndarray
+    em_logp: np.ndarray
+    em_base: np.ndarray
+    unseen_emit: float
+    emit_all: bool
+    starts: dict
+
+
+def log_tables(counts: Counts) -> LogTables:
+    """Log-probability tables of a model for :func:`viterbi_path`.
+
+    Parameters
+    ----------
+    counts : Counts
+        The model's arrays.
+
+    Returns
+    -------
+    LogTables
+        Arrays of size ``O(n_seen + counted entries)``, nothing of size
+        ``n_states``.
+    """
+    m, nt = counts.n_states, counts.n_symbols
+    p, r = counts.pseudo_transition, counts.pseudo_emission
+    seen = counts.states
+    n_seen = seen.shape[0]
+    trans = counts.transitions()
+    la, row_base, unseen_trans, in_indptr, in_src, in_logp = _log_table(trans, n_seen)
+    _, em_base, unseen_emit, em_indptr, em_state, em_logp = _log_table(
+        counts.emissions(), nt
+    )
+    lowest_unseen = counts.lowest_unseen_state()
+    has_unseen = lowest_unseen is not None
+    gid = np.empty(n_seen + 1, dtype=np.int64)
+    gid[:n_seen] = seen
+    gid[n_seen] = lowest_unseen if has_unseen else m
+
+    # start="learned": pi[j] = (F[j] + p) / (D + m p)
+    mp = m * p
+    f = counts.start_counts
+    d = float(counts.n_sequences)
+    s_idx = np.flatnonzero(f).astype(np.int64)
+    s_logp = _log((f[s_idx] + p) / (d + mp))
+    s_base = float(_log(np.array([p / (d + mp)]))[0]) if p > 0 else _NEG_INF
+    # start="state1": row 0 of A
+    if n_seen and seen[0] == 0:
+        lo, hi = trans.indptr[0], trans.indptr[1]
+        s1 = (float(row_base[0]), trans.columns[lo:hi].copy(), la[lo:hi].copy())
+    else:
+        s1 = (unseen_trans, np.empty(0, np.int64), np.empty(0, np.float64))
+    return LogTables(
+        nt, gid, has_unseen, in_indptr, in_src, in_logp, row_base, unseen_trans,
+        em_indptr, em_state, em_logp, em_base, unseen_emit, r > 0,
+        {"learned": (s_base, s_idx, s_logp), "state1": s1},
+    )  # fmt: skip
+
+
+def viterbi_path(
+    tables: LogTables, symbols, start: str = "learned"
+) -> tuple[np.ndarray, float]:
+    """Most likely state path of a symbol sequence, from the log tables.
+
+    Log space, exact. Ties go to the lowest state index, both for predecessors
+    and for the final state.
+
+    Parameters
+    ----------
+    tables : LogTables
+        :func:`log_tables` of the model's counts.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    start : {"learned", "state1"}, default="learned"
+        The start distribution (:data:`STARTS`).
+
+    Returns
+    -------
+    path : ndarray of shape (n_steps,), dtype int64
+        State ids; an unseen state appears as the lowest unseen id.
+    log_probability : float
+
+    Raises
+    ------
+    DecodeError
+        If at some step no reachable state can emit the symbol.
+
+    Examples
+    --------
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1, 2]], [[0, 1, 1]], 3, 2, 0.0, 0.0)
+    >>> viterbi_path(log_tables(counts), [0, 1, 1])
+    (array([0, 1, 2]), 0.0)
+    """
+    mode, obs = check_symbols(symbols, tables.n_symbols, start)
+    tb = tables
+    s_base, s_idx, s_logp = tb.starts[mode]
+    path, logp, fail = viterbi_sparse(
+        obs, tb.gid, tb.has_unseen, tb.in_indptr, tb.in_src, tb.in_logp,
+        tb.row_base, tb.unseen_trans, tb.em_indptr, tb.em_state, tb.em_logp,
+        tb.em_base, tb.unseen_emit, tb.emit_all, s_base, s_idx, s_logp,
+    )  # fmt: skip
+    if fail >= 0:
+        o = int(obs[fail])
+        never = not tb.emit_all and tb.em_indptr[o + 1] == tb.em_indptr[o]
+        why = (
+            "it was never emitted in training and pseudo_emission is 0"
+            if never
+            else "no state that emits it is reachable from the states before it"
+        )
+        raise DecodeError(
+            f"cannot decode symbol {o} at step {fail}: {why} (start={mode!r})"
+        )
+    return tb.gid[path], float(logp)
+
+
+# ------------------------------------------------------------------------- posterior
+
+
+def _probability_tables(counts: Counts, start: str):
+    """Probability-space pieces of the model over the seen states.
+
+    Each probability is the same ratio the log tables use, ``(count + p) /
+    (total + width * p)``, split into the row's baseline ``p / (total + width
+    * p)`` and the counted part ``count / (total + width * p)``.
+    """
+    m, nt, p, r = counts[:4]
+    seen = counts.states
+    n_seen = seen.shape[0]
+    n_unseen = float(m - n_seen)
+    trans = counts.transitions()
+    base = trans.baseline()
+    delta = trans.csr(n_seen, trans.counted(trans.rows()))
+    unseen_row = 1.0 / m if p > 0 else 0.0  # A[u, j] of an unseen row u
+    if start == "learned":
+        d = counts.n_sequences + m * p
+        pi = (counts.start_counts + p) / d
+        pi_unseen = n_unseen * p / d
+    elif n_seen and seen[0] == 0:  # "state1": row 0 of A
+        pi = base[0] + delta[0:1].toarray()[0]
+        pi_unseen = n_unseen * base[0]
+    else:  # "state1" from an unseen state 0: a uniform row
+        pi = np.full(n_seen, unseen_row)
+        pi_unseen = n_unseen * unseen_row
+    em = counts.emissions()
+    emis = em.csr(nt, em.counted(em.rows())).tocsc()
+    emis_unseen = 1.0 / nt if r > 0 else 0.0
+    return (
+        base,
+        delta,
+        unseen_row,
+        n_unseen,
+        pi,
+        pi_unseen,
+        (emis, em.baseline(), emis_unseen),
+    )
+
+
+def _emissions(em, symbol: int) -> tuple[np.ndarray, float]:
+    """``B[j, symbol]`` for the seen states and for one unseen state."""
+    emis, emis_base, emis_unseen = em
+    e = emis_base.copy()
+    lo, hi = emis.indptr[symbol], emis.indptr[symbol + 1]
+    e[emis.indices[lo:hi]] += emis.data[lo:hi]
+    return e, emis_unseen
+
+
+def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posterior:
+    """Posterior state probabilities at every step, from the counts.
+
+    Scaled forward–backward in float64; a step costs ``O(n_seen + counted
+    transitions)``.
+
+    Parameters
+    ----------
+    counts : Counts
+        The model's arrays.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    start : {"learned", "state1"}, default="learned"
+        The start distribution (:data:`STARTS`).
+
+    Returns
+    -------
+    Posterior
+
+    Raises
+    ------
+    DecodeError
+        If the symbols have probability zero under the model (the step is
+        named).
+
+    Examples
+    --------
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1], [0, 2]], [[0, 1], [0, 1]], 3, 2, 0.0, 0.0)
+    >>> forward_backward(counts, [0, 1]).probabilities
+    array([[1. , 0. , 0. ],
+           [0. , 0.5, 0.5]])
+    """
+    mode, obs = check_symbols(symbols, counts.n_symbols, start)
+    base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
+    delta_t = delta.T.tocsr()
+    n_steps, n_seen = obs.size, pi.size
+    alpha = np.empty((n_steps, n_seen))
+    alpha_u = np.empty(n_steps)  # total over the unseen class
+    scale = np.empty(n_steps)
+    emis = [_emissions(em, int(o)) for o in obs]
+    a, au = pi, pi_u
+    for t in range(n_steps):
+        if t:
+            prev, prev_u = alpha[t - 1], alpha_u[t - 1]
+            flow = float(base @ prev) + prev_u * unseen_row
+            a = flow + delta_t @ prev
+            au = n_unseen * flow
+        e, eu = emis[t]
+        a = a * e
+        au = au * eu
+        c = float(a.sum() + au)
+        if not c > 0:
+            raise DecodeError(
+                f"the symbols have probability zero: no state can emit symbol"
+                f" {int(obs[t])} at step {t} after the steps before it"
+                f" (start={mode!r})"
+            )
+        alpha[t], alpha_u[t], scale[t] = a / c, au / c, c
+    beta = np.ones(n_seen)
+    beta_u = 1.0 if n_unseen else 0.0  # per unseen state
+    gamma = np.empty_like(alpha)
+    gamma_u = np.empty(n_steps)
+    gamma[-1], gamma_u[-1] = alpha[-1], alpha_u[-1]
+    for t in range(n_steps - 2, -1, -1):
+        e, eu = emis[t + 1]
+        f = e * beta
+        fu = eu * beta_u
+        total = float(f.sum()) + n_unseen * fu
+        beta = (base * total + delta @ f) / scale[t + 1]
+        beta_u = unseen_row * total / scale[t + 1]
+        gamma[t] = alpha[t] * beta
+        gamma_u[t] = alpha_u[t] * beta_u
+    return Posterior(counts.states.copy(), gamma, gamma_u, float(np.log(scale).sum()))
