@@ -1051,16 +1051,19 @@ def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
     tmp_path, capsys, monkeypatch, n_jobs
 ):
     import ndlfd.io
+    import ndlfd.io._files
 
     folder = _write_reach(tmp_path / "d", demos=_reach_demos(7))
     reads: list[str] = []
-    real = ndlfd.io._read_file
+    real = ndlfd.io.read_file
 
     def counting(p, *args, **kw):
         reads.append(Path(p).name)
         return real(p, *args, **kw)
 
-    monkeypatch.setattr(ndlfd.io, "_read_file", counting)
+    # every place that reads a file: the command and the DemoFile items
+    monkeypatch.setattr(ndlfd.io, "read_file", counting)
+    monkeypatch.setattr(ndlfd.io._files, "read_file", counting)
     args = ("fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "1")
     rc, err = cli(capsys, *args)
     assert rc == 0, err

@@ -225,7 +225,7 @@ def _describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str
 
 def _read_sources(args, sources, *, flag: str, progress: bool = False):
     """Read demonstrations with the column options; report the mapping."""
-    from .io import _CLI_HINTS, _read_file, demo_files
+    from .io import CLI_HINTS, demo_files, read_file
 
     options = _column_options(args)
     paths = demo_files(sources)
@@ -236,7 +236,7 @@ def _read_sources(args, sources, *, flag: str, progress: bool = False):
     pairs, news = [], []
     for p in paths_iter:
         with _noting(p, news):
-            pairs.extend(_read_file(p, _CLI_HINTS, **options))
+            pairs.extend(read_file(p, CLI_HINTS, **options))
     _tell(news)
     if not pairs:
         raise ValidationError(f"{flag}: the files hold no demonstration")
@@ -370,14 +370,13 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
     from ._simplify import simplify
     from .demonstration import KNOWN_GROUPS
     from .io import (
-        _CLI_HINTS,
+        CLI_HINTS,
         TIME_NAMES,
-        _layout,
-        _parse_table,
-        _resolve,
         group_of_column,
+        parse_table,
         write_table,
     )
+    from .io._mapping import map_arrays, resolve_column
     from .normalize import GroupScaler
 
     out = _check_output(args.output)
@@ -387,21 +386,23 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
         _check_range(args.n_points, "--n-points", low=2)
     options = _column_options(args)
     p = Path(args.input)
-    table = _parse_table(p)
+    table = parse_table(p)
     columns = table.columns
     n = table.data.shape[0]
     # the time column: named, else 't' or 'time' when present, else the row number
     if args.time_column is not None:
-        time_col = _resolve(p, options["time_column"], columns, "--time-column names")
+        time_col = resolve_column(
+            p, options["time_column"], columns, "--time-column names"
+        )
     else:
         low = [c.casefold() for c in columns]
         time_col = next((columns[low.index(c)] for c in TIME_NAMES if c in low), None)
-    drop = [_resolve(p, c, columns, "--drop names") for c in options["drop"]]
+    drop = [resolve_column(p, c, columns, "--drop names") for c in options["drop"]]
     wanted = _split_names(args.columns, "--columns")
     if wanted is None:
         wanted = [c for c in columns if c != time_col and c not in drop]
     else:
-        wanted = [_resolve(p, c, columns, "--columns names") for c in wanted]
+        wanted = [resolve_column(p, c, columns, "--columns names") for c in wanted]
         if time_col in wanted:
             raise ValidationError(
                 f"--columns names {time_col!r}, the time column; leave it out (or"
@@ -416,7 +417,7 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
     # groups: --group, then the naming convention, then a column on its own
     groups = {}
     for g, cols in (options["groups"] or {}).items():
-        names = [_resolve(p, c, columns, f"--group {g} names") for c in cols]
+        names = [resolve_column(p, c, columns, f"--group {g} names") for c in cols]
         outside = [c for c in names if c not in wanted]
         if outside:
             raise ValidationError(
@@ -434,14 +435,14 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
     arrays = {c: table.data[:, columns.index(c)] for c in wanted}
     if time_col is not None:
         arrays[time_col] = table.data[:, columns.index(time_col)]
-    demo, mapping = _layout(
+    demo, mapping = map_arrays(
         p,
         arrays,
         time_column=time_col,
         groups=groups,
         drop=(),
         quaternion_order="wxyz",
-        how=_CLI_HINTS,
+        how=CLI_HINTS,
         lines=table.lines,
     )
     order = [k for _, keys in mapping.groups for k in keys]  # the demo's columns
@@ -639,13 +640,13 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     # one here, for the groups and the checks that name the flags
     from . import _fitmap
     from ._parallel import keep_workers
-    from .io import _CLI_HINTS, DemoFiles, _read_file, demo_files
+    from .io import CLI_HINTS, DemoFiles, demo_files, read_file
 
     options = _column_options(args)
     paths = demo_files(args.demos)
     news: list = []
     with _noting(paths[0], news):
-        pairs = _read_file(paths[0], _CLI_HINTS, **options)
+        pairs = read_file(paths[0], CLI_HINTS, **options)
     _tell(news)
     if not pairs:
         raise ValidationError(f"demos: {paths[0]} holds no demonstration")
@@ -688,7 +689,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         match_window=args.match_window,
     )
     model._check_params()  # as fit does: the passes below are fit's
-    files = DemoFiles._for_cli(paths, **options)
+    files = DemoFiles.for_cli(paths, **options)
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
@@ -793,11 +794,11 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     exact_time = args.like is not None and args.dense
     _write_path(path, out, exact_time=exact_time)
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
-        from .io import _csv_header, write_table
+        from .io import csv_header, write_table
 
         formats = [None if exact_time else FLOAT_FORMAT]
         formats += [FLOAT_FORMAT] * path.n_dims
-        write_table(std_out, _csv_header(path, "t"),
+        write_table(std_out, csv_header(path, "t"),
                     np.column_stack([path.t, std]), float_format=formats)  # fmt: skip
     what = "samples" if args.dense else "key points"
     also = f" and its standard deviation -> {std_out}" if std_out is not None else ""
@@ -981,7 +982,7 @@ def _add_generate(sub) -> None:
 def _cmd_plot(args: argparse.Namespace) -> int:
     from ._simplify import simplify_many
     from .demonstration import Demonstration
-    from .io import _CLI_HINTS, _MAPPING_DEFAULTS, _parse_table, _read_file
+    from .io import CLI_HINTS, MAPPING_DEFAULTS, parse_table, read_file
     from .learner import KeypointHMM
     from .normalize import GroupScaler
     from .plot import (
@@ -1031,7 +1032,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     k = demos[0].columns_of(group).size
     path = S = None
     if args.path is not None:
-        pairs = _read_file(Path(args.path), _CLI_HINTS, **_MAPPING_DEFAULTS)
+        pairs = read_file(Path(args.path), CLI_HINTS, **MAPPING_DEFAULTS)
         path, path_map = pairs[0]
         if (
             len(pairs) != 1
@@ -1049,8 +1050,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                 f"--std goes with a CSV --path (as 'ndlfd generate' writes it); got"
                 f" {args.path}"
             )
-        header = _parse_table(Path(args.path)).columns
-        table = _parse_table(Path(args.std))
+        header = parse_table(Path(args.path)).columns
+        table = parse_table(Path(args.std))
         if table.columns != header or table.data.shape[0] != path.n_samples:
             raise ValidationError(
                 f"--std {args.std} must have the columns and rows of --path"
