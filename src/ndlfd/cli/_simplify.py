@@ -11,6 +11,7 @@ from .._errors import ValidationError
 from .._simplify import DISTANCES, simplify
 from ..demonstration import KNOWN_GROUPS
 from ..io import CLI_HINTS, TIME_NAMES, group_of_column, parse_table, write_table
+from ..io._csv import delimiter_name
 from ..io._mapping import map_arrays, resolve_column
 from ..learner import NORMALIZATIONS
 from ..normalize import GroupScaler
@@ -158,12 +159,10 @@ def _simplify_mapping(p, time_col, groups, alone, table, args) -> str:
             f"each in a group of its own: {','.join(single)} (group them with"
             " --group GROUP=NAME,...)"
         )
-    sep = {",": "", ";": " (semicolon-separated)", "\t": " (tab-separated)"}
-    return (
-        f"read {p}: {'; '.join(parts)}"
-        f"{sep.get(table.delimiter, ' (whitespace-separated)')};"
-        f" normalization {args.normalization}"
-    )
+    sep = ""
+    if table.delimiter != ",":
+        sep = f" ({delimiter_name(table.delimiter)}-separated)"
+    return f"read {p}: {'; '.join(parts)}{sep}; normalization {args.normalization}"
 
 
 def add_simplify(sub) -> None:

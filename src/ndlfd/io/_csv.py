@@ -32,6 +32,7 @@ from ._mapping import (
 __all__ = [
     "Table",
     "csv_header",
+    "delimiter_name",
     "parse_table",
     "read_csv",
     "read_csv_mapped",
@@ -53,7 +54,8 @@ def _delimiter_of(header_line: str) -> str | None:
     return ","
 
 
-def _delimiter_name(delimiter: str | None) -> str:
+def delimiter_name(delimiter: str | None) -> str:
+    """How messages name a delimiter: comma, semicolon, tab or whitespace."""
     return dict(_DELIMITERS).get(delimiter, "whitespace") if delimiter else "whitespace"
 
 
@@ -134,7 +136,7 @@ def parse_table(path) -> Table:
         if len(fields) != len(header):
             raise DataFileError(
                 f"{p}, line {lineno}: expected {len(header)}"
-                f" {_delimiter_name(delimiter)}-separated values (one per column of"
+                f" {delimiter_name(delimiter)}-separated values (one per column of"
                 f" the header on line {header_line}); got {len(fields)}"
             )
         try:
@@ -383,7 +385,7 @@ def read_csv_mapped(
         p,
         columns,
         lines=table.lines,
-        layout=f"{_delimiter_name(table.delimiter)}-separated",
+        layout=f"{delimiter_name(table.delimiter)}-separated",
         how=how,
         **mapping,
     )
