@@ -26,6 +26,7 @@ from ._errors import ModelFormatError
 __all__ = ["atomic_path", "load_npz", "save_npz"]
 
 _META_KEY = "__ndlfd__"
+META_KEY = _META_KEY  # public: io tells an ndlfd archive from a plain one
 
 
 @contextlib.contextmanager

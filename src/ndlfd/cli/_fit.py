@@ -1,0 +1,346 @@
+"""``ndlfd fit``: learn a model from demonstration files, read as a stream."""
+
+from __future__ import annotations
+
+import argparse
+import re
+import time
+
+import numpy as np
+
+from .._errors import MissingExtraError, ValidationError
+from .._fitmap import count, scan
+from .._parallel import keep_workers
+from .._simplify import DISTANCES
+from ..io import CLI_HINTS, DemoFiles, demo_files, read_file
+from ..learner import (
+    DECODERS,
+    DEFAULT_LEVELS,
+    GENERATIONS,
+    NORMALIZATIONS,
+    STARTS,
+    KeypointHMM,
+)
+from ._options import (
+    add_column_options,
+    check_output,
+    check_range,
+    column_options,
+    describe_mappings,
+    noting,
+    parse_pairs,
+    prepare_groups,
+    say,
+    split_names,
+    tell,
+)
+
+__all__ = ["add_fit"]
+
+
+# ----------------------------------------------------- the estimator's passes
+# ``ndlfd fit`` runs the steps of KeypointHMM.fit one by one, to report and
+# check between them with the flags' names. These five are the only calls into
+# the estimator's private methods and its fit passes; they become one public
+# hook of the learner once its restructuring (issue 16) is merged.
+def _auto_groups(first):
+    """The groups ``groups="auto"`` learns from a first demonstration."""
+    return KeypointHMM()._wanted_groups(first)
+
+
+def _check_params(model) -> None:
+    """Check the parameters as fit does: the passes below are fit's."""
+    model._check_params()
+
+
+def _scan(model, files, client):
+    """The first pass: ranges and the number of demonstrations."""
+    return scan(model, files, client=client)
+
+
+def _count(model, scanned):
+    """The second pass: key points, states and the counts of the HMM."""
+    return count(model, scanned)
+
+
+def _set_fitted(model, spec, stats) -> None:
+    """Set the fitted attributes from the passes' results."""
+    model._set_from_spec(spec, stats)
+
+
+# ------------------------------------------------------------------ the command
+def _parse_levels(text: str | None):
+    if text is None:
+        return None
+    example = "position=20,velocity=10 (or one number for every group)"
+    if re.fullmatch(r"\s*\d+\s*", text):
+        levels = int(text)
+        check_range(levels, "--levels", low=2)
+        return levels
+    levels = parse_pairs(text, "--levels", int, example)
+    for g, v in levels.items():
+        check_range(v, f"--levels {g}", low=2)
+    return levels
+
+
+def _connect(address: str | None):
+    """A Dask client of the scheduler at ``address`` (None: no client)."""
+    if address is None:
+        return None
+    try:
+        from distributed import Client
+    except ImportError:
+        raise MissingExtraError(
+            '--scheduler needs Dask; install it with: pip install "ndlfd[dask]"'
+        ) from None
+    try:
+        return Client(address, timeout=10)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ValidationError(
+            f"--scheduler {address}: cannot connect to a Dask scheduler there"
+            f" ({type(exc).__name__}: {exc}); start one with: dask scheduler"
+        ) from None
+
+
+def _check_bounds(args, ranges, paths, default_bins: int) -> tuple[int, str]:
+    """``--n-points`` and ``--time-bins`` against the demonstrations' lengths.
+
+    Returns the time bins (the default lowered to the longest demonstration's
+    samples) and a note saying so.
+    """
+    fewest, most = ranges.min_samples, ranges.max_samples
+    if args.n_points is not None and args.n_points > fewest:
+        raise ValidationError(
+            f"--n-points must be between 2 and {fewest} (the number of samples of"
+            f" the shortest demonstration, {paths[ranges.shortest_item]}); got"
+            f" {args.n_points}"
+        )
+    time_bins, note = args.time_bins, ""
+    if time_bins is None:
+        time_bins = min(default_bins, most)
+        if time_bins < default_bins:
+            note = (
+                f" (the default {default_bins} lowered to the longest"
+                f" demonstration's {most} samples)"
+            )
+    elif time_bins > most:
+        raise ValidationError(
+            f"--time-bins must be between 2 and {most} (the number of samples of"
+            f" the longest demonstration, {paths[ranges.longest_item]}); got"
+            f" {time_bins}"
+        )
+    return time_bins, note
+
+
+def _cmd_fit(args: argparse.Namespace) -> int:
+    out = check_output(args.output)
+    groups = split_names(args.groups, "--groups")
+    levels = _parse_levels(args.levels)
+    weights = None
+    if args.weights is not None:
+        weights = parse_pairs(args.weights, "--weights", float, "velocity=0.5")
+        for g, w in weights.items():
+            check_range(w, f"--weights {g}", low=0)
+    if args.epsilon is not None:
+        check_range(args.epsilon, "--epsilon", low=0)
+    if args.n_points is not None:
+        check_range(args.n_points, "--n-points", low=2)
+    if args.time_bins is not None:
+        check_range(args.time_bins, "--time-bins", low=2)
+    check_range(args.pseudo_emission, "--pseudo-emission", low=0)
+    check_range(args.match_window, "--match-window", low=0, high=0.5)
+    if args.n_jobs is not None:
+        check_range(args.n_jobs, "--n-jobs", low=1)
+    # the files are read as a stream (twice, on the workers): only the first
+    # one here, for the groups and the checks that name the flags
+
+    options = column_options(args)
+    paths = demo_files(args.demos)
+    news: list = []
+    with noting(paths[0], news):
+        pairs = read_file(paths[0], CLI_HINTS, **options)
+    tell(news)
+    if not pairs:
+        raise ValidationError(f"demos: {paths[0]} holds no demonstration")
+    first, first_map = pairs[0]
+    if groups is None:  # the library's groups="auto", resolved here to report it
+        groups = list(_auto_groups(first))
+    for what, names in (("--levels", levels), ("--weights", weights)):
+        if isinstance(names, dict):
+            unknown = [g for g in names if g not in groups]
+            if unknown:
+                raise ValidationError(
+                    f"{what} names {', '.join(unknown)}, which is not learned;"
+                    f" the learned groups are {', '.join(groups)} (--groups)"
+                )
+    if not isinstance(levels, int):
+        lacking = [
+            g for g in groups if g not in (levels or {}) and g not in DEFAULT_LEVELS
+        ]
+        if lacking:
+            raise ValidationError(
+                f"--levels must give the codebook levels of group {lacking[0]!r},"
+                f" which has no default (e.g. --levels {lacking[0]}=10)"
+            )
+    _, derived = prepare_groups([first], [first_map], groups)
+    defaults = KeypointHMM()
+    model = KeypointHMM(
+        groups=groups,
+        levels=levels,
+        epsilon=args.epsilon if args.epsilon is not None else defaults.epsilon,
+        n_time_bins=args.time_bins or defaults.n_time_bins,
+        n_points=None,  # checked against the shortest demonstration first
+        distance=args.distance,
+        normalization=args.normalization,
+        weights=weights,
+        pseudo_emission=args.pseudo_emission,
+        start=args.start,
+        generation=args.generation,
+        decoder=args.decoder,
+        n_jobs=args.n_jobs,
+        match_window=args.match_window,
+    )
+    _check_params(model)  # as fit does: the passes below are fit's
+    files = DemoFiles.for_cli(paths, **options)
+    t0 = time.perf_counter()
+    client = _connect(args.scheduler)
+    try:
+        with keep_workers():  # one pool for both passes, ended after them
+            scanned = _scan(model, files, client)
+            ranges = scanned.ranges
+            n_demos = ranges.n_demos
+            mappings = {text: n for text, _, n in ranges.notes}
+            say(args, describe_mappings(mappings, n_demos, len(paths)))
+            time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
+            model.set_params(n_time_bins=time_bins, n_points=args.n_points)
+            spec, stats = _count(model, scanned)
+    finally:
+        if client is not None:
+            client.close()
+    _set_fitted(model, spec, stats)
+    elapsed = time.perf_counter() - t0
+    model.save(out)
+    k = model.n_keypoints_
+    learned = ", ".join(groups) + (
+        " (velocity derived from position)" if derived else ""
+    )
+    say(
+        args,
+        f"fitted {n_demos} demonstration(s) in {elapsed:.2f} s on {learned}:"
+        f" key points {k.min()}-{k.max()} (median {int(np.median(k))}),"
+        f" {model.n_states_used_} of {model.codebook_.n_states} states used,"
+        f" {time_bins} time bins{note} -> {out}",
+    )
+    unused = [g for g in first.group_names if g not in groups]
+    if unused:
+        say(
+            args,
+            f"not learned: {', '.join(unused)} (in the files but not in --groups;"
+            f" learn {'it' if len(unused) == 1 else 'them'} with --groups"
+            f" {','.join([*groups, *unused])})",
+        )
+    return 0
+
+
+def add_fit(sub) -> None:
+    p = sub.add_parser(
+        "fit",
+        help="learn a model from demonstration files",
+        description=(
+            "Learn key points, codebook states and a discrete HMM from"
+            " demonstration files (CSV, .npz or HDF5; a folder means all its"
+            " .csv/.tsv/.npz/.h5/.hdf5 files, in any case). The summary names the"
+            " learned groups and the groups in the files that are not learned."
+        ),
+    )
+    p.add_argument("demos", nargs="+", help="files, folders or glob patterns")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="model file to write (its folder must exist)",
+    )
+    p.add_argument(
+        "--groups",
+        default=None,
+        help="comma-separated groups to learn (default: position, velocity,"
+        " orientation and force, those the files have; a missing velocity is"
+        " derived from position). Name your own groups to learn them too",
+    )
+    budget = p.add_mutually_exclusive_group()
+    defaults = KeypointHMM()
+    budget.add_argument(
+        "--epsilon",
+        type=float,
+        help=f"reduction tolerance on the normalized values, >= 0 (default"
+        f" {defaults.epsilon})",
+    )
+    budget.add_argument(
+        "--n-points",
+        type=int,
+        help="key points per demonstration (2 <= N <= the shortest demonstration's"
+        " number of samples)",
+    )
+    p.add_argument("--distance", default="line", choices=DISTANCES.names)
+    p.add_argument(
+        "--levels",
+        help="codebook levels >= 2, e.g. position=20,velocity=10 or one number for"
+        " all groups (default: 20 for position, 10 for velocity, orientation and"
+        " force; groups of your own need one)",
+    )
+    p.add_argument(
+        "--time-bins",
+        type=int,
+        help=f"number of time symbols, 2 <= N <= the longest demonstration's number"
+        f" of samples (default {defaults.n_time_bins}, or that number if smaller)",
+    )
+    p.add_argument("--normalization", default="group", choices=NORMALIZATIONS.names)
+    p.add_argument(
+        "--weights", help="per-group weights >= 0 in the reduction, e.g. velocity=0.5"
+    )
+    p.add_argument(
+        "--pseudo-emission",
+        type=float,
+        default=0.0,
+        help="emission pseudo-count >= 0 (default 0)",
+    )
+    p.add_argument("--start", default="learned", choices=STARTS.names)
+    p.add_argument(
+        "--match-window",
+        type=float,
+        default=defaults.match_window,
+        help="the blend matches key points on each demonstration's moving average"
+        " over this fraction of its samples each side, 0 to 0.5 (default"
+        f" {defaults.match_window}; 0: raw samples, which spike on noisy data)",
+    )
+    p.add_argument(
+        "--n-jobs",
+        type=int,
+        default=None,
+        help="workers reading and reducing the files: processes for short"
+        " demonstrations, threads for long ones (>= 5,000 samples); default one"
+        " per CPU from 256 files on, else 1; the model is the same",
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="fit on a Dask cluster, e.g. tcp://127.0.0.1:8786 (start one with"
+        " 'dask scheduler' and 'dask worker ADDRESS'; needs ndlfd[dask]); the"
+        " model is the same as a local fit's",
+    )
+    p.add_argument(
+        "--generation",
+        default="blend",
+        choices=GENERATIONS.names,
+        help="blend (default: decoded key points, demonstrations aligned and"
+        " blended) or paper (the paper's procedure)",
+    )
+    p.add_argument(
+        "--decoder",
+        default="viterbi",
+        choices=DECODERS.names,
+        help="viterbi (most likely sequence) or map (most likely state per step)",
+    )
+    p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    add_column_options(p)
+    p.set_defaults(func=_cmd_fit)

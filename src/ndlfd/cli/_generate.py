@@ -1,0 +1,163 @@
+"""``ndlfd generate``: a path from a fitted model and a new timing."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import ValidationError
+from ..io import csv_header, write_csv, write_table
+from ..learner import KeypointHMM
+from ._options import (
+    add_column_options,
+    check_output,
+    check_range,
+    parse_floats,
+    read_sources,
+    say,
+)
+
+__all__ = ["FLOAT_FORMAT", "MAX_SAMPLES", "add_generate"]
+
+#: Most samples ``ndlfd generate --samples`` writes (80 MB per column).
+MAX_SAMPLES = 10_000_000
+#: Number format of computed values written by ``ndlfd generate``.
+FLOAT_FORMAT = "%.10g"
+
+
+def _cmd_generate(args: argparse.Namespace) -> int:
+    out = check_output(args.output)
+    std_out = check_output(args.std, "--std") if args.std is not None else None
+    if args.like is not None:
+        if args.duration is not None or args.samples is not None:
+            raise ValidationError(
+                "pass either --like or --duration/--samples, not both"
+            )
+    else:
+        if args.duration is None:
+            raise ValidationError("pass --like FILE or --duration SECONDS")
+        if not (args.duration > 0 and math.isfinite(args.duration)):
+            raise ValidationError(
+                f"--duration must be a finite number > 0; got {args.duration}"
+            )
+        n = args.samples if args.samples is not None else 1000
+        check_range(n, "--samples", low=2, high=MAX_SAMPLES)
+    start = parse_floats(args.start, "--start")
+    goal = parse_floats(args.goal, "--goal")
+    model = KeypointHMM.load(args.model)
+    n_pos = model.column_groups_.count("position")
+    for flag, values in (("--start", start), ("--goal", goal)):
+        if values is None:
+            continue
+        if n_pos == 0:
+            raise ValidationError(
+                f"{flag} needs a model that learned position; it learned"
+                f" {', '.join(model.groups_)}"
+            )
+        if len(values) != n_pos:
+            pairs = zip(model.columns_, model.column_groups_, strict=True)
+            names = ", ".join(c for c, g in pairs if g == "position")
+            raise ValidationError(
+                f"{flag} must give {n_pos} position values (one per column: {names});"
+                f" got {len(values)}"
+            )
+    if std_out is not None and model.generation != "blend":
+        raise ValidationError(
+            "--std needs a model fitted with --generation blend; this one uses"
+            f" {model.generation}"
+        )
+    if args.like is not None:
+        demos, maps = read_sources(args, args.like, flag="--like")
+        if len(demos) != 1:
+            raise ValidationError(
+                f"--like must name one demonstration; {args.like} holds"
+                f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
+            )
+        timing = demos[0]
+    else:
+        timing = np.linspace(0.0, args.duration, n)
+    result = model.generate(
+        timing,
+        dense=args.dense,
+        start=None if start is None else {"position": start},
+        goal=None if goal is None else {"position": goal},
+        return_std=std_out is not None,
+    )
+    path, std = result if std_out is not None else (result, None)
+    exact_time = args.like is not None and args.dense
+    _write_path(path, out, exact_time=exact_time)
+    if std is not None:  # the path's columns (std of a quaternion is no quaternion)
+        formats = [None if exact_time else FLOAT_FORMAT]
+        formats += [FLOAT_FORMAT] * path.n_dims
+        write_table(std_out, csv_header(path, "t"),
+                    np.column_stack([path.t, std]), float_format=formats)  # fmt: skip
+    what = "samples" if args.dense else "key points"
+    also = f" and its standard deviation -> {std_out}" if std_out is not None else ""
+    say(args, f"generated {path.n_samples} {what} -> {out}{also}")
+    return 0
+
+
+def _write_path(demo, path: Path, *, exact_time: bool) -> None:
+    """Computed values with ten significant digits; given time stamps exactly."""
+    write_csv(
+        demo,
+        path,
+        float_format=FLOAT_FORMAT,
+        time_format=None if exact_time else FLOAT_FORMAT,
+    )
+
+
+def add_generate(sub) -> None:
+    p = sub.add_parser(
+        "generate",
+        help="generate a path from a model and a new timing",
+        description=(
+            "Decode a new timing with a fitted model and write the generated path"
+            " (key points, or every sample with --dense) as CSV, numbers with ten"
+            " significant digits (the time stamps of --like exactly)."
+        ),
+    )
+    p.add_argument("model", help="model file written by 'ndlfd fit'")
+    p.add_argument(
+        "--like", help="a test demonstration whose timing is used (one file)"
+    )
+    p.add_argument(
+        "--start",
+        metavar="X,Y[,Z]",
+        help="where the robot starts (position): the path begins there and"
+        " follows the demonstrations that start nearby",
+    )
+    p.add_argument(
+        "--goal",
+        metavar="X,Y[,Z]",
+        help="where the path must end (position)",
+    )
+    p.add_argument(
+        "--duration", type=float, help="duration (> 0) of a uniform time grid"
+    )
+    p.add_argument(
+        "--samples",
+        type=int,
+        help=f"samples of the uniform time grid, 2 <= N <= {MAX_SAMPLES:,}"
+        " (default 1000)",
+    )
+    p.add_argument(
+        "--dense",
+        action="store_true",
+        help="interpolate to every time stamp instead of writing key points",
+    )
+    p.add_argument(
+        "--std",
+        metavar="FILE.csv",
+        help="also write the path's standard deviation (same columns) there, for"
+        " 'ndlfd plot --std' (models fitted with --generation blend)",
+    )
+    p.add_argument(
+        "-o", "--output", required=True, help="output CSV file (its folder must exist)"
+    )
+    p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    add_column_options(p, what="--like file")
+    p.set_defaults(func=_cmd_generate)

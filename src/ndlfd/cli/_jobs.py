@@ -1,0 +1,119 @@
+"""The built-in jobs: ``ndlfd demo``, ``ndlfd reproduce`` and ``ndlfd evaluate``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from ..evaluation import evaluate
+from ..experiments import run_demo
+from ..reproduction import reproduce
+from ._options import split_names
+
+__all__ = ["add_evaluate", "add_jobs"]
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    run_demo(args.out, quick=args.quick, plot=not args.no_plot, echo=print)
+    return 0
+
+
+def _cmd_reproduce(args: argparse.Namespace) -> int:
+    reproduce(args.out, quick=args.quick, echo=print)
+    return 0
+
+
+def add_jobs(sub) -> None:
+    p = sub.add_parser(
+        "demo",
+        help="learn and generate on built-in data, with a figure",
+        description=(
+            "The main job on built-in data: learn from the paper's synthetic 2-D"
+            " square (100 noisy demonstrations with velocity) and, when the 'lasa'"
+            " extra is installed, one LASA handwriting shape; generate the path for"
+            " a test demonstration, write CSV files and a figure, print a summary."
+        ),
+    )
+    p.add_argument("--out", default="demo-output", help="output folder")
+    p.add_argument("--quick", action="store_true", help="fewer demonstrations")
+    p.add_argument("--no-plot", action="store_true", help="write no figure")
+    p.set_defaults(func=_cmd_demo)
+    p = sub.add_parser(
+        "reproduce",
+        help="reproduce the paper's experiments (figures and report.md)",
+        description=(
+            "Re-run analogues of the paper's Fig. 2, 3, 5 and 6 and write one PNG"
+            " per figure and report.md (our numbers beside the paper's)."
+        ),
+    )
+    p.add_argument("--out", default="reproduction", help="output folder")
+    p.add_argument("--quick", action="store_true", help="reduced sizes (tests)")
+    p.set_defaults(func=_cmd_reproduce)
+
+
+def _cmd_evaluate(args: argparse.Namespace) -> int:
+    protocols = split_names(args.protocols, "--protocols")
+    result = evaluate(
+        split_names(args.shapes, "--shapes"),
+        generators=split_names(args.generators, "--generators"),
+        protocols=protocols if protocols is not None else ("time", "time+start"),
+        folds=args.folds,
+        n_jobs=args.n_jobs,
+        progress=False if args.quiet else None,
+    )
+    plots = not args.no_plot
+    if plots:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            plots = False
+            print(
+                "ndlfd evaluate: no figures (install them with: pip install"
+                ' "ndlfd[plot]")',
+                file=sys.stderr,
+            )
+    result.write_report(args.out, plots=plots)
+    print(result.to_markdown())
+    if not args.quiet:
+        print(
+            f"{len(result.rows)} rows, {len(result.failures)} failed, in"
+            f" {result.seconds:.0f} s -> {args.out}",
+            file=sys.stderr,
+        )
+    return 0
+
+
+def add_evaluate(sub) -> None:
+    p = sub.add_parser(
+        "evaluate",
+        help="leave-one-out evaluation on LASA against ProMP, GMR, DMP and the mean",
+        description=(
+            "Hold out each demonstration of each LASA shape in turn, fit ndlfd and"
+            " the baselines on the others, generate for the held-out timing (and"
+            " start), and compare: DTW, Frechet, RMSE and endpoint error per shape"
+            " range, path-length and turning ratios. Prints the summary tables and"
+            " writes results.csv, summary.md and figures to --out. ProMP, GMR and"
+            ' DMP need pip install "ndlfd[eval]".'
+        ),
+    )
+    p.add_argument("--shapes", help="comma-separated LASA shapes (default: all 30)")
+    p.add_argument(
+        "--folds", type=int, help="held-out demonstrations per shape (default: 7)"
+    )
+    p.add_argument(
+        "--protocols",
+        help="comma-separated protocols: time, time+start (default: both)",
+    )
+    p.add_argument(
+        "--generators",
+        help="comma-separated generators: ndlfd, mean, promp, gmr, dmp (default: all)",
+    )
+    p.add_argument(
+        "--n-jobs", type=int, help="worker processes (-1: one per CPU; default 1)"
+    )
+    p.add_argument("--out", default="evaluation", help="report folder (evaluation)")
+    p.add_argument("--no-plot", action="store_true", help="write no figures")
+    p.add_argument(
+        "-q", "--quiet", action="store_true", help="no progress bar or closing line"
+    )
+    p.set_defaults(func=_cmd_evaluate)

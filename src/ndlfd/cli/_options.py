@@ -1,0 +1,331 @@
+"""What every command shares: flags, checks, reading and one-line reports.
+
+The parser class (:class:`Parser`, one-line usage errors), the parsing of
+comma-separated flags and the range checks (:func:`check_range`: one message for
+every bounded setting), the output checks (:func:`check_output`), the column
+mapping flags (:func:`add_column_options`, :func:`column_options`), reading
+demonstrations with them (:func:`read_sources`) and the one-line reports
+(:func:`say` on stderr unless ``-q``; :func:`noting` and :func:`tell`: one warning
+line per kind of news). A command module uses these and adds its own flags.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import math
+import os
+import re
+import sys
+import warnings
+from collections import Counter
+from pathlib import Path
+
+from .._errors import NdlfdWarning, ValidationError
+from ..demonstration import with_velocity
+from ..io import CLI_HINTS, TIME_NAMES, demo_files, read_file
+
+__all__ = [
+    "EXIT_USAGE",
+    "GROUP_NAME",
+    "Parser",
+    "add_column_options",
+    "check_output",
+    "check_range",
+    "column_options",
+    "describe_mappings",
+    "noting",
+    "parse_floats",
+    "parse_pairs",
+    "prepare_groups",
+    "read_sources",
+    "say",
+    "split_names",
+    "tell",
+]
+
+#: The exit status of every usage or data error.
+EXIT_USAGE = 2
+#: A name a group may have on the command line (``--group NAME=...``).
+GROUP_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
+
+
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line, like every other error."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        """Print one line naming the command and exit with status 2."""
+        self.exit(
+            EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n"
+        )
+
+
+def say(args: argparse.Namespace, line: str) -> None:
+    """Print one summary line on stderr unless ``-q``."""
+    if not getattr(args, "quiet", False):
+        print(line, file=sys.stderr)
+
+
+# ------------------------------------------------------------------ parsing
+def split_names(text: str | None, flag: str) -> list[str] | None:
+    """``a,b,c`` strictly: no empty entry (a trailing comma is an error)."""
+    if text is None:
+        return None
+    names = [s.strip() for s in text.split(",")]
+    if not text.strip() or any(not s for s in names):
+        raise ValidationError(
+            f"{flag} must be a comma-separated list of names without empty entries;"
+            f" got {text!r}"
+        )
+    dup = next((s for s in names if names.count(s) > 1), None)
+    if dup is not None:
+        raise ValidationError(f"{flag} names {dup!r} twice; got {text!r}")
+    return names
+
+
+def parse_floats(text: str | None, flag: str) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        values = [float(s) for s in text.split(",")]
+    except ValueError:
+        raise ValidationError(
+            f"{flag} must be comma-separated numbers; got {text!r}"
+        ) from None
+    if not all(math.isfinite(v) for v in values):
+        raise ValidationError(f"{flag} must be finite numbers; got {text!r}")
+    return values
+
+
+def parse_pairs(text: str, flag: str, cast, example: str) -> dict:
+    """``name=value,name=value`` strictly (no empty entry, no repeated name)."""
+    out: dict = {}
+    for part in text.split(","):
+        part = part.strip()
+        if not part:
+            raise ValidationError(
+                f"{flag} must look like {example}; got {text!r} (an empty entry:"
+                " a trailing or doubled comma)"
+            )
+        if "=" not in part:
+            raise ValidationError(f"{flag} must look like {example}; got {text!r}")
+        key, _, value = part.partition("=")
+        key, value = key.strip(), value.strip()
+        if not key:
+            raise ValidationError(
+                f"{flag} must look like {example}; got {part!r} without a name"
+            )
+        if key in out:
+            raise ValidationError(f"{flag} names {key!r} twice; got {text!r}")
+        try:
+            out[key] = cast(value)
+        except ValueError:
+            raise ValidationError(
+                f"{flag}: {value!r} is not a valid number in {text!r}"
+            ) from None
+    return out
+
+
+def check_range(value, flag: str, low=None, high=None) -> None:
+    """One message for every bounded setting: ``FLAG must be ... ; got V``."""
+    ok = value is not None and math.isfinite(value)
+    if ok and low is not None:
+        ok = value >= low
+    if ok and high is not None:
+        ok = value <= high
+    if ok:
+        return
+    noun = "an integer" if isinstance(value, int) else "a finite number"
+    if low is not None and high is not None:
+        bound = f"between {low} and {high}"
+    elif low is not None:
+        bound = f"{noun} >= {low}"
+    else:
+        bound = f"{noun} <= {high}"
+    raise ValidationError(f"{flag} must be {bound}; got {value}")
+
+
+def check_output(path: str, flag: str = "-o") -> Path:
+    """Refuse an output that is a folder or lies in a missing folder."""
+    p = Path(path)
+    if p.is_dir():
+        raise ValidationError(
+            f"{flag} {path}: is a folder; expected a file name (e.g."
+            f" {p / ('out' + (p.suffix or '.csv'))})"
+        )
+    parent = p.parent
+    if not parent.exists():
+        raise ValidationError(
+            f"{flag} {path}: the folder {parent} does not exist; create it first"
+        )
+    if not parent.is_dir():
+        raise ValidationError(f"{flag} {path}: {parent} is not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ValidationError(f"{flag} {path}: the folder {parent} is not writable")
+    return p
+
+
+# ------------------------------------------------------------- data columns
+def add_column_options(p, *, what: str = "demonstration files") -> None:
+    g = p.add_argument_group(
+        f"columns of the {what}",
+        "CSV files are comma-, semicolon-, tab- or whitespace-separated (the header"
+        " row decides); .npz files hold arrays and HDF5 files one group per"
+        " episode, mapped like columns (a 2-D array is a whole group). Names match"
+        " in any case. Columns not named here go by their names: x,y,z position,"
+        " vx,vy,vz velocity, qw,qx,qy,qz orientation, fx,fy,fz force,"
+        " group.name a group of your own; 2-D arrays named position/pos,"
+        " velocity/vel, orientation/quat, force. The mapping used is reported on"
+        " one line.",
+    )
+    g.add_argument(
+        "--time-column",
+        metavar="NAME",
+        help="the time column (strictly increasing; default: 't' or 'time')",
+    )
+    g.add_argument(
+        "--group",
+        action="append",
+        metavar="GROUP=NAME[,NAME...]",
+        help="put these columns (or one 2-D array) in GROUP, e.g."
+        " --group position=pos_x,pos_y or --group position=pos; repeatable."
+        " Orientation columns are listed in w,x,y,z order",
+    )
+    g.add_argument(
+        "--drop", metavar="NAME[,NAME...]", help="columns to leave out of the data"
+    )
+
+
+def column_options(args: argparse.Namespace) -> dict:
+    """``read_demos`` keyword arguments from ``--time-column/--group/--drop``."""
+    groups: dict[str, list[str]] | None = None
+    for entry in args.group or ():
+        if "=" not in entry:
+            raise ValidationError(
+                f"--group must look like GROUP=NAME[,NAME...], e.g."
+                f" position=pos_x,pos_y; got {entry!r}"
+            )
+        name, _, cols = entry.partition("=")
+        name = name.strip()
+        if not GROUP_NAME.match(name):
+            raise ValidationError(
+                "--group GROUP must be a name of letters, digits, '_' and '-'"
+                f" (starting with a letter or '_'); got {name!r} in {entry!r}"
+            )
+        groups = groups if groups is not None else {}
+        if name in groups:
+            raise ValidationError(f"--group {name} is given twice")
+        groups[name] = split_names(cols, f"--group {name}")
+    time_column = args.time_column
+    if time_column is not None and not time_column.strip():
+        raise ValidationError("--time-column must name a column; got ''")
+    return {
+        "time_column": TIME_NAMES if time_column is None else time_column.strip(),
+        "groups": groups,
+        "drop": split_names(args.drop, "--drop") or (),
+        "quaternion_order": "wxyz",
+    }
+
+
+def describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str:
+    """One line: how the files were read (the distinct mappings, with counts)."""
+    head = f"read {n_demos} demonstration(s) from {n_files} file(s)"
+    if len(texts) == 1:
+        return f"{head}: {next(iter(texts))}"
+    return f"{head}: " + " | ".join(f"{k} as {t}" for t, k in texts.items())
+
+
+def read_sources(args, sources, *, flag: str, progress: bool = False):
+    """Read demonstrations with the column options; report the mapping."""
+    options = column_options(args)
+    paths = demo_files(sources)
+    if progress:
+        paths_iter = _progress(paths, len(paths), "reading demos")
+    else:
+        paths_iter = paths
+    pairs, news = [], []
+    for p in paths_iter:
+        with noting(p, news):
+            pairs.extend(read_file(p, CLI_HINTS, **options))
+    tell(news)
+    if not pairs:
+        raise ValidationError(f"{flag}: the files hold no demonstration")
+    demos = [d for d, _ in pairs]
+    maps = [m for _, m in pairs]
+    texts = Counter(str(m) for m in maps)
+    say(args, describe_mappings(texts, len(maps), len(paths)))
+    return demos, maps
+
+
+@contextlib.contextmanager
+def noting(source, news: list):
+    """Collect the NdlfdWarnings raised while ``source`` is handled."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", NdlfdWarning)
+        yield
+    for w in caught:
+        if issubclass(w.category, NdlfdWarning):
+            news.append((str(source), " ".join(str(w.message).split())))
+        else:  # pragma: no cover - not ndlfd's news: as it came
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+
+
+def tell(news: list) -> None:
+    """One warning line per kind of news, naming the first file and the count."""
+    kinds: dict[str, list] = {}
+    for source, text in news:
+        kinds.setdefault(re.sub(r"[\d.]+", "#", text), []).append((source, text))
+    for items in kinds.values():
+        source, text = items[0]
+        more = ""
+        if len(items) > 1:
+            others = [s for s, _ in items[1:]]
+            shown = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
+            more = f" (likewise in {len(others)} more: {shown})"
+        warnings.warn(f"{source}: {text}{more}", NdlfdWarning, stacklevel=2)
+
+
+def _progress(iterable, total: int, desc: str):
+    """Wrap ``iterable`` in a progress bar on a terminal (silent otherwise)."""
+    from tqdm import tqdm
+
+    bar = dict(desc=desc, unit="file", disable=None, leave=False)
+    return tqdm(iterable, total=total, **bar)
+
+
+def prepare_groups(demos, maps, groups: list[str]):
+    """Each demonstration's learned groups (velocity derived when missing).
+
+    Errors name ``--groups`` and the file, like every check of the data.
+    """
+    out, news = [], []
+    derived = False
+    for d, m in zip(demos, maps, strict=True):
+        if "velocity" in groups and not d.has_group("velocity"):
+            if not d.has_group("position"):
+                raise ValidationError(
+                    f"--groups asks for velocity, but {m.source} has neither"
+                    f" velocity nor position to derive it from; it has"
+                    f" {', '.join(d.group_names)}"
+                )
+            with noting(m.source, news):
+                d = with_velocity(d)
+            derived = True
+        missing = [g for g in groups if not d.has_group(g)]
+        if missing:
+            raise ValidationError(
+                f"--groups asks for {', '.join(missing)}, but {m.source} has only"
+                f" {', '.join(d.group_names)} ({m}); map its columns with --group"
+                f" {missing[0]}=NAME,... or leave it out of --groups"
+            )
+        out.append(d.select(*groups))
+    tell(news)
+    first = out[0]
+    for d, m in zip(out[1:], maps[1:], strict=True):
+        if d.columns != first.columns or d.groups != first.groups:
+            raise ValidationError(
+                f"every demonstration must have the same columns; {maps[0].source}"
+                f" has {', '.join(first.columns)} and {m.source} has"
+                f" {', '.join(d.columns)}"
+            )
+    return out, derived

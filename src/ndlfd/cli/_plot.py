@@ -1,0 +1,204 @@
+"""``ndlfd plot``: demonstrations, their key points and a generated path."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from .. import plot
+from .._errors import ValidationError
+from .._simplify import simplify_many
+from ..demonstration import Demonstration
+from ..io import CLI_HINTS, MAPPING_DEFAULTS, parse_table, read_file
+from ..learner import NORMALIZATIONS, KeypointHMM
+from ..normalize import GroupScaler
+from ._options import (
+    add_column_options,
+    check_output,
+    check_range,
+    prepare_groups,
+    read_sources,
+    say,
+    split_names,
+)
+
+__all__ = ["add_plot"]
+
+
+def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
+    """(fewest samples, its source, most samples, its source)."""
+    n = [d.n_samples for d in demos]
+    lo, hi = int(np.argmin(n)), int(np.argmax(n))
+    return n[lo], maps[lo].source, n[hi], maps[hi].source
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    out = check_output(args.output)
+    fig0, _ = plot.new_figure(1)  # matplotlib is there (or a one-line error)
+    formats = fig0.canvas.get_supported_filetypes()
+    suffix = out.suffix.lower().lstrip(".")
+    if suffix not in formats:
+        raise ValidationError(
+            f"-o {args.output}: expected a figure file ending in"
+            f" {', '.join('.' + f for f in sorted(formats))}; got"
+            f" {out.suffix or 'no suffix'}"
+        )
+    if args.std is not None and args.path is None:
+        raise ValidationError("--std draws the band of --path FILE.csv; pass --path")
+    groups = split_names(args.groups, "--groups")
+    epsilon = args.epsilon if args.epsilon is not None else KeypointHMM().epsilon
+    check_range(epsilon, "--epsilon", low=0)
+    if args.n_points is not None:
+        check_range(args.n_points, "--n-points", low=2)
+
+    demos, maps = read_sources(args, args.demos, flag="demos")
+    fewest, fewest_src, _, _ = _sample_bounds(demos, maps)
+    if args.n_points is not None and args.n_points > fewest:
+        raise ValidationError(
+            f"--n-points must be between 2 and {fewest} (the number of samples of"
+            f" the shortest demonstration, {fewest_src}); got {args.n_points}"
+        )
+    prepared, _ = prepare_groups(demos, maps, groups)
+    # the key points 'ndlfd fit' finds with the same settings
+    scaler = GroupScaler(mode=args.normalization).fit(prepared)
+    keypoints = simplify_many(
+        [scaler.transform(d) for d in prepared],
+        None if args.n_points is not None else epsilon,
+        n_points=args.n_points,
+        n_jobs=1,
+    )
+    group = "position" if demos[0].has_group("position") else demos[0].group_names[0]
+    k = demos[0].columns_of(group).size
+    path = S = None
+    if args.path is not None:
+        pairs = read_file(Path(args.path), CLI_HINTS, **MAPPING_DEFAULTS)
+        path, path_map = pairs[0]
+        if (
+            len(pairs) != 1
+            or not path.has_group(group)
+            or (path.columns_of(group).size != k)
+        ):
+            raise ValidationError(
+                f"--path {args.path} must be one path with the {k} {group}"
+                f" column(s) of the demonstrations; got {len(pairs)} path(s) with"
+                f" {', '.join(path.columns)}"
+            )
+    if args.std is not None:
+        if path_map.layout == "arrays" or path_map.layout == "ndlfd":
+            raise ValidationError(
+                f"--std goes with a CSV --path (as 'ndlfd generate' writes it); got"
+                f" {args.path}"
+            )
+        header = parse_table(Path(args.path)).columns
+        table = parse_table(Path(args.std))
+        if table.columns != header or table.data.shape[0] != path.n_samples:
+            raise ValidationError(
+                f"--std {args.std} must have the columns and rows of --path"
+                f" {args.path} ({', '.join(header)}; {path.n_samples} rows); got"
+                f" {', '.join(table.columns)}; {table.data.shape[0]} rows"
+            )
+        keys = dict(path_map.groups)[group]
+        S = table.data[:, [header.index(c) for c in keys]]
+    if k == 1:  # one column: draw it over time, with no spread in time
+
+        def over_time(d):
+            c = d.columns[d.columns_of(group)[0]]
+            X = np.column_stack([d.t, d.get(group)])
+            return Demonstration(d.t, X, ("time", c), (group, group))
+
+        demos = [over_time(d) for d in demos]
+        if path is not None:
+            path = over_time(path)
+        if S is not None:
+            S = np.column_stack([np.zeros(len(S)), S])
+    dims = 3 if k >= 3 else 2
+    fig, (ax,) = plot.new_figure(1, dims=dims)
+    band = ""
+    if S is not None:
+        if dims == 2:
+            plot.plot_band(
+                ax, path.get(group)[:, :2], S[:, :2], label="generated ±1 sd"
+            )
+            band = " and its ±1 sd band"
+        else:
+            band = " (no band in 3-D)"
+    plot.plot_demos(
+        demos,
+        group=group,
+        keypoints=keypoints,
+        ax=ax,
+        title=args.title,
+        max_demos=None,
+    )
+    if path is not None:  # a line (a dense path would drown in dots)
+        plot.plot_path(
+            ax, path.get(group), color=plot.GEN_COLOR, lw=2.0, label="generated"
+        )
+        ax.legend(loc="best", fontsize="small")
+    plot.save_figure(fig, out)
+    counts = np.array([len(i) for i in keypoints])
+    budget = (
+        f"--n-points {args.n_points}"
+        if args.n_points is not None
+        else f"--epsilon {epsilon:g}"
+    )
+    drawn = f", the generated path{band}" if path is not None else ""
+    say(
+        args,
+        f"drew {len(demos)} demonstration(s) in {dims}-D ({group}) with their key"
+        f" points ({counts.min()}-{counts.max()} at {budget}){drawn} -> {out}",
+    )
+    return 0
+
+
+def add_plot(sub) -> None:
+    p = sub.add_parser(
+        "plot",
+        help="draw demonstrations, their key points and a generated path",
+        description=(
+            "Draw demonstrations (files or folders, read like 'ndlfd fit' reads"
+            " them) with their key points as 'ndlfd fit' finds them, and"
+            " optionally a generated path (--path, e.g. from 'ndlfd generate') with"
+            " its band (--std). Positions are drawn in 2-D or 3-D by their number"
+            " of columns (one column: over time; more than three: the first"
+            ' three). Needs matplotlib (pip install "ndlfd[plot]").'
+        ),
+    )
+    p.add_argument("demos", nargs="+", help="files, folders or glob patterns")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="figure file, e.g. demos.png (.pdf, .svg; its folder must exist)",
+    )
+    budget = p.add_mutually_exclusive_group()
+    budget.add_argument(
+        "--epsilon",
+        type=float,
+        help=f"key-point tolerance, >= 0 (default {KeypointHMM().epsilon}, as fit)",
+    )
+    budget.add_argument(
+        "--n-points",
+        type=int,
+        help="key points per demonstration (2 <= N <= the shortest demonstration's"
+        " number of samples)",
+    )
+    p.add_argument(
+        "--groups",
+        default="position,velocity",
+        help="groups the key points are found on, as in fit (position,velocity)",
+    )
+    p.add_argument("--normalization", default="group", choices=NORMALIZATIONS.names)
+    p.add_argument("--path", metavar="FILE.csv", help="a generated path to draw")
+    p.add_argument(
+        "--std",
+        metavar="FILE.csv",
+        help="the path's standard deviation (from 'ndlfd generate --std'), drawn"
+        " as a band of one standard deviation (2-D only)",
+    )
+    p.add_argument("--title", help="title of the figure")
+    p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    add_column_options(p)
+    p.set_defaults(func=_cmd_plot)

@@ -1,0 +1,102 @@
+"""Reading and writing demonstrations: CSV tables, ``.npz`` and HDF5 files.
+
+Two levels:
+
+* :func:`read_table` / :func:`write_table` move a header row and a numeric
+  table between a CSV file and numpy, nothing more.
+* :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
+  :func:`read_hdf5` and :func:`read_demos` move whole
+  :class:`~ndlfd.demonstration.Demonstration` objects.
+
+The CSV dialect is deliberately small: one header row, numbers only below it,
+separated by commas, semicolons, tabs or whitespace (the header row decides
+which). Spaces around names and values are stripped; blank lines and lines
+whose first non-space character is ``#`` are skipped anywhere (so a file may
+carry comments). Quoting is not supported. Every problem is reported as a
+:class:`~ndlfd.DataFileError` naming the file and the 1-based line number.
+
+**Column mapping.** Every reader of demonstrations maps the file's columns (or
+the arrays of an ``.npz`` / HDF5 file) to a time vector and physical groups the
+same way: a time column (``t`` or ``time`` unless named), explicit
+``groups={"position": ["pos_x", "pos_y"]}`` (a 2-D array maps all its columns),
+and every other column by its name (:func:`group_of_column`; 2-D arrays named
+``position``/``pos``, ``velocity``/``vel``, ``orientation``/``quat``,
+``force``). Names are matched case-insensitively (an exact match wins). The
+mapping used is returned as a :class:`ColumnMapping` on request.
+
+Every write goes to a temporary file beside the target and is renamed into place,
+so a crash never leaves a partial file behind.
+
+**Where each part lives.** ``_mapping`` (column names to groups,
+:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5`` and
+``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
+the dispatch by suffix).
+
+**Adding a reader** (a ROS 2 bag, a LeRobot dataset: ``_bag.py``,
+``_lerobot.py``). A reader is a function ``reader(path, hints, **mapping)``
+that returns a list of ``(Demonstration, ColumnMapping)`` pairs, one per
+demonstration (episode) of the file. It gathers the file's named arrays and
+hands each episode to :func:`~ndlfd.io._mapping.map_arrays`, which applies the
+column mapping (``time_column``, ``groups``, ``quaternion_order``, ``drop``)
+exactly as for CSV files and names the settings in errors through ``hints``
+(``LIBRARY_HINTS`` or ``CLI_HINTS``). Register it in
+:data:`~ndlfd.io._files.READERS` under its suffixes (and add them to
+:data:`DEMO_SUFFIXES` if a folder should contribute such files); add a public
+``read_<format>(path, **mapping)`` here. :func:`read_demos`, :class:`DemoFiles`,
+``KeypointHMM.fit`` and the command line then read the format with no other
+change. An optional third-party library is imported inside the reader, with a
+:class:`~ndlfd.MissingExtraError` that says how to install it (see ``_hdf5``).
+"""
+
+from ._csv import (
+    csv_header,
+    parse_table,
+    read_csv,
+    read_table,
+    write_csv,
+    write_table,
+)
+from ._files import (
+    DEMO_SUFFIXES,
+    DemoFile,
+    DemoFiles,
+    demo_files,
+    read_demos,
+    read_file,
+)
+from ._hdf5 import read_hdf5
+from ._mapping import (
+    ARRAY_NAMES,
+    CLI_HINTS,
+    MAPPING_DEFAULTS,
+    NAMING_CONVENTION,
+    TIME_NAMES,
+    ColumnMapping,
+    group_of_column,
+)
+from ._npz import read_npz, write_npz
+
+__all__ = [
+    "ARRAY_NAMES",
+    "CLI_HINTS",
+    "DEMO_SUFFIXES",
+    "MAPPING_DEFAULTS",
+    "NAMING_CONVENTION",
+    "TIME_NAMES",
+    "ColumnMapping",
+    "DemoFile",
+    "DemoFiles",
+    "csv_header",
+    "demo_files",
+    "group_of_column",
+    "parse_table",
+    "read_csv",
+    "read_demos",
+    "read_file",
+    "read_hdf5",
+    "read_npz",
+    "read_table",
+    "write_csv",
+    "write_npz",
+    "write_table",
+]

@@ -1,0 +1,553 @@
+"""Delimited text: numeric tables and demonstrations in CSV files.
+
+:func:`read_table` / :func:`write_table` move a header row and a numeric table
+between a CSV file and numpy; :func:`read_csv` / :func:`write_csv` move a whole
+:class:`~ndlfd.demonstration.Demonstration`, its columns mapped by
+:func:`~ndlfd.io._mapping.map_arrays`. The dialect is described in
+:mod:`ndlfd.io`.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import DataFileError, ValidationError
+from .._fileformat import atomic_path
+from .._validation import check_points
+from ..demonstration import Demonstration
+from ._mapping import (
+    LIBRARY_HINTS,
+    TIME_NAMES,
+    ColumnMapping,
+    group_of_column,
+    map_arrays,
+)
+
+__all__ = [
+    "Table",
+    "csv_header",
+    "delimiter_name",
+    "parse_table",
+    "read_csv",
+    "read_csv_mapped",
+    "read_table",
+    "write_csv",
+    "write_table",
+]
+
+_DELIMITERS = ((",", "comma"), (";", "semicolon"), ("\t", "tab"))
+
+
+def _delimiter_of(header_line: str) -> str | None:
+    """The delimiter a header row uses: ``,``, ``;``, tab, or None (whitespace)."""
+    for d, _ in _DELIMITERS:
+        if d in header_line:
+            return d
+    if len(header_line.split()) > 1:
+        return None
+    return ","
+
+
+def delimiter_name(delimiter: str | None) -> str:
+    """How messages name a delimiter: comma, semicolon, tab or whitespace."""
+    return dict(_DELIMITERS).get(delimiter, "whitespace") if delimiter else "whitespace"
+
+
+def _split(line: str, delimiter: str | None) -> list[str]:
+    if delimiter is None:
+        return line.split()
+    return [f.strip() for f in line.split(delimiter)]
+
+
+@dataclass(frozen=True)
+class Table:
+    r"""A parsed CSV table, with where each row came from.
+
+    Attributes
+    ----------
+    columns : list of str
+        The header names.
+    data : ndarray of shape (n_rows, n_columns), dtype float64
+    lines : ndarray of shape (n_rows,), dtype int64
+        The 1-based file line of each data row (for error messages).
+    delimiter : str or None
+        ``","``, ``";"``, ``"\t"``, or None for whitespace.
+    """
+
+    columns: list[str]
+    data: np.ndarray
+    lines: np.ndarray
+    delimiter: str | None
+
+
+def parse_table(path) -> Table:
+    """Parse a CSV table; also give the 1-based file line of each data row.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file (dialect: see :func:`read_table`).
+
+    Returns
+    -------
+    table : Table
+
+    Raises
+    ------
+    DataFileError
+        As :func:`read_table`.
+    """
+    p = Path(path)
+    if not p.exists():
+        raise DataFileError(f"{p}: no such file")
+    if not p.is_file():
+        raise DataFileError(f"{p}: expected a CSV file; got a directory or device")
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise DataFileError(
+            f"{p}: expected a UTF-8 text (CSV) file; got undecodable bytes at byte"
+            f" {exc.start}"
+        ) from None
+    except OSError as exc:
+        raise DataFileError(f"{p}: cannot be read ({exc.strerror})") from None
+
+    header: list[str] | None = None
+    header_line = 0
+    delimiter: str | None = ","
+    rows: list[list[float]] = []
+    lines: list[int] = []
+    for lineno, raw in enumerate(text.splitlines(), start=1):
+        s = raw.strip()
+        if not s or s.startswith("#"):
+            continue
+        if header is None:
+            delimiter = _delimiter_of(s)
+            header, header_line = _split(s, delimiter), lineno
+            _check_header(p, header, lineno)
+            continue
+        fields = _split(s, delimiter)
+        if len(fields) != len(header):
+            raise DataFileError(
+                f"{p}, line {lineno}: expected {len(header)}"
+                f" {delimiter_name(delimiter)}-separated values (one per column of"
+                f" the header on line {header_line}); got {len(fields)}"
+            )
+        try:
+            values = [float(f) for f in fields]
+        except ValueError:
+            for name, f in zip(header, fields, strict=True):
+                try:
+                    float(f)
+                except ValueError:
+                    raise DataFileError(
+                        f"{p}, line {lineno}, column {name!r}: expected a number;"
+                        f" got {f!r}"
+                    ) from None
+            raise  # pragma: no cover - one of the fields must have failed
+        for name, f, v in zip(header, fields, values, strict=True):
+            if not np.isfinite(v):
+                raise DataFileError(
+                    f"{p}, line {lineno}, column {name!r}: expected a finite number;"
+                    f" got {f!r}"
+                )
+        rows.append(values)
+        lines.append(lineno)
+    if header is None:
+        raise DataFileError(
+            f"{p}: expected a header row and data rows; got an empty file"
+        )
+    if not rows:
+        raise DataFileError(
+            f"{p}: expected data rows below the header on line {header_line}; got"
+            " none (header only)"
+        )
+    data = np.array(rows, dtype=np.float64).reshape(len(rows), len(header))
+    return Table(header, data, np.array(lines, dtype=np.int64), delimiter)
+
+
+def _check_header(p: Path, header: list[str], lineno: int) -> None:
+    for j, name in enumerate(header):
+        if not name:
+            raise DataFileError(
+                f"{p}, line {lineno}: expected a name for every column of the header;"
+                f" column {j + 1} is empty"
+            )
+    seen: dict[str, int] = {}
+    for j, name in enumerate(header):
+        if name in seen:
+            raise DataFileError(
+                f"{p}, line {lineno}: expected unique column names; got {name!r} in"
+                f" columns {seen[name] + 1} and {j + 1}"
+            )
+        seen[name] = j
+    if all(_is_number(name) for name in header):
+        raise DataFileError(
+            f"{p}, line {lineno}: expected a header row of column names; got only"
+            f" numbers ({', '.join(header[:4])}{', ...' if len(header) > 4 else ''})"
+        )
+
+
+def _is_number(s: str) -> bool:
+    try:
+        float(s)
+    except ValueError:
+        return False
+    return True
+
+
+def read_table(path: str | os.PathLike) -> tuple[list[str], np.ndarray]:
+    r"""Read a CSV file with a header row into column names and a float array.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file: one header row of unique names, then rows of numbers,
+        separated by commas, semicolons, tabs or whitespace (whichever the
+        header row uses, in that order of preference). Blank lines and ``#``
+        comment lines are skipped.
+
+    Returns
+    -------
+    columns : list of str
+        The header names, stripped of surrounding spaces.
+    data : ndarray of shape (n_rows, n_columns), dtype float64
+        The values; all finite.
+
+    Raises
+    ------
+    DataFileError
+        Missing or empty file, header only, duplicate or empty column names,
+        a row with the wrong number of values, text where a number is expected,
+        NaN or inf. The message names the file and the line.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "demo.csv"
+    >>> _ = p.write_text("t, x\n0, 1.5\n0.1, 2\n")
+    >>> read_table(p)
+    (['t', 'x'], array([[0. , 1.5],
+           [0.1, 2. ]]))
+    >>> _ = p.write_text("t;x\n0;1.5\n")
+    >>> read_table(p)
+    (['t', 'x'], array([[0. , 1.5]]))
+    """
+    table = parse_table(path)
+    return table.columns, table.data
+
+
+def _check_column_names(columns, k: int | None = None) -> list[str]:
+    if isinstance(columns, str) or not isinstance(columns, Iterable):
+        raise ValidationError("columns must be a sequence of str; got " + repr(columns))
+    names = list(columns)
+    for name in names:
+        if not isinstance(name, str) or not name.strip() or name != name.strip():
+            raise ValidationError(
+                "columns must be non-empty str without surrounding spaces; got"
+                f" {name!r}"
+            )
+        if re.search(r"[,\r\n#]", name):
+            raise ValidationError(
+                "columns must not contain commas, newlines or '#' (they would break"
+                f" the CSV file); got {name!r}"
+            )
+    if len(set(names)) != len(names):
+        dup = next(n for n in names if names.count(n) > 1)
+        raise ValidationError(f"columns must be unique; got {dup!r} twice")
+    if k is not None and len(names) != k:
+        raise ValidationError(
+            f"columns must name every column of data ({k}); got {len(names)} names"
+        )
+    return names
+
+
+def _check_formats(float_format, k: int) -> list[str | None]:
+    if float_format is None or isinstance(float_format, str):
+        formats = [float_format] * k
+    elif isinstance(float_format, Sequence):
+        formats = list(float_format)
+        if len(formats) != k:
+            raise ValidationError(
+                f"float_format must be one format or one per column ({k}); got"
+                f" {len(formats)}"
+            )
+    else:
+        raise ValidationError(
+            "float_format must be None, a %-format such as '%.10g' or a sequence of"
+            f" them; got {float_format!r}"
+        )
+    for f in formats:
+        if f is None:
+            continue
+        try:
+            f % 1.0
+        except (TypeError, ValueError):
+            raise ValidationError(
+                f"float_format must be a %-format for one number such as '%.10g';"
+                f" got {f!r}"
+            ) from None
+    return formats
+
+
+def write_table(
+    path: str | os.PathLike, columns: Sequence[str], data, *, float_format=None
+) -> Path:
+    """Write a header row and a numeric table to a CSV file, atomically.
+
+    By default floats are written in Python's shortest round-trip form
+    (``repr``), so :func:`read_table` gives back exactly the same numbers; an
+    integer array is written as integers.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Destination; its folder is created if needed.
+    columns : sequence of str of length n_columns
+        Unique names without commas, newlines or ``#``.
+    data : array-like of shape (n_rows, n_columns)
+        Finite real numbers, at least one row.
+    float_format : str, sequence of (str or None), or None, default=None
+        A %-format for the numbers (``"%.10g"``: ten significant digits), or
+        one per column (``None`` keeps the exact form for that column). A
+        column formatted with ``"%d"`` must hold whole numbers.
+
+    Returns
+    -------
+    path : Path
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "out.csv"
+    >>> _ = write_table(p, ["t", "x"], [[0.0, 0.1], [1.0, 1 / 3]])
+    >>> print(p.read_text(), end="")
+    t,x
+    0.0,0.1
+    1.0,0.3333333333333333
+    >>> _ = write_table(p, ["t", "x"], [[0.0, 0.1], [1.0, 1 / 3]],
+    ...                 float_format=["%d", "%.10g"])
+    >>> print(p.read_text(), end="")
+    t,x
+    0,0.1
+    1,0.3333333333
+    """
+    a = np.asarray(data)
+    if a.dtype.kind in "iu" and a.ndim == 2 and float_format is None:
+        check_points(a, "data")  # shape and finiteness checks only
+        rows = a.tolist()
+        body_rows = [",".join(map(repr, row)) for row in rows]
+        k = a.shape[1]
+    else:
+        values = check_points(data, "data")
+        k = values.shape[1]
+        formats = _check_formats(float_format, k)
+        for j, f in enumerate(formats):
+            if f is not None and f.rstrip().endswith(("d", "i")):
+                col = values[:, j]
+                bad = np.flatnonzero(col != np.round(col))
+                if bad.size:
+                    raise ValidationError(
+                        f"column {j} is written with {f!r} and must hold whole"
+                        f" numbers; got {col[bad[0]]!r} at row {bad[0]}"
+                    )
+        fmt = [repr if f is None else f.__mod__ for f in formats]
+        body_rows = [
+            ",".join(fj(v) for fj, v in zip(fmt, row, strict=True))
+            for row in values.tolist()
+        ]
+    names = _check_column_names(columns, k)
+    final = Path(path)
+    with atomic_path(final) as tmp:
+        tmp.write_text("\n".join([",".join(names), *body_rows]) + "\n", "utf-8")
+    return final
+
+
+# ---------------------------------------------------------------- demonstrations
+def read_csv_mapped(
+    p: Path, how, **mapping
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """The demonstration of the CSV file ``p`` with the mapping used.
+
+    A reader of :data:`~ndlfd.io._files.READERS`: ``how`` is
+    :data:`~ndlfd.io._mapping.LIBRARY_HINTS` or ``CLI_HINTS``, ``mapping`` the
+    options of :func:`read_csv`.
+    """
+    table = parse_table(p)
+    columns = {name: table.data[:, j] for j, name in enumerate(table.columns)}
+    pair = map_arrays(
+        p,
+        columns,
+        lines=table.lines,
+        layout=f"{delimiter_name(table.delimiter)}-separated",
+        how=how,
+        **mapping,
+    )
+    return [pair]
+
+
+def read_csv(
+    path: str | os.PathLike,
+    *,
+    time_column: str | Sequence[str] | None = TIME_NAMES,
+    groups: Mapping[str, Sequence[str] | str] | None = None,
+    quaternion_order: str = "wxyz",
+    drop: Sequence[str] = (),
+) -> Demonstration:
+    r"""Read one demonstration from a CSV file.
+
+    Every column except the time column and ``drop`` belongs to a group:
+    the one ``groups`` maps it to, or else the one its name gives
+    (:func:`group_of_column`): ``x, y, z`` (or ``p0, p1, ...``) position,
+    ``vx, vy, vz`` (or ``v0, ...``) velocity, ``qw, qx, qy, qz`` orientation,
+    ``fx, fy, fz`` (or ``f0, ...``) force, ``group.column`` a user group; any
+    other name is an error asking for ``groups=``. Names are matched
+    case-insensitively (an exact match wins). The groups of ``groups`` come
+    first, in its order, then the others in the order their first column
+    appears in the file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file (dialect: see :func:`read_table`; comma, semicolon, tab or
+        whitespace separated).
+    time_column : str, sequence of str or None, default=("t", "time")
+        The column holding the time stamps (strictly increasing), or names to
+        try in order. ``None`` uses the row number ``0, 1, 2, ...`` as time.
+    groups : mapping of str to sequence of str, optional
+        Explicit assignment ``{"position": ["X", "Y"], "grip": ["w"]}``; the
+        columns keep their names. A group named here gets only the columns
+        listed (a column that its name would put there is an error unless
+        dropped).
+    quaternion_order : {"wxyz", "xyzw"}, default="wxyz"
+        The order of the four orientation columns in the file (or in
+        ``groups["orientation"]``). When they are named ``qw, qx, qy, qz`` the
+        names decide and this is not used.
+    drop : sequence of str, default=()
+        Columns to ignore.
+
+    Returns
+    -------
+    demo : Demonstration
+
+    Raises
+    ------
+    DataFileError
+        Any problem with the file, naming the file and, where it applies, the
+        line: see :func:`read_table`, plus a missing or non-increasing time
+        column, unassignable or unknown column names, invalid quaternions.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "demo.csv"
+    >>> _ = p.write_text("t,x,y,vx,vy\n0,0,0,1,0\n1,1,0,1,0\n")
+    >>> read_csv(p)
+    Demonstration(n_samples=2, duration=1, position=(x, y), velocity=(vx, vy))
+    >>> _ = p.write_text("Time;Pos_X;Pos_Y\n0;0;0\n1;1;0\n")
+    >>> read_csv(p, groups={"position": ["pos_x", "pos_y"]})
+    Demonstration(n_samples=2, duration=1, position=(Pos_X, Pos_Y))
+    """
+    return read_csv_mapped(
+        Path(path),
+        LIBRARY_HINTS,
+        time_column=time_column,
+        groups=groups,
+        quaternion_order=quaternion_order,
+        drop=drop,
+    )[0][0]
+
+
+def csv_header(demo: Demonstration, time_column: str) -> list[str]:
+    """The header :func:`write_csv` writes for ``demo``.
+
+    A column whose name does not give its group by the naming convention
+    (:func:`~ndlfd.io.group_of_column`) is written as ``group.column``.
+
+    Parameters
+    ----------
+    demo : Demonstration
+    time_column : str
+        The name of the time column (first).
+
+    Returns
+    -------
+    header : list of str of length 1 + n_dims
+
+    Examples
+    --------
+    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 1], [2, 3]],
+    ...                               grip=[0.25, 0.5])
+    >>> csv_header(d, "t")
+    ['t', 'x', 'y', 'grip.grip0']
+    """
+    header = [time_column]
+    for c, g in zip(demo.columns, demo.groups, strict=True):
+        hit = group_of_column(c)
+        if hit == (g, c) and c.casefold() != time_column.casefold():
+            header.append(c)
+        else:
+            header.append(f"{g}.{c}")
+    return header
+
+
+def write_csv(
+    demo: Demonstration,
+    path: str | os.PathLike,
+    *,
+    time_column: str = "t",
+    float_format: str | None = None,
+    time_format: str | None = None,
+) -> Path:
+    """Write a demonstration to a CSV file that :func:`read_csv` reads back.
+
+    The first column is the time; a column whose name does not already give
+    its group by the naming convention is written as ``group.column``.
+    Numbers are written in shortest round-trip form (read back exactly)
+    unless a format is given, atomically.
+
+    Parameters
+    ----------
+    demo : Demonstration
+        The demonstration.
+    path : str or path-like
+        Destination.
+    time_column : str, default="t"
+        Name of the time column.
+    float_format : str, optional
+        %-format of the values, e.g. ``"%.10g"`` (ten significant digits).
+    time_format : str, optional
+        %-format of the time stamps.
+
+    Returns
+    -------
+    path : Path
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = Demonstration.from_arrays([0.0, 0.5], position=[[0, 1], [2, 3]],
+    ...                               grip=[0.25, 0.5])
+    >>> p = write_csv(d, pathlib.Path(tempfile.mkdtemp()) / "d.csv")
+    >>> print(p.read_text(), end="")
+    t,x,y,grip.grip0
+    0.0,0.0,1.0,0.25
+    0.5,2.0,3.0,0.5
+    >>> read_csv(p) == d
+    True
+    """
+    if not isinstance(demo, Demonstration):
+        raise ValidationError(
+            f"demo must be a Demonstration; got {type(demo).__name__}"
+        )
+    data = np.column_stack([demo.t, demo.X])
+    formats = None
+    if float_format is not None or time_format is not None:
+        formats = [time_format] + [float_format] * demo.n_dims
+    return write_table(path, csv_header(demo, time_column), data, float_format=formats)

@@ -1,0 +1,289 @@
+"""Many demonstrations: folders, glob patterns and lists; dispatch by suffix."""
+
+from __future__ import annotations
+
+import glob
+import os
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .._errors import DataFileError, ValidationError
+from ..demonstration import Demonstration
+from ._csv import read_csv_mapped
+from ._hdf5 import HDF5_SUFFIXES, read_hdf5_mapped
+from ._mapping import CLI_HINTS, LIBRARY_HINTS, MAPPING_DEFAULTS, ColumnMapping
+from ._npz import read_npz_mapped
+
+__all__ = [
+    "DEMO_SUFFIXES",
+    "READERS",
+    "DemoFile",
+    "DemoFiles",
+    "demo_files",
+    "read_demos",
+    "read_file",
+]
+
+#: The file suffixes (any case) that a folder given to :func:`read_demos`
+#: contributes.
+DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".h5", ".hdf5")
+
+
+def demo_files(source) -> list[Path]:
+    """The files :func:`read_demos` reads from ``source``, in that order.
+
+    Parameters
+    ----------
+    source : str, path-like or list of them
+        A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.h5`` and ``.hdf5``
+        files, in any case, sorted), a glob pattern (its matches, sorted), a
+        file, or a list of these.
+
+    Returns
+    -------
+    paths : list of Path
+
+    Examples
+    --------
+    >>> demo_files(["a.csv", "b.npz"])
+    [PosixPath('a.csv'), PosixPath('b.npz')]
+    """
+    return _expand(source)
+
+
+def _expand(source) -> list[Path]:
+    if isinstance(source, (str, os.PathLike)):
+        p = Path(source)
+        if p.is_dir():
+            found = sorted(
+                q
+                for q in p.iterdir()
+                if q.is_file() and q.suffix.lower() in DEMO_SUFFIXES
+            )
+            if not found:
+                raise DataFileError(
+                    f"{p}: expected .csv, .tsv, .npz, .h5 or .hdf5 files in the"
+                    " folder (any case); found none"
+                )
+            return found
+        s = os.fspath(source)
+        if glob.has_magic(s):
+            found = sorted(Path(q) for q in glob.glob(s) if Path(q).is_file())
+            if not found:
+                raise DataFileError(f"{s}: the pattern matched no files")
+            return found
+        return [p]
+    if isinstance(source, Iterable):
+        out: list[Path] = []
+        for item in source:
+            if not isinstance(item, (str, os.PathLike)):
+                raise ValidationError(
+                    f"paths must be str or path-like; got {type(item).__name__}"
+                )
+            out.extend(_expand(item))
+        if not out:
+            raise DataFileError("expected at least one file; got an empty list")
+        return out
+    raise ValidationError(
+        "source must be a file, a folder, a glob pattern or a list of paths; got"
+        f" {type(source).__name__}"
+    )
+
+
+#: Which reader takes a file, by its suffix (any case); a file of any other
+#: suffix is read as CSV. A reader is called ``reader(path, hints, **mapping)``
+#: and gives a list of (Demonstration, ColumnMapping): see :mod:`ndlfd.io`.
+READERS = {
+    ".npz": read_npz_mapped,
+    **dict.fromkeys(HDF5_SUFFIXES, read_hdf5_mapped),
+}
+
+
+def read_file(
+    p: Path, how=LIBRARY_HINTS, **mapping
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """Every demonstration of one file with the mapping used, by its suffix.
+
+    Parameters
+    ----------
+    p : Path
+        The file.
+    how : dict, default=LIBRARY_HINTS
+        How error messages name the settings (``CLI_HINTS``: the flags).
+    **mapping
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
+        :func:`~ndlfd.io.read_csv` (all of them: see ``MAPPING_DEFAULTS``).
+
+    Returns
+    -------
+    pairs : list of (Demonstration, ColumnMapping)
+    """
+    reader = READERS.get(p.suffix.lower(), read_csv_mapped)
+    return reader(p, how, **mapping)
+
+
+def read_demos(source, *, return_mappings: bool = False, **kwargs):
+    """Read many demonstrations: a folder, a glob pattern, a file or a list.
+
+    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5`` and ``.hdf5``
+    files (any case) in sorted order; a glob pattern its matches, sorted.
+    ``.npz`` files are read with :func:`read_npz`, ``.h5``/``.hdf5`` with
+    :func:`read_hdf5` (one demonstration per episode), everything else with
+    :func:`read_csv`; each gets the same column mapping (``kwargs``).
+
+    Parameters
+    ----------
+    source : str, path-like or list of them
+        Where the demonstrations are.
+    return_mappings : bool, default=False
+        Also return the :class:`ColumnMapping` of each demonstration.
+    **kwargs
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
+        :func:`read_csv`.
+
+    Returns
+    -------
+    demos : list of Demonstration
+    mappings : list of ColumnMapping
+        Only with ``return_mappings=True``.
+
+    Raises
+    ------
+    DataFileError
+        No file found, or a file that cannot be read.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> from ndlfd.io import write_csv, write_npz
+    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 1], [2, 3]])
+    >>> _ = write_csv(d, folder / "a.csv"); _ = write_npz(d, folder / "b.npz")
+    >>> [x == d for x in read_demos(folder)]
+    [True, True]
+    >>> _, maps = read_demos(folder / "a.csv", return_mappings=True)
+    >>> print(maps[0])
+    time=t; position=x,y
+    """
+    mapping = _checked_mapping("read_demos", kwargs, "or return_mappings")
+    pairs = [pair for p in _expand(source) for pair in read_file(p, **mapping)]
+    demos = [d for d, _ in pairs]
+    if return_mappings:
+        return demos, [m for _, m in pairs]
+    return demos
+
+
+def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
+    """The column mapping options with their defaults; unknown names refused."""
+    unknown = sorted(set(kwargs) - set(MAPPING_DEFAULTS))
+    if unknown:
+        raise ValidationError(
+            f"{who} got unexpected argument(s) {unknown}; expected"
+            f" {', '.join(MAPPING_DEFAULTS)} {more}".rstrip()
+        )
+    return {**MAPPING_DEFAULTS, **kwargs}
+
+
+@dataclass(frozen=True)
+class DemoFile:
+    """One data file and how to read it: an item of :class:`DemoFiles`.
+
+    It is read only when :meth:`read` is called (on whichever worker maps it
+    in :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>`).
+
+    Attributes
+    ----------
+    path : Path
+    mapping : dict
+        ``time_column``, ``groups``, ``quaternion_order`` and ``drop`` (see
+        :func:`read_csv`).
+    """
+
+    path: Path
+    mapping: dict = field(default_factory=lambda: dict(MAPPING_DEFAULTS))
+    #: How error messages name the settings: ``"library"`` (parameters) or
+    #: ``"cli"`` (the command line's flags).
+    hints: str = field(default="library", repr=False)
+
+    def read(self) -> list[Demonstration]:
+        """The file's demonstrations (several for an HDF5 file of episodes)."""
+        return [d for d, _ in self.read_with_mappings()]
+
+    def read_with_mappings(self) -> list[tuple[Demonstration, ColumnMapping]]:
+        """The file's demonstrations, each with the :class:`ColumnMapping` used."""
+        how = CLI_HINTS if self.hints == "cli" else LIBRARY_HINTS
+        return read_file(self.path, how, **self.mapping)
+
+
+class DemoFiles(Sequence):
+    """The data files of a folder, glob pattern or list, read lazily.
+
+    A sequence of :class:`DemoFile` (a file and the column mapping to read it
+    with) that holds no data: pass it to :meth:`KeypointHMM.fit
+    <ndlfd.KeypointHMM.fit>` to fit from files that do not fit in memory
+    together; each pass reads each file once, on the worker that maps it.
+
+    Parameters
+    ----------
+    source : str, path-like or list of them
+        As :func:`read_demos` takes it (a folder, a glob pattern, files).
+    **mapping
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
+        :func:`read_csv`.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> from ndlfd import KeypointHMM, synth
+    >>> from ndlfd.io import write_csv
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> demos, _ = synth.make_dataset("square", n_demos=4, random_state=0)
+    >>> for i, d in enumerate(demos):
+    ...     _ = write_csv(d, folder / f"demo_{i}.csv")
+    >>> files = DemoFiles(folder)
+    >>> len(files), files[0].path.name, files[0].read()[0] == demos[0]
+    (4, 'demo_0.csv', True)
+    >>> KeypointHMM(epsilon=0.1, n_time_bins=20).fit(files).n_demos_
+    4
+    """
+
+    def __init__(self, source, **mapping) -> None:
+        self._mapping = _checked_mapping("DemoFiles", mapping)
+        self._hints = "library"
+        self.paths = tuple(_expand(source))
+
+    @classmethod
+    def for_cli(cls, paths, **mapping) -> DemoFiles:
+        """The files ``paths`` as given (not expanded), read for the command line.
+
+        Error messages name the command line's flags (``--group``, ...)
+        instead of the parameters.
+
+        Parameters
+        ----------
+        paths : sequence of path-like
+            The files (as :func:`demo_files` gives them).
+        **mapping
+            As for :class:`DemoFiles`.
+
+        Returns
+        -------
+        files : DemoFiles
+        """
+        files = cls.__new__(cls)
+        files._mapping = _checked_mapping("DemoFiles", mapping)
+        files._hints = "cli"
+        files.paths = tuple(paths)
+        return files
+
+    def __len__(self) -> int:
+        return len(self.paths)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return DemoFile(self.paths[i], dict(self._mapping), self._hints)
+
+    def __repr__(self) -> str:
+        return f"DemoFiles({len(self)} files, first {str(self.paths[0])!r})"

@@ -1,0 +1,131 @@
+"""Demonstrations in HDF5 files: one HDF5 group per episode (needs h5py)."""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import DataFileError, MissingExtraError
+from ..demonstration import Demonstration
+from ._mapping import LIBRARY_HINTS, TIME_NAMES, ColumnMapping, map_arrays
+
+__all__ = ["HDF5_SUFFIXES", "read_hdf5", "read_hdf5_mapped"]
+
+#: The suffixes (any case) read as HDF5 files.
+HDF5_SUFFIXES = (".h5", ".hdf5", ".he5")
+
+
+def _h5py():
+    try:
+        import h5py
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise MissingExtraError(
+            'reading HDF5 files needs h5py; install it with: pip install "ndlfd[hdf5]"'
+        ) from None
+    return h5py
+
+
+def _natural_key(name: str):
+    return [int(s) if s.isdigit() else s.casefold() for s in re.split(r"(\d+)", name)]
+
+
+def read_hdf5_mapped(
+    p: Path, how, **mapping
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """Every episode of the HDF5 file ``p`` with the mapping used.
+
+    Each episode is mapped by ``mapping`` (errors naming the settings by
+    ``how`` and the episode as ``file:/episode``).
+    """
+    if not p.is_file():
+        raise DataFileError(f"{p}: no such file")
+    h5py = _h5py()
+    try:
+        fh = h5py.File(p, "r")
+    except OSError as exc:
+        raise DataFileError(
+            f"{p}: expected an HDF5 file; the file is not readable as one ({exc})"
+        ) from None
+    out = []
+    with fh:
+        datasets = [k for k in fh if isinstance(fh[k], h5py.Dataset)]
+        if datasets:
+            episodes = [("/", fh)]
+        else:
+            names = sorted(
+                (k for k in fh if isinstance(fh[k], h5py.Group)), key=_natural_key
+            )
+            episodes = [(f"/{k}", fh[k]) for k in names]
+        if not episodes:
+            raise DataFileError(
+                f"{p}: expected one HDF5 group per episode (or datasets at the"
+                " root); got an empty file"
+            )
+        for name, group in episodes:
+            arrays: dict[str, np.ndarray] = {}
+
+            def visit(key, obj, arrays=arrays):
+                if isinstance(obj, h5py.Dataset):
+                    if obj.dtype.kind in "biuf":
+                        arrays[key] = obj[()]
+                    else:  # text, compound, references: not data, never decoded
+                        arrays[key] = np.empty(0, dtype=object)
+
+            group.visititems(visit)
+            source = f"{p}:{name}"
+            if not arrays:
+                raise DataFileError(f"{source}: the episode holds no datasets")
+            out.append(map_arrays(source, arrays, how=how, source=source, **mapping))
+    return out
+
+
+def read_hdf5(
+    path: str | os.PathLike,
+    *,
+    time_column: str | Sequence[str] | None = TIME_NAMES,
+    groups: Mapping[str, Sequence[str] | str] | None = None,
+    quaternion_order: str = "wxyz",
+    drop: Sequence[str] = (),
+) -> list[Demonstration]:
+    """Read demonstrations from an HDF5 file: one HDF5 group per episode.
+
+    Each group directly below the root is one episode (in natural order:
+    ``ep2`` before ``ep10``); its datasets (those of its sub-groups as
+    ``sub/name``) are mapped like the arrays of a plain ``.npz`` file (see
+    :func:`read_npz`). A file with datasets at the root is one episode.
+    Needs the ``hdf5`` extra (``pip install "ndlfd[hdf5]"``).
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file.
+    time_column, groups, quaternion_order, drop
+        As in :func:`read_csv`, applied to every episode.
+
+    Returns
+    -------
+    demos : list of Demonstration
+
+    Raises
+    ------
+    DataFileError
+        A missing or unreadable file, or an episode that cannot be mapped (the
+        message names ``file:/episode``).
+    MissingExtraError
+        h5py is not installed.
+    """
+    return [
+        demo
+        for demo, _ in read_hdf5_mapped(
+            Path(path),
+            LIBRARY_HINTS,
+            time_column=time_column,
+            groups=groups,
+            quaternion_order=quaternion_order,
+            drop=drop,
+        )
+    ]

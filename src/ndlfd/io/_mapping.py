@@ -1,0 +1,432 @@
+"""Column mapping: which file column (or array) is the time, which a group.
+
+Every reader maps the columns of a file (or the arrays of an ``.npz`` / HDF5
+file) to a time vector and physical groups with :func:`map_arrays`, and says how
+with a :class:`ColumnMapping`. Error messages name the settings through
+``hints``: :data:`LIBRARY_HINTS` (parameters) or :data:`CLI_HINTS` (flags).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._errors import DataFileError, ValidationError
+from ..demonstration import Demonstration, default_columns
+from ..orientation import QUATERNION_ORDERS
+
+__all__ = [
+    "ARRAY_NAMES",
+    "CLI_HINTS",
+    "LIBRARY_HINTS",
+    "MAPPING_DEFAULTS",
+    "NAMING_CONVENTION",
+    "TIME_NAMES",
+    "ColumnMapping",
+    "group_of_column",
+    "map_arrays",
+    "resolve_column",
+    "wrap_error",
+]
+
+#: The time column's names tried, in this order, when none is named.
+TIME_NAMES = ("t", "time")
+
+#: Names of 2-D arrays (``.npz`` keys, HDF5 datasets) that give their group.
+ARRAY_NAMES: tuple[tuple[str, str], ...] = (
+    ("position", "position"),
+    ("pos", "position"),
+    ("velocity", "velocity"),
+    ("vel", "velocity"),
+    ("orientation", "orientation"),
+    ("quat", "orientation"),
+    ("force", "force"),
+)
+
+#: How error messages name the settings: library parameters ...
+LIBRARY_HINTS = {
+    "time": "time_column=",
+    "time_hint": "pass time_column='NAME' (or None to use the row number)",
+    "groups": "groups",
+    "group_hint": "pass groups={'position': [...], ...}",
+    "drop": "drop",
+    "drop_hint": "drop=[...]",
+}
+#: ... or the command line's flags (``ndlfd fit``, ``ndlfd plot``, ...).
+CLI_HINTS = {
+    "time": "--time-column",
+    "time_hint": "name it with --time-column NAME",
+    "groups": "--group",
+    "group_hint": "map them with --group GROUP=NAME[,NAME...]",
+    "drop": "--drop",
+    "drop_hint": "--drop NAME[,NAME...]",
+}
+
+
+#: How :func:`read_csv` tells a column's group from its name when no ``groups=``
+#: mapping names it (case-insensitively). A name ``group.column`` puts
+#: ``column`` in group ``group``.
+NAMING_CONVENTION: tuple[tuple[str, str], ...] = (
+    (r"x|y|z|p\d+", "position"),
+    (r"vx|vy|vz|v\d+", "velocity"),
+    (r"qw|qx|qy|qz", "orientation"),
+    (r"fx|fy|fz|f\d+", "force"),
+)
+_CONVENTION = tuple(
+    (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
+)
+_QUAT_NAMES = ("qw", "qx", "qy", "qz")
+
+
+def group_of_column(name: str) -> tuple[str, str] | None:
+    """Group and column name that the CSV naming convention gives a header name.
+
+    ``x, y, z, p0, p1, ...`` → position; ``vx, vy, vz, v0, ...`` → velocity;
+    ``qw, qx, qy, qz`` → orientation; ``fx, fy, fz, f0, ...`` → force (in any
+    case); ``group.column`` → ``column`` in the user group ``group``; anything
+    else → ``None``.
+
+    Parameters
+    ----------
+    name : str
+        A header name.
+
+    Returns
+    -------
+    (group, column) : tuple of str, or None
+
+    Examples
+    --------
+    >>> group_of_column("vy")
+    ('velocity', 'vy')
+    >>> group_of_column("X")
+    ('position', 'X')
+    >>> group_of_column("grip.width")
+    ('grip', 'width')
+    >>> group_of_column("speed") is None
+    True
+    """
+    if "." in name:
+        group, column = name.split(".", 1)
+        if group and column:
+            return group, column
+        return None
+    for pattern, group in _CONVENTION:
+        if pattern.match(name):
+            return group, name
+    return None
+
+
+def _group_of_array(name: str) -> str | None:
+    low = name.casefold()
+    for alias, group in ARRAY_NAMES:
+        if low == alias:
+            return group
+    return None
+
+
+@dataclass(frozen=True)
+class ColumnMapping:
+    """How one demonstration was read: its source, time column and groups.
+
+    Attributes
+    ----------
+    source : str
+        The file (``file.h5:/episode`` for an HDF5 episode).
+    time : str or None
+        The file's name of the time column (``None``: the row number).
+    groups : tuple of (str, tuple of str)
+        Each group with the file's names of its columns (or arrays), in the
+        demonstration's column order.
+    dropped : tuple of str
+        Columns left out on request.
+    ignored : tuple of str
+        Arrays that are not data (scalars, text), left out by themselves.
+    layout : str
+        ``"comma-separated"`` (or semicolon, tab, whitespace) for a CSV file,
+        ``"arrays"`` for plain ``.npz`` / HDF5 arrays, ``"ndlfd"`` for an ndlfd
+        demonstration file (self-described, no mapping).
+
+    Examples
+    --------
+    >>> m = ColumnMapping("a.csv", "time", (("position", ("X", "Y")),), ("id",))
+    >>> str(m)
+    'time=time; position=X,Y; dropped id'
+    """
+
+    source: str
+    time: str | None
+    groups: tuple[tuple[str, tuple[str, ...]], ...]
+    dropped: tuple[str, ...] = ()
+    ignored: tuple[str, ...] = ()
+    layout: str = "comma-separated"
+
+    def __str__(self) -> str:
+        """The mapping in one line, as the command line reports it."""
+        if self.layout == "ndlfd":
+            return "ndlfd demonstration file"
+        parts = [f"time={self.time if self.time is not None else '(row number)'}"]
+        parts += [f"{g}={','.join(cols)}" for g, cols in self.groups]
+        if self.dropped:
+            parts.append("dropped " + ",".join(self.dropped))
+        if self.ignored:
+            parts.append("ignored " + ",".join(self.ignored))
+        text = "; ".join(parts)
+        if self.layout not in ("comma-separated", "arrays"):
+            text += f" ({self.layout})"
+        return text
+
+    @property
+    def group_names(self) -> tuple[str, ...]:
+        """The groups read, in column order."""
+        return tuple(g for g, _ in self.groups)
+
+
+def resolve_column(p, name: str, keys: Sequence[str], what: str) -> str:
+    """The key ``name`` names: an exact match, else the one equal up to case."""
+    if name in keys:
+        return name
+    hits = [k for k in keys if k.casefold() == name.casefold()]
+    if len(hits) == 1:
+        return hits[0]
+    if hits:
+        raise DataFileError(
+            f"{p}: {what} {name!r} matches {hits}, which differ only in case; name"
+            " one of them exactly"
+        )
+    raise DataFileError(
+        f"{p}: {what} {name!r}, but there is no such column; got columns {list(keys)}"
+    )
+
+
+def _find_time(p, keys, time_column, how) -> str | None:
+    if time_column is None:
+        return None
+    if isinstance(time_column, str):
+        return resolve_column(p, time_column, keys, f"{how['time']} names")
+    candidates = list(time_column)
+    for name in candidates:
+        hits = [k for k in keys if k == name] or [
+            k for k in keys if k.casefold() == name.casefold()
+        ]
+        if len(hits) == 1:
+            return hits[0]
+    names = " or ".join(repr(c) for c in candidates)
+    raise DataFileError(
+        f"{p}: expected a time column named {names} (any case); got columns"
+        f" {list(keys)}; {how['time_hint']}"
+    )
+
+
+def _time_error(p, name, t, i, lines, layout) -> DataFileError:
+    if lines is not None:
+        return DataFileError(
+            f"{p}, line {lines[i]}: time column {name!r} must be strictly"
+            f" increasing; got {float(t[i])!r} after {float(t[i - 1])!r} on line"
+            f" {lines[i - 1]}"
+        )
+    return DataFileError(
+        f"{p}: time {layout} {name!r} must be strictly increasing; got"
+        f" {float(t[i])!r} at row {i} after {float(t[i - 1])!r} at row {i - 1}"
+    )
+
+
+def _is_data(a: np.ndarray) -> bool:
+    return a.dtype.kind in "biuf" and a.ndim >= 1
+
+
+def map_arrays(
+    p,
+    arrays: Mapping[str, np.ndarray],
+    *,
+    time_column,
+    groups,
+    drop,
+    quaternion_order: str,
+    how: Mapping[str, str],
+    lines: np.ndarray | None = None,
+    layout: str = "arrays",
+    source: str | None = None,
+) -> tuple[Demonstration, ColumnMapping]:
+    """Map named 1-D and 2-D arrays (CSV columns, npz keys) to a demonstration."""
+    QUATERNION_ORDERS.get(quaternion_order)
+    keys = list(arrays)
+    table = lines is not None
+    noun = "column" if table else "array"
+    drop = [drop] if isinstance(drop, str) else list(drop)
+    dropped = []
+    unknown = []
+    for c in drop:
+        try:
+            dropped.append(resolve_column(p, c, keys, f"{how['drop']} names"))
+        except DataFileError:
+            unknown.append(c)
+    if unknown:
+        raise DataFileError(
+            f"{p}: {how['drop']} names unknown column(s) {unknown}; the columns are"
+            f" {keys}"
+        )
+    tname = _find_time(p, [k for k in keys if k not in dropped], time_column, how)
+    if tname is None:
+        n = None
+        t = None
+    else:
+        t = np.asarray(arrays[tname])
+        if not _is_data(t) or t.ndim > 2 or (t.ndim == 2 and t.shape[1] != 1):
+            raise DataFileError(
+                f"{p}: the time {noun} {tname!r} must hold one number per sample"
+                f" (shape (n,)); got shape {t.shape} and dtype {t.dtype}"
+            )
+        t = t.reshape(-1).astype(np.float64)
+        n = t.shape[0]
+    # explicit groups
+    layout_of: dict[str, list[str]] = {}
+    owner: dict[str, str] = {}
+    if groups is not None:
+        if not isinstance(groups, Mapping):
+            raise ValidationError(
+                f"groups must be a mapping group -> column names; got {groups!r}"
+            )
+        for g, cols in groups.items():
+            cols = [cols] if isinstance(cols, str) else list(cols)
+            if not cols:
+                raise DataFileError(f"{p}: {how['groups']} {g} names no column")
+            for c in cols:
+                k = resolve_column(p, c, keys, f"{how['groups']} {g} names")
+                if k == tname or k in dropped:
+                    raise DataFileError(
+                        f"{p}: {how['groups']} {g} names {noun} {k!r}, which is the"
+                        " time column or dropped"
+                    )
+                if k in owner:
+                    raise DataFileError(
+                        f"{p}: {how['groups']} maps {noun} {k!r} to both"
+                        f" {owner[k]!r} and {g!r}"
+                    )
+                owner[k] = g
+                layout_of.setdefault(g, []).append(k)
+    explicit = set(layout_of)
+    # every other key by its name
+    ignored, unassigned, conflicts = [], [], []
+    by_name: dict[str, str] = {}  # key -> column name, for keys the convention put
+    for k in keys:
+        if k == tname or k in dropped or k in owner:
+            continue
+        a = np.asarray(arrays[k])
+        if not _is_data(a):
+            ignored.append(k)
+            continue
+        g = _group_of_array(k) if a.ndim >= 2 else None
+        if g is None and a.ndim == 1:
+            hit = group_of_column(k)
+            if hit is not None:
+                g, by_name[k] = hit
+        if g is None:
+            unassigned.append(k)
+        elif g in explicit:
+            conflicts.append((k, g))
+        else:
+            owner[k] = g
+            layout_of.setdefault(g, []).append(k)
+    if unassigned:
+        raise DataFileError(
+            f"{p}: cannot tell the group of {noun}(s) {unassigned} from their"
+            " names; name them x, y, z / vx, vy, vz / qw, qx, qy, qz / fx, fy, fz /"
+            f" group.column, or {how['group_hint']}, or leave them out with"
+            f" {how['drop_hint']}"
+        )
+    if conflicts:
+        k, g = conflicts[0]
+        raise DataFileError(
+            f"{p}: {noun} {k!r} belongs to group {g!r} by its name, but"
+            f" {how['groups']} {g} does not list it; add it there or leave it out"
+            f" with {how['drop_hint']}"
+        )
+    if not layout_of:
+        raise DataFileError(
+            f"{p}: expected value columns besides the time column; got none"
+        )
+    # shapes
+    blocks, names, gnames, mapped = [], [], [], []
+    for g, ks in layout_of.items():
+        parts, cols = [], []
+        for k in ks:
+            a = np.asarray(arrays[k])
+            if not _is_data(a) or a.ndim > 2:
+                raise DataFileError(
+                    f"{p}: {noun} {k!r} must hold numbers of shape (n,) or (n, k);"
+                    f" got shape {a.shape} and dtype {a.dtype}"
+                )
+            a = a.astype(np.float64).reshape(a.shape[0], -1)
+            if n is None:
+                n = a.shape[0]
+            if a.shape[0] != n:
+                ref = f"the time {noun} {tname!r}" if tname else "the first array"
+                hint = " (transposed?)" if a.shape[1] == n else ""
+                raise DataFileError(
+                    f"{p}: {noun} {k!r} has {a.shape[0]} rows{hint}; expected {n},"
+                    f" like {ref}"
+                )
+            parts.append(a)
+            if a.ndim == 2 and np.asarray(arrays[k]).ndim == 2:
+                if len(ks) == 1:
+                    cols.extend(default_columns(g, a.shape[1]))
+                else:
+                    cols.extend(f"{k}_{i}" for i in range(a.shape[1]))
+            else:
+                cols.append(by_name.get(k, k))
+        block = np.hstack(parts)
+        if g == "orientation" and block.shape[1] == 4:
+            # four named columns qw, qx, qy, qz say their order; else the option
+            low = [c.casefold() for c in ks]
+            if len(ks) == 4 and sorted(low) == sorted(_QUAT_NAMES):
+                order = [low.index(q) for q in _QUAT_NAMES]
+            else:
+                order = list(QUATERNION_ORDERS.get(quaternion_order))
+            if len(ks) == 4:
+                ks = [ks[i] for i in order]
+                cols = [cols[i] for i in order]
+            block = block[:, order]
+        blocks.append(block)
+        names.extend(cols)
+        gnames.extend([g] * block.shape[1])
+        mapped.append((g, tuple(ks)))
+    if t is None:
+        t = np.arange(n, dtype=np.float64)
+    else:
+        bad = np.flatnonzero(~(np.diff(t) > 0))
+        if bad.size:
+            raise _time_error(p, tname, t, int(bad[0]) + 1, lines, noun)
+    mapping = ColumnMapping(
+        source if source is not None else str(p),
+        tname,
+        tuple(mapped),
+        tuple(dropped),
+        tuple(ignored),
+        layout,
+    )
+    try:
+        demo = Demonstration(t, np.hstack(blocks), tuple(names), tuple(gnames))
+    except ValidationError as exc:
+        raise wrap_error(p, exc, lines) from None
+    return demo, mapping
+
+
+def wrap_error(p, exc: ValidationError, lines: np.ndarray | None = None):
+    msg = str(exc)
+    m = re.search(r"at row (\d+)", msg)
+    if m and lines is not None and int(m.group(1)) < lines.size:
+        msg += f" (line {lines[int(m.group(1))]})"
+    return DataFileError(f"{p}: {msg}")
+
+
+#: The column mapping options of every reader, with their defaults.
+MAPPING_DEFAULTS = {
+    "time_column": TIME_NAMES,
+    "groups": None,
+    "quaternion_order": "wxyz",
+    "drop": (),
+}

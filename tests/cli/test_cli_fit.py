@@ -1,0 +1,339 @@
+"""ndlfd fit: every option honoured, the files read as a stream.
+
+In-process (ndlfd.cli.main, the console script's function) to keep this fast.
+"""
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_helpers import (
+    assert_same_fit,
+    cli,
+    fit_model,
+    reach_demos,
+    square_demos,
+    write_reach,
+)
+
+from ndlfd._simplify import simplify
+from ndlfd.demonstration import Demonstration
+from ndlfd.io import read_csv, write_csv
+from ndlfd.learner import KeypointHMM
+
+
+@pytest.fixture(scope="module")
+def fit_setup(tmp_path_factory):
+    """The demonstration folder, its demos read back, and the default fit."""
+    tmp = tmp_path_factory.mktemp("fit")
+    folder = square_demos(tmp / "demos")
+    demos = [read_csv(p) for p in sorted(folder.glob("*.csv"))]
+    default = fit_model(folder, tmp / "default.ndlfd")
+    return folder, demos, default, tmp
+
+
+def _keypoints_by_simplify(model, demos, **kw):
+    """Key points of each demo from the model's own scaling, by simplify."""
+    return [
+        simplify(model.scaler_.transform(d.select(*model.groups_)), **kw).tolist()
+        for d in demos
+    ]
+
+
+def test_fit_default_is_the_library_default(fit_setup):
+    _folder, demos, default, _ = fit_setup
+    assert (
+        default.get_params()
+        == KeypointHMM(groups=("position", "velocity")).get_params()
+    )
+    assert_same_fit(default, KeypointHMM().fit(demos))
+
+
+def test_fit_n_points(fit_setup):
+    folder, demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "n5.ndlfd", "--n-points", "5")
+    assert model.n_points == 5
+    assert model.n_keypoints_.tolist() == [5] * len(demos)
+    assert np.all(default.n_keypoints_ > 5)
+    assert [k.tolist() for k in model.keypoints_] == _keypoints_by_simplify(
+        model, demos, n_points=5
+    )
+
+
+def test_fit_groups_learns_only_those_columns(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "pos.ndlfd", "--groups", "position")
+    assert model.groups_ == ("position",)
+    assert model.columns_ == ("x", "y")
+    assert model.column_groups_ == ("position", "position")
+    assert model.codebook_.levels == (20, 20)
+    assert model.model_.n_states == 20 * 20
+    assert default.columns_ == ("x", "y", "vx", "vy")
+
+
+def test_fit_weights_zero_velocity_reduces_on_position_only(fit_setup):
+    folder, demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "w.ndlfd", "--weights", "velocity=0")
+    assert model.weights == {"velocity": 0.0}
+    # velocity is still learned, but the key points are those of position alone
+    assert model.columns_ == default.columns_
+    position_only = fit_model(folder, tmp / "pos-only.ndlfd", "--groups", "position")
+    keys = [k.tolist() for k in model.keypoints_]
+    assert keys == [k.tolist() for k in position_only.keypoints_]
+    assert keys != [k.tolist() for k in default.keypoints_]
+    assert keys == _keypoints_by_simplify(
+        model, demos, epsilon=0.05, weights=[1, 1, 0, 0]
+    )
+
+
+def test_fit_normalization(fit_setup):
+    folder, demos, default, tmp = fit_setup
+    X = np.concatenate([d.X for d in demos])
+    # group (default): x and y share the position range, vx and vy the velocity one
+    lo = [X[:, :2].min()] * 2 + [X[:, 2:].min()] * 2
+    hi = [X[:, :2].max()] * 2 + [X[:, 2:].max()] * 2
+    np.testing.assert_array_equal(default.scaler_.data_min_, lo)
+    np.testing.assert_array_equal(default.scaler_.data_max_, hi)
+    model = fit_model(folder, tmp / "pd.ndlfd", "--normalization", "per-dimension")
+    assert model.normalization == "per-dimension"
+    np.testing.assert_array_equal(model.scaler_.data_min_, X.min(axis=0))
+    np.testing.assert_array_equal(model.scaler_.data_max_, X.max(axis=0))
+    assert not np.array_equal(model.scaler_.data_min_, default.scaler_.data_min_)
+
+
+def test_fit_pseudo_emission(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "r.ndlfd", "--pseudo-emission", "0.5")
+    assert model.pseudo_emission == 0.5 and model.model_.pseudo_emission == 0.5
+    B0 = default.model_.emission_matrix(dense=True)
+    B = model.model_.emission_matrix(dense=True)
+    assert (B0 == 0).any()
+    assert B.min() > 0
+    np.testing.assert_allclose(B.sum(axis=1), 1.0, rtol=1e-12)
+    # the counts are the same; only the pseudo-count differs
+    E0 = default.model_.emission_counts_.toarray()
+    np.testing.assert_array_equal(model.model_.emission_counts_.toarray(), E0)
+    rows = model.model_.states_
+    nt = model.n_time_bins
+    want = (E0 + 0.5) / (E0.sum(axis=1, keepdims=True) + nt * 0.5)
+    np.testing.assert_allclose(B[rows], want, rtol=1e-14)
+
+
+def test_fit_match_window_changes_the_generation_not_the_fit(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    assert default.match_window == KeypointHMM().match_window == 0.05
+    model = fit_model(folder, tmp / "mw.ndlfd", "--match-window", "0")
+    assert model.match_window == 0.0
+    assert model.fit_stats_ == default.fit_stats_
+    t = np.linspace(0.0, 2.0, 40)
+    ref = KeypointHMM(**{**default.get_params(), "match_window": 0.0})
+    got = model.generate(t, dense=True).X
+    np.testing.assert_array_equal(got, ref.fit(_demos).generate(t, dense=True).X)
+    assert not np.array_equal(got, default.generate(t, dense=True).X)
+
+
+def test_fit_start_changes_the_decoder_not_the_fit(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "s1.ndlfd", "--start", "state1")
+    assert model.start == "state1" and default.start == "learned"
+    assert_same_fit(model, default)
+
+
+def test_fit_generation_and_decoder_change_generation_not_the_fit(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = fit_model(
+        folder, tmp / "paper.ndlfd", "--generation", "paper", "--decoder", "map"
+    )
+    assert model.generation == "paper" and default.generation == "blend"
+    assert model.decoder == "map" and default.decoder == "viterbi"
+    assert_same_fit(model, default)
+    grid = np.linspace(0.0, 2.0, 50)
+    paper = copy.deepcopy(default).set_params(generation="paper", decoder="map")
+    np.testing.assert_array_equal(model.generate(grid).X, paper.generate(grid).X)
+
+
+def test_fit_distance(fit_setup):
+    folder, demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "sed.ndlfd", "--distance", "sed")
+    assert model.distance == "sed"
+    keys = [k.tolist() for k in model.keypoints_]
+    assert keys != [k.tolist() for k in default.keypoints_]
+    want = [
+        simplify(model.scaler_.transform(d), 0.05, distance="sed", times=d.t).tolist()
+        for d in demos
+    ]
+    assert keys == want
+
+
+def test_fit_integer_levels_apply_to_every_group(fit_setup):
+    folder, _demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "l4.ndlfd", "--levels", "4")
+    assert model.levels == 4
+    assert model.codebook_.levels == (4, 4, 4, 4)
+    assert model.model_.n_states == 4**4
+    assert default.codebook_.levels == (20, 20, 10, 10)
+    # the key points do not depend on the codebook
+    assert [k.tolist() for k in model.keypoints_] == [
+        k.tolist() for k in default.keypoints_
+    ]
+
+
+def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
+    folder = write_reach(tmp_path / "reach")
+    # by default every known group the files have is learned: orientation too
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd")
+    assert rc == 0, err
+    fitted = next(e for e in err if e.startswith("fitted"))
+    assert (
+        " on position, velocity, orientation (velocity derived from position):"
+        in fitted
+    )
+    assert not any(e.startswith("not learned") for e in err)
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    assert model.groups_ == ("position", "velocity", "orientation")
+    assert model.columns_[-4:] == ("qw", "qx", "qy", "qz")
+    # asked for fewer groups, the others are named with the flag to learn them
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd",
+                  "--groups", "position,velocity")  # fmt: skip
+    assert rc == 0, err
+    assert err[-1] == (
+        "not learned: orientation (in the files but not in --groups; learn it with"
+        " --groups position,velocity,orientation)"
+    )
+    assert KeypointHMM.load(tmp_path / "m.ndlfd").groups_ == ("position", "velocity")
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "-q")
+    assert rc == 0 and err == []
+    # a group of the user's own is not learned by default, and fewer samples
+    # than the default time bins
+    short = write_reach(tmp_path / "short", demos=[
+        (t[:30], np.column_stack([p[:30], p[:30, :1]]), q[:30])
+        for t, p, q in reach_demos()
+    ], names=("t", "x", "y", "z", "grip.w", "qw", "qx", "qy", "qz"))  # fmt: skip
+    rc, err = cli(capsys, "fit", short, "-o", tmp_path / "m.ndlfd")
+    assert rc == 0, err
+    assert "50 time bins" not in err[1]
+    assert "30 time bins (the default 50 lowered to the longest demonstration's 30" \
+           " samples)" in err[1]  # fmt: skip
+    assert KeypointHMM.load(tmp_path / "m.ndlfd").n_time_bins == 30
+    assert err[2] == (
+        "not learned: grip (in the files but not in --groups; learn it with"
+        " --groups position,velocity,orientation,grip)"
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--time-bins", "100000000"], "--time-bins must be between 2 and 125 (the"
+         " number of samples of the longest demonstration, {d}/reach2.csv); got"
+         " 100000000"),
+        (["--time-bins", "1"], "--time-bins must be an integer >= 2; got 1"),
+        (["--levels", "1"], "--levels must be an integer >= 2; got 1"),
+        (["--levels", "position=20,velocity=1"],
+         "--levels velocity must be an integer >= 2; got 1"),
+        (["--levels", "position=20,"], "--levels must look like position=20,"
+         "velocity=10 (or one number for every group); got 'position=20,' (an empty"
+         " entry: a trailing or doubled comma)"),
+        (["--levels", "force=10"], "--levels names force, which is not learned; the"
+         " learned groups are position, velocity, orientation (--groups)"),
+        (["--groups", "position,grip", "--levels", "position=20"],
+         "--levels must give the codebook levels of group 'grip', which has no"
+         " default (e.g. --levels grip=10)"),
+        (["--n-points", "500"], "--n-points must be between 2 and 50 (the number of"
+         " samples of the shortest demonstration, {d}/reach0.csv); got 500"),
+        (["--n-points", "1"], "--n-points must be an integer >= 2; got 1"),
+        (["--epsilon", "-0.1"], "--epsilon must be a finite number >= 0; got -0.1"),
+        (["--epsilon", "nan"], "--epsilon must be a finite number >= 0; got nan"),
+        (["--weights", "velocity=0.5,"], "--weights must look like velocity=0.5"),
+        (["--weights", "velocity=-1"], "--weights velocity must be a finite number"
+         " >= 0; got -1.0"),
+        (["--groups", "position,"], "--groups must be a comma-separated list of"
+         " names without empty entries; got 'position,'"),
+        (["--groups", "position,orientation,force"], "--groups asks for force, but"
+         " {d}/reach0.csv has only position, orientation"),
+        (["--pseudo-emission", "-1"], "--pseudo-emission must be a finite number"
+         " >= 0; got -1.0"),
+        (["--match-window", "0.7"], "--match-window must be between 0 and 0.5;"
+         " got 0.7"),
+    ],
+)  # fmt: skip
+def test_fit_settings_out_of_range_are_one_line_errors(tmp_path, capsys, args,
+                                                        message):  # fmt: skip
+    folder = write_reach(tmp_path / "d")
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "-q", *args)
+    assert rc == 2 and len(err) == 1, err
+    assert err[0].startswith(f"ndlfd fit: error: {message.format(d=folder)}")
+    assert not (tmp_path / "m.ndlfd").exists()
+
+
+def test_fit_on_a_dask_scheduler_gives_the_local_model(tmp_path, capsys):
+    distributed = pytest.importorskip("distributed")
+    folder = write_reach(tmp_path / "reach")
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "local.ndlfd", "-q",
+                  "--n-jobs", "2")  # fmt: skip
+    assert rc == 0, err
+    with distributed.LocalCluster(
+        n_workers=2, processes=False, dashboard_address=None
+    ) as cluster:
+        rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "dask.ndlfd", "-q",
+                      "--scheduler", cluster.scheduler_address)  # fmt: skip
+    assert rc == 0, err
+    local = KeypointHMM.load(tmp_path / "local.ndlfd")
+    remote = KeypointHMM.load(tmp_path / "dask.ndlfd")
+    assert local.fit_stats_ == remote.fit_stats_
+    grid = np.linspace(0.0, 2.0, 40)
+    np.testing.assert_array_equal(
+        local.generate(grid, dense=True).X, remote.generate(grid, dense=True).X
+    )
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "0")
+    assert rc == 2 and err == [
+        "ndlfd fit: error: --n-jobs must be an integer >= 1; got 0"
+    ]
+
+
+@pytest.mark.parametrize("n_jobs", ["1", "2"])
+def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
+    tmp_path, capsys, monkeypatch, n_jobs
+):
+    import ndlfd.cli._fit
+    import ndlfd.io
+    import ndlfd.io._files
+
+    folder = write_reach(tmp_path / "d", demos=reach_demos(7))
+    reads: list[str] = []
+    real = ndlfd.io.read_file
+
+    def counting(p, *args, **kw):
+        reads.append(Path(p).name)
+        return real(p, *args, **kw)
+
+    # every place that reads a file: the command and the DemoFile items
+    monkeypatch.setattr(ndlfd.cli._fit, "read_file", counting)
+    monkeypatch.setattr(ndlfd.io._files, "read_file", counting)
+    args = ("fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "1")
+    rc, err = cli(capsys, *args)
+    assert rc == 0, err
+    # the first file here (groups, checks) and by fit (columns), then every
+    # file once per pass
+    names = sorted(p.name for p in folder.iterdir())
+    assert reads == [names[0], names[0], *names, *names]
+    assert err[0].startswith("read 7 demonstration(s) from 7 file(s): time=t;")
+    # the same model as from the demonstrations in memory
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    demos = ndlfd.io.read_demos(folder)
+    ref = KeypointHMM(n_time_bins=model.n_time_bins, n_jobs=1).fit(demos)
+    assert model.fit_stats_ == ref.fit_stats_
+    # a corrupt file in the middle: one line naming it, on any number of workers
+    (folder / "reach3.csv").write_text("t,x,y,z,qw,qx,qy,qz\n0,1,2,3,1,0,0,0\n1,x\n")
+    args = ("fit", folder, "-o", tmp_path / "bad.ndlfd", "--n-jobs", n_jobs)
+    rc, err = cli(capsys, *args)
+    assert rc != 0 and not (tmp_path / "bad.ndlfd").exists()
+    assert len(err) == 1 and "reach3.csv" in err[0] and "demos[" not in err[0]
+    # a file past the first without a learned group: the flag that maps it
+    write_csv(Demonstration.from_arrays([0.0, 1.0, 2.0], force=np.ones((3, 2))),
+              folder / "reach3.csv")  # fmt: skip
+    rc, err = cli(capsys, *args)
+    assert rc != 0 and len(err) == 1
+    assert "reach3.csv: a demonstration lacks group(s) position, velocity" in err[0]
+    assert "map its columns with --group position=NAME" in err[0]

@@ -1,0 +1,77 @@
+"""ndlfd plot."""
+
+import numpy as np
+import pytest
+from cli_helpers import (
+    cli,
+    square_demos,
+    write_reach,
+)
+
+from ndlfd.cli import main
+from ndlfd.io import read_csv, read_table
+from ndlfd.learner import KeypointHMM
+
+
+def test_plot_draws_demos_keypoints_path_and_band(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+
+    def keep(fig, path, **kw):
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    folder = square_demos(tmp_path / "demos", n_demos=4)
+    model, gen, std = tmp_path / "m.ndlfd", tmp_path / "g.csv", tmp_path / "s.csv"
+    assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
+    assert main(["generate", str(model), "--duration", "2", "--samples", "60",
+                 "--dense", "--std", str(std), "-o", str(gen), "-q"]) == 0  # fmt: skip
+    rc, err = cli(capsys, "plot", folder, "--path", gen, "--std", std,
+                  "--title", "square", "-o", tmp_path / "p.png")  # fmt: skip
+    assert rc == 0, err
+    assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fitted = KeypointHMM.load(model)
+    counts = [len(k) for k in fitted.keypoints_]
+    assert err[-1] == (
+        f"drew 4 demonstration(s) in 2-D (position) with their key points"
+        f" ({min(counts)}-{max(counts)} at --epsilon 0.05), the generated path and"
+        f" its ±1 sd band -> {tmp_path / 'p.png'}"
+    )
+    (ax,) = figures[-1].axes
+    assert ax.get_title() == "square" and ax.name != "3d"
+    # per demonstration: line, key points (those fit finds), start, goal
+    demos = [read_csv(p) for p in sorted(folder.glob("*.csv"))]
+    for i, (d, k) in enumerate(zip(demos, fitted.keypoints_, strict=True)):
+        np.testing.assert_array_equal(ax.lines[4 * i].get_xydata(), d.get("position"))
+        np.testing.assert_array_equal(
+            ax.lines[4 * i + 1].get_xydata(), d.get("position")[k]
+        )
+    path = read_csv(gen).get("position")
+    generated = [ln for ln in ax.lines if ln.get_label() == "generated"]
+    np.testing.assert_array_equal(generated[0].get_xydata(), path)
+    (band,) = ax.patches
+    assert band.get_label() == "generated ±1 sd"
+    s = read_table(std)[1][:, 1:3]
+    assert band.get_path().contains_point(path[30] + 0.9 * s[30] * [1, 0])
+    # 3-D positions: 3-D axes, no band; --n-points sets the key points
+    folder3 = write_reach(tmp_path / "reach")
+    rc, err = cli(capsys, "plot", folder3, "--n-points", "6", "-o", tmp_path / "r.svg")
+    assert rc == 0, err
+    assert figures[-1].axes[0].name == "3d"
+    assert err[-1].startswith("drew 3 demonstration(s) in 3-D (position) with their"
+                              " key points (6-6 at --n-points 6) -> ")  # fmt: skip
+    assert (tmp_path / "r.svg").read_text().lstrip().startswith("<?xml")
+    for args, message in [
+        (["--std", std], "--std draws the band of --path FILE.csv; pass --path"),
+        (["-o", tmp_path / "p.xyz"], f"-o {tmp_path / 'p.xyz'}: expected a figure"
+         " file ending in"),
+        (["--path", gen, "--std", folder / "demo00.csv"], "--std"),
+    ]:  # fmt: skip
+        out = [] if "-o" in args else ["-o", tmp_path / "q.png"]
+        rc, err = cli(capsys, "plot", folder, "-q", *args, *out)
+        assert rc == 2 and len(err) == 1, err
+        assert err[0].startswith(f"ndlfd plot: error: {message}")
