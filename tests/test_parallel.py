@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from ndlfd import OptionError, ParallelError, ValidationError
-from ndlfd._fitstats import RangeStats
 from ndlfd._parallel import BACKENDS, map_reduce, start_method
+from ndlfd.learner import RangeStats
 
 
 def _count_chunk(spec, chunk):

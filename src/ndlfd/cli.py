@@ -615,7 +615,7 @@ def _connect(address: str | None):
 def _cmd_fit(args: argparse.Namespace) -> int:
     import time
 
-    from .learner import DEFAULT_LEVELS, KeypointHMM
+    from .learner import DEFAULT_LEVELS, KeypointHMM, check_params, resolve_groups
 
     out = _check_output(args.output)
     groups = _split_names(args.groups, "--groups")
@@ -637,8 +637,6 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         _check_range(args.n_jobs, "--n-jobs", low=1)
     # the files are read as a stream (twice, on the workers): only the first
     # one here, for the groups and the checks that name the flags
-    from . import _fitmap
-    from ._parallel import keep_workers
     from .io import _CLI_HINTS, DemoFiles, _read_file, demo_files
 
     options = _column_options(args)
@@ -651,7 +649,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         raise ValidationError(f"demos: {paths[0]} holds no demonstration")
     first, first_map = pairs[0]
     if groups is None:  # the library's groups="auto", resolved here to report it
-        groups = list(KeypointHMM()._wanted_groups(first))
+        groups = list(resolve_groups("auto", first))
     for what, names in (("--levels", levels), ("--weights", weights)):
         if isinstance(names, dict):
             unknown = [g for g in names if g not in groups]
@@ -687,24 +685,25 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         n_jobs=args.n_jobs,
         match_window=args.match_window,
     )
-    model._check_params()  # as fit does: the passes below are fit's
+    check_params(model.get_params())  # as fit does, before connecting
     files = DemoFiles._for_cli(paths, **options)
+    scanned: dict = {}
+
+    def after_scan(ranges):  # report the mappings, bound the time bins
+        mappings = {text: n for text, _, n in ranges.notes}
+        _say(args, _describe_mappings(mappings, ranges.n_demos, len(paths)))
+        bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
+        scanned.update(n_demos=ranges.n_demos, time_bins=bins, note=note)
+        return dict(n_time_bins=bins, n_points=args.n_points)
+
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        with keep_workers():  # one pool for both passes, ended after them
-            scanned = _fitmap.scan(model, files, client=client)
-            ranges = scanned.ranges
-            n_demos = ranges.n_demos
-            mappings = {text: n for text, _, n in ranges.notes}
-            _say(args, _describe_mappings(mappings, n_demos, len(paths)))
-            time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
-            model.set_params(n_time_bins=time_bins, n_points=args.n_points)
-            spec, stats = _fitmap.count(model, scanned)
+        model.fit(files, client=client, after_scan=after_scan)
     finally:
         if client is not None:
             client.close()
-    model._set_from_spec(spec, stats)
+    n_demos, time_bins, note = (scanned[k] for k in ("n_demos", "time_bins", "note"))
     elapsed = time.perf_counter() - t0
     model.save(out)
     k = model.n_keypoints_
