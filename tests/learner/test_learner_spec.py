@@ -102,6 +102,9 @@ def test_one_reduction_serves_fit_and_timing():
     )
     np.testing.assert_array_equal(r.values, m.scaler_.transform(d, weighted=False))
     np.testing.assert_array_equal(r.key_bins, m.time_bins_.transform(d.t)[r.keypoints])
+    e = spec.encode(d)
+    np.testing.assert_array_equal(e.key_states, m.fit_stats_.keypoint_lists()[1][2])
+    np.testing.assert_array_equal(e.key_bins, r.key_bins)
     # and the paper's timing of a demonstration is the same reduction
     key_t, symbols, _ = m.timing(test)
     rt = spec.reduce(spec.prepared(test))

@@ -237,19 +237,16 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitSt
     """Normalize, reduce and encode demonstration ``j``: its statistics."""
     if d is None:
         d = spec.demo.prepared(demo)
-    r = spec.demo.reduce(d, n_jobs=1)
-    states, clipped = spec.demo.codebook.encode(
-        r.values[r.keypoints], return_n_clipped=True
-    )
+    r = spec.demo.encode(d, n_jobs=1)
     return FitStats.of_demo(
         j,
         r.values,
         r.tau,
         r.keypoints,
-        states,
+        r.key_states,
         r.key_bins,
         exponents=spec.exponents,
-        n_clipped=clipped,
+        n_clipped=r.n_clipped,
         template=bool(spec.templates[j]),
     )
 

@@ -10,16 +10,16 @@ Fit and generation see a demonstration the same way:
    per-column ranges of pass 1 of the fit;
 4. **levels** (:func:`levels_by_group`): the codebook levels of each group;
 5. **reduce** (:meth:`DemoSpec.reduce`): normalize → :func:`ndlfd.simplify`
-   (the key points) → time bins, for one demonstration. The fit's second pass
-   encodes the key points' values to codebook states; the paper's generation
-   decodes the key points' time bins.
+   (the key points) → time bins, for one demonstration; the paper's generation
+   decodes the key points' time bins. **encode** (:meth:`DemoSpec.encode`)
+   adds the key points' codebook states, for the fit's second pass.
 """
 
 from __future__ import annotations
 
 import numbers
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -238,12 +238,18 @@ class Reduced:
         Key-point indices.
     key_bins : ndarray of shape (n_keys,), dtype int64
         Time bin of each key point.
+    key_states : ndarray of shape (n_keys,), dtype int64 or None
+        Codebook state of each key point (:meth:`DemoSpec.encode` only).
+    n_clipped : int
+        Values the codebook clipped (:meth:`DemoSpec.encode` only).
     """
 
     values: np.ndarray
     tau: np.ndarray
     keypoints: np.ndarray
     key_bins: np.ndarray
+    key_states: np.ndarray | None = None
+    n_clipped: int = 0
 
 
 @dataclass(frozen=True)
@@ -383,3 +389,24 @@ class DemoSpec:
         )
         tau = self.time_bins.normalize(d.t)
         return Reduced(u, tau, idx, self.time_bins.transform(tau)[idx])
+
+    def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
+        """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).
+
+        Parameters
+        ----------
+        d : Demonstration
+            Prepared (:meth:`prepared`), with the learned columns.
+        n_jobs : int, optional
+            Threads of the reduction.
+
+        Returns
+        -------
+        reduced : Reduced
+            With ``key_states`` and ``n_clipped``.
+        """
+        r = self.reduce(d, n_jobs=n_jobs)
+        states, clipped = self.codebook.encode(
+            r.values[r.keypoints], return_n_clipped=True
+        )
+        return replace(r, key_states=states, n_clipped=clipped)
