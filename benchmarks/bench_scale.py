@@ -153,7 +153,7 @@ def digest(stats) -> str:
 
 def run_one(mode: str, n: int, folder: Path) -> dict:
     """One fit in this process; the numbers as a dict."""
-    import ndlfd._fitmap
+    import ndlfd.learner._passes
     from ndlfd import KeypointHMM
     from ndlfd.io import read_demos
 
@@ -172,7 +172,7 @@ def run_one(mode: str, n: int, folder: Path) -> dict:
         t0 = time.perf_counter()
         with (
             LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                         dashboard_address=None) as cluster,
+                         dashboard_address=":0") as cluster,
             Client(cluster) as client,
         ):  # fmt: skip
             out["startup_s"] = time.perf_counter() - t0
@@ -184,7 +184,7 @@ def run_one(mode: str, n: int, folder: Path) -> dict:
             out["worker_peak_mib"] = max(peaks.values())
     else:
         if mode == "threads":  # short demonstrations: processes otherwise
-            ndlfd._fitmap._THREAD_MIN_SAMPLES = 0
+            ndlfd.learner._passes._THREAD_MIN_SAMPLES = 0
         n_jobs = 1 if mode == "serial" else 2
         t0 = time.perf_counter()
         model = KeypointHMM(**PARAMS, n_jobs=n_jobs).fit(paths)

@@ -377,3 +377,46 @@ def test_subnormal_range_counts_as_zero_range():
     assert np.all(np.isfinite(U)) and np.all(np.abs(U) < 1e-300)
     np.testing.assert_array_equal(s.inverse_transform(U), X)
     np.testing.assert_array_equal(s.transform(X + 1.0), np.ones_like(X))
+
+
+@pytest.mark.parametrize("mode", ["group", "per-dimension", "none"])
+def test_from_data_ranges_is_fit_on_data_with_those_extremes(mode):
+    rng = np.random.default_rng(4)
+    parts = [rng.normal(size=(n, 3)) * [1.0, 5.0, 0.1] for n in (7, 3, 11)]
+    groups = ["p", "p", "f"]
+    want = GroupScaler(groups, mode=mode, weights={"f": 2.0}).fit(parts)
+    got = GroupScaler.from_data_ranges(
+        np.min([a.min(axis=0) for a in parts], axis=0),
+        np.max([a.max(axis=0) for a in parts], axis=0),
+        groups, n_samples=21, mode=mode, weights={"f": 2.0},
+    )  # fmt: skip
+    assert vars(got).keys() == vars(want).keys()
+    assert got.groups is None  # not a parameter: rebuilt from fitted state
+    for k, v in vars(want).items():
+        g = vars(got)[k]
+        if k != "groups":
+            assert np.array_equal(g, v) if isinstance(v, np.ndarray) else g == v, k
+    # from_ranges takes the data's extremes and sample count back
+    again = GroupScaler.from_ranges(
+        want.data_min_, want.data_max_, groups, mode=mode, weights={"f": 2.0},
+        group_min=want.group_min_, group_max=want.group_max_, n_samples_seen=21,
+    )  # fmt: skip
+    for k, v in vars(want).items():
+        g = vars(again)[k]
+        if k != "groups":
+            assert np.array_equal(g, v) if isinstance(v, np.ndarray) else g == v, k
+    with pytest.raises(ValidationError, match="must name the groups"):
+        GroupScaler.from_ranges([0.0], [1.0], ["p"], group_min={"q": 0.0})
+
+
+def test_inverse_scale_maps_spreads_without_the_offset():
+    s = GroupScaler(["p", "p", "c"]).fit(np.array([[10.0, 0.0, 3.0], [30.0, 5.0, 3.0]]))
+    D = np.array([[0.5, 0.25, 0.5]])
+    # a spread of half the range is half the range; a constant column keeps it
+    np.testing.assert_array_equal(s.inverse_scale(D), [[15.0, 7.5, 0.5]])
+    np.testing.assert_allclose(
+        s.inverse_scale(D)[:, :2],
+        (s.inverse_transform(D) - s.inverse_transform(np.zeros((1, 3))))[:, :2],
+    )
+    with pytest.raises(NotFittedError):
+        GroupScaler(["p"]).inverse_scale([[1.0]])

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from ndlfd import OptionError, ParallelError, ValidationError
-from ndlfd._fitstats import RangeStats
 from ndlfd._parallel import BACKENDS, map_reduce, start_method
+from ndlfd.learner import RangeStats
 
 
 def _count_chunk(spec, chunk):
@@ -140,7 +140,7 @@ def dask_client():
     distributed = pytest.importorskip("distributed")
     with (
         distributed.LocalCluster(n_workers=2, processes=False, threads_per_worker=1,
-                                 dashboard_address=None) as cluster,
+                                 dashboard_address=":0") as cluster,
         distributed.Client(cluster) as client,
     ):  # fmt: skip
         yield client

@@ -52,7 +52,6 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._blend import minimum_jerk, pin_offset
 from ._errors import MissingExtraError, NotFittedError, ValidationError
 from ._registry import Registry
 from ._validation import (
@@ -62,7 +61,7 @@ from ._validation import (
     check_times,
 )
 from .demonstration import Demonstration, unit_time
-from .learner import KeypointHMM
+from .learner import KeypointHMM, minimum_jerk, pin_offset
 from .metrics import mean_demo_baseline
 
 __all__ = [

@@ -231,15 +231,21 @@ class GroupScaler:
         -------
         self : GroupScaler
         """
-        fit_range = SCALING_MODES.get(self.mode)
+        SCALING_MODES.get(self.mode)
         arrays, data_groups, columns = self._as_list(demos, "demos")
         d = arrays[0].shape[1]
         groups = self._check_groups(data_groups, d)
         weights = self._check_weights(groups)
         mins = np.min([a.min(axis=0) for a in arrays], axis=0)
         maxs = np.max([a.max(axis=0) for a in arrays], axis=0)
-        lo, hi = fit_range(mins, maxs, groups)
-        self.n_features_in_ = d
+        n_samples = int(sum(a.shape[0] for a in arrays))
+        self._set_fitted(mins, maxs, groups, columns, weights, n_samples)
+        return self
+
+    def _set_fitted(self, mins, maxs, groups, columns, weights, n_samples) -> None:
+        """The fitted attributes from the data's column extremes (fit's end)."""
+        lo, hi = SCALING_MODES.get(self.mode)(mins, maxs, groups)
+        self.n_features_in_ = len(groups)
         self.column_groups_ = groups
         self.columns_ = columns
         self.group_names_ = tuple(dict.fromkeys(groups))
@@ -250,7 +256,61 @@ class GroupScaler:
         self.data_max_ = hi
         self.data_range_ = hi - lo
         self.column_weights_ = weights
-        self.n_samples_seen_ = int(sum(a.shape[0] for a in arrays))
+        self.n_samples_seen_ = n_samples
+
+    @classmethod
+    def from_data_ranges(
+        cls,
+        mins,
+        maxs,
+        column_groups,
+        *,
+        n_samples: int,
+        columns=None,
+        mode: str = "group",
+        weights=None,
+    ) -> GroupScaler:
+        """The scaler :meth:`fit` makes of data with these column extremes.
+
+        A fit needs only each column's smallest and largest value and the
+        number of rows, so data seen in parts (the two passes of
+        :meth:`ndlfd.KeypointHMM.fit`) give exactly the scaler of one fit.
+
+        Parameters
+        ----------
+        mins, maxs : array-like of shape (n_dims,)
+            Each column's smallest and largest value over the data.
+        column_groups : sequence of str of length n_dims
+            The group of each column.
+        n_samples : int
+            Rows of the data (``n_samples_seen_``).
+        columns : sequence of str of length n_dims, optional
+            Column names, checked when transforming Demonstrations.
+        mode, weights
+            As in the constructor.
+
+        Returns
+        -------
+        scaler : GroupScaler
+            Fitted, equal in every attribute to ``GroupScaler(column_groups,
+            mode, weights).fit(data)``.
+
+        Examples
+        --------
+        >>> X = np.array([[0.0, 0.0], [20.0, 10.0]])
+        >>> s = GroupScaler.from_data_ranges([0.0, 0.0], [20.0, 10.0],
+        ...                                  ["p", "p"], n_samples=2)
+        >>> s.transform(X), s.group_max_, s.n_samples_seen_
+        (array([[0. , 0. ],
+               [1. , 0.5]]), {'p': 20.0}, 2)
+        """
+        self = cls(groups=None, mode=mode, weights=weights)
+        groups = tuple(column_groups)
+        mins = np.asarray(mins, dtype=np.float64)
+        maxs = np.asarray(maxs, dtype=np.float64)
+        columns = None if columns is None else tuple(columns)
+        weights = self._check_weights(groups)
+        self._set_fitted(mins, maxs, groups, columns, weights, int(n_samples))
         return self
 
     @classmethod
@@ -263,6 +323,9 @@ class GroupScaler:
         columns=None,
         mode: str = "group",
         weights=None,
+        group_min=None,
+        group_max=None,
+        n_samples_seen: int = 0,
     ) -> GroupScaler:
         """Rebuild a fitted scaler from stored per-column ranges (for loading models).
 
@@ -277,13 +340,17 @@ class GroupScaler:
             Column names, checked when transforming Demonstrations.
         mode, weights
             As in the constructor; stored as the parameters.
+        group_min, group_max : mapping of str to float, optional
+            The data's extremes per group (``group_min_`` / ``group_max_`` of
+            the fitted scaler); by default the group-wise extremes of the
+            given ranges.
+        n_samples_seen : int, default=0
+            Rows the fitted scaler saw.
 
         Returns
         -------
         scaler : GroupScaler
             Fitted: transforms exactly like the scaler the ranges came from.
-            ``group_min_`` / ``group_max_`` are the group-wise extremes of the
-            given ranges and ``n_samples_seen_`` is 0.
 
         Examples
         --------
@@ -328,13 +395,22 @@ class GroupScaler:
         self.columns_ = columns
         self.group_names_ = tuple(dict.fromkeys(groups))
         gmin, gmax = _group_ranges(lo, hi, groups)
-        self.group_min_ = {g: float(gmin[groups.index(g)]) for g in self.group_names_}
-        self.group_max_ = {g: float(gmax[groups.index(g)]) for g in self.group_names_}
+        names = self.group_names_
+        self.group_min_ = {g: float(gmin[groups.index(g)]) for g in names}
+        self.group_max_ = {g: float(gmax[groups.index(g)]) for g in names}
+        for given, have in ((group_min, self.group_min_), (group_max, self.group_max_)):
+            if given is not None:
+                if set(given) != set(names):
+                    raise ValidationError(
+                        f"group_min and group_max must name the groups {names};"
+                        f" got {tuple(given)}"
+                    )
+                have.update((g, float(given[g])) for g in names)
         self.data_min_ = lo.copy()
         self.data_max_ = hi.copy()
         self.data_range_ = hi - lo
         self.column_weights_ = self._check_weights(groups)
-        self.n_samples_seen_ = 0
+        self.n_samples_seen_ = int(n_samples_seen)
         return self
 
     # ------------------------------------------------------------------ use
@@ -381,6 +457,29 @@ class GroupScaler:
         # subnormal number overflows for any value a little outside it.
         tiny = np.finfo(np.float64).tiny
         return np.where(self.data_range_ > tiny, self.data_range_, 1.0)
+
+    def inverse_scale(self, D) -> np.ndarray:
+        """Map normalized differences or spreads to physical units (no offset).
+
+        ``D * data_range_`` (a zero range counts as 1, as in :meth:`transform`),
+        unweighted: for a standard deviation or a step, not a position.
+
+        Parameters
+        ----------
+        D : array-like of shape (n_samples, n_features_in_)
+
+        Returns
+        -------
+        ndarray of shape (n_samples, n_features_in_)
+
+        Examples
+        --------
+        >>> s = GroupScaler.from_ranges([0.0, 5.0], [10.0, 5.0], ["p", "q"])
+        >>> s.inverse_scale([[0.5, 0.5]])
+        array([[5. , 0.5]])
+        """
+        self._check_fitted()
+        return np.asarray(D, dtype=np.float64) * self._divisor()
 
     def transform(self, X, *, weighted: bool = True):
         """Normalize: ``u = (x - data_min_) / data_range_ * column_weights_``.

@@ -274,7 +274,7 @@ def test_fit_on_a_dask_scheduler_gives_the_local_model(tmp_path, capsys):
                   "--n-jobs", "2")  # fmt: skip
     assert rc == 0, err
     with distributed.LocalCluster(
-        n_workers=2, processes=False, dashboard_address=None
+        n_workers=2, processes=False, dashboard_address=":0"
     ) as cluster:
         rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "dask.ndlfd", "-q",
                       "--scheduler", cluster.scheduler_address)  # fmt: skip

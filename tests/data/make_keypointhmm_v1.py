@@ -4,7 +4,8 @@ Run from the repository root:  .venv/bin/python tests/data/make_keypointhmm_v1.p
 
 The model is fitted on a small seeded synthetic set; the file also records what
 it generated on the grid below when it was written (format version 1), so a
-change of the format or of generation is noticed by tests/test_learner.py.
+change of the format or of generation is noticed by
+tests/learner/test_learner_estimator.py.
 Re-run only on a deliberate change, together with a new version number.
 """
 

@@ -9,7 +9,8 @@ written by ndlfd up to commit bbb93c1; the fixture was made with that code:
 Today's code writes format 4, so this script cannot re-create the file; it is
 kept to show what the file holds. The file also records what the model
 generated on the grid below (blended generation, unconditioned and from a
-start), so tests/test_learner.py notices a change of loading or generation.
+start), so tests/learner/test_learner_estimator.py notices a change of loading or
+generation.
 """
 
 from __future__ import annotations

@@ -9,8 +9,6 @@ import time
 import numpy as np
 
 from .._errors import MissingExtraError, ValidationError
-from .._fitmap import count, scan
-from .._parallel import keep_workers
 from .._simplify import DISTANCES
 from ..io import CLI_HINTS, DemoFiles, demo_files, read_file
 from ..learner import (
@@ -20,6 +18,8 @@ from ..learner import (
     NORMALIZATIONS,
     STARTS,
     KeypointHMM,
+    check_params,
+    resolve_groups,
 )
 from ._options import (
     add_column_options,
@@ -36,36 +36,6 @@ from ._options import (
 )
 
 __all__ = ["add_fit"]
-
-
-# ----------------------------------------------------- the estimator's passes
-# ``ndlfd fit`` runs the steps of KeypointHMM.fit one by one, to report and
-# check between them with the flags' names. These five are the only calls into
-# the estimator's private methods and its fit passes; they become one public
-# hook of the learner once its restructuring (issue 16) is merged.
-def _auto_groups(first):
-    """The groups ``groups="auto"`` learns from a first demonstration."""
-    return KeypointHMM()._wanted_groups(first)
-
-
-def _check_params(model) -> None:
-    """Check the parameters as fit does: the passes below are fit's."""
-    model._check_params()
-
-
-def _scan(model, files, client):
-    """The first pass: ranges and the number of demonstrations."""
-    return scan(model, files, client=client)
-
-
-def _count(model, scanned):
-    """The second pass: key points, states and the counts of the HMM."""
-    return count(model, scanned)
-
-
-def _set_fitted(model, spec, stats) -> None:
-    """Set the fitted attributes from the passes' results."""
-    model._set_from_spec(spec, stats)
 
 
 # ------------------------------------------------------------------ the command
@@ -164,7 +134,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         raise ValidationError(f"demos: {paths[0]} holds no demonstration")
     first, first_map = pairs[0]
     if groups is None:  # the library's groups="auto", resolved here to report it
-        groups = list(_auto_groups(first))
+        groups = list(resolve_groups("auto", first))
     for what, names in (("--levels", levels), ("--weights", weights)):
         if isinstance(names, dict):
             unknown = [g for g in names if g not in groups]
@@ -200,24 +170,25 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         n_jobs=args.n_jobs,
         match_window=args.match_window,
     )
-    _check_params(model)  # as fit does: the passes below are fit's
+    check_params(model.get_params())  # as fit does, before connecting
     files = DemoFiles.for_cli(paths, **options)
+    scanned: dict = {}
+
+    def after_scan(ranges):  # report the mappings, bound the time bins
+        mappings = {text: n for text, _, n in ranges.notes}
+        say(args, describe_mappings(mappings, ranges.n_demos, len(paths)))
+        bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
+        scanned.update(n_demos=ranges.n_demos, time_bins=bins, note=note)
+        return dict(n_time_bins=bins, n_points=args.n_points)
+
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        with keep_workers():  # one pool for both passes, ended after them
-            scanned = _scan(model, files, client)
-            ranges = scanned.ranges
-            n_demos = ranges.n_demos
-            mappings = {text: n for text, _, n in ranges.notes}
-            say(args, describe_mappings(mappings, n_demos, len(paths)))
-            time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
-            model.set_params(n_time_bins=time_bins, n_points=args.n_points)
-            spec, stats = _count(model, scanned)
+        model.fit(files, client=client, after_scan=after_scan)
     finally:
         if client is not None:
             client.close()
-    _set_fitted(model, spec, stats)
+    n_demos, time_bins, note = (scanned[k] for k in ("n_demos", "time_bins", "note"))
     elapsed = time.perf_counter() - t0
     model.save(out)
     k = model.n_keypoints_

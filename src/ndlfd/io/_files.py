@@ -250,7 +250,7 @@ class DemoFiles(Sequence):
 
     def __init__(self, source, **mapping) -> None:
         self._mapping = _checked_mapping("DemoFiles", mapping)
-        self._hints = "library"
+        self.hints = "library"
         self.paths = tuple(_expand(source))
 
     @classmethod
@@ -273,7 +273,7 @@ class DemoFiles(Sequence):
         """
         files = cls.__new__(cls)
         files._mapping = _checked_mapping("DemoFiles", mapping)
-        files._hints = "cli"
+        files.hints = "cli"
         files.paths = tuple(paths)
         return files
 
@@ -283,7 +283,7 @@ class DemoFiles(Sequence):
     def __getitem__(self, i):
         if isinstance(i, slice):
             return [self[j] for j in range(*i.indices(len(self)))]
-        return DemoFile(self.paths[i], dict(self._mapping), self._hints)
+        return DemoFile(self.paths[i], dict(self._mapping), self.hints)
 
     def __repr__(self) -> str:
         return f"DemoFiles({len(self)} files, first {str(self.paths[0])!r})"

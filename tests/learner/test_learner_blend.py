@@ -7,14 +7,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ndlfd._blend import (
-    align_to_skeleton,
-    blend,
-    condition_weights,
-    minimum_jerk,
-    segment_states,
-    skeleton_times,
-)
+from ndlfd.learner._blend import align_to_skeleton, blend, skeleton_times
+from ndlfd.learner._conditioning import condition_weights, minimum_jerk
+from ndlfd.learner._segments import segment_states
 from ndlfd.metrics import dtw_distance
 
 
@@ -82,6 +77,13 @@ def test_condition_weights_separate_two_routes():
     assert condition_weights(a[:1], np.zeros(2)).tolist() == [1.0]
 
 
+def _blend(values, taus, index, weights, tq, **kw):
+    """The blend on the knots a plan gives it: (path, knots)."""
+    w = np.asarray(weights, dtype=np.float64)
+    knots = skeleton_times(taus, index, w / w.sum())
+    return blend(values, taus, index, weights, knots, tq, **kw), knots
+
+
 def test_blend_of_one_curve_at_different_speeds_is_the_curve():
     # the same shape traversed with three different timings: a time-aligned
     # mean cuts the corner, the aligned blend does not
@@ -98,7 +100,7 @@ def test_blend_of_one_curve_at_different_speeds_is_the_curve():
     keys = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0]])
     index = [align_to_skeleton(u, keys) for u in values]
     tq = np.linspace(0, 1, 401)
-    out, key_tau = blend(values, taus, index, np.ones(3), tq)
+    out, key_tau = _blend(values, taus, index, np.ones(3), tq)
     mean = np.mean(values, axis=0)
     assert dtw_distance(out, shape, normalize=True) < 2e-3
     assert dtw_distance(mean, shape, normalize=True) > 1e-2
@@ -111,7 +113,7 @@ def test_blend_with_one_weight_copies_that_demonstration():
     tau = np.linspace(0, 1, 50)
     U = [np.cumsum(rng.normal(size=(50, 2)), axis=0) for _ in range(3)]
     index = [np.array([0, 20, 49])] * 3
-    out, _ = blend(U, [tau] * 3, index, np.array([0.0, 1.0, 0.0]), tau)
+    out, _ = _blend(U, [tau] * 3, index, np.array([0.0, 1.0, 0.0]), tau)
     np.testing.assert_allclose(out, U[1], atol=1e-12)
 
 
@@ -120,7 +122,7 @@ def test_blend_sign_aligns_quaternions(flip):
     tau = np.linspace(0, 1, 5)
     q = np.tile([0.6, 0.8, 0.0, 0.0], (5, 1))
     other = -q if flip else q
-    out, _ = blend(
+    out, _ = _blend(
         [q, other], [tau, tau], [np.array([0, 4])] * 2, np.ones(2), tau,
         quat_cols=[0, 1, 2, 3],
     )  # fmt: skip
@@ -130,7 +132,7 @@ def test_blend_sign_aligns_quaternions(flip):
 @settings(max_examples=100, deadline=None)
 @given(st.integers(1, 30), st.integers(0, 2**31))
 def test_row_interpolation_matches_numpy_interp(n, seed):
-    from ndlfd._blend import _interp_rows
+    from ndlfd.learner._blend import _interp_rows
 
     rng = np.random.default_rng(seed)
     tau = np.sort(rng.uniform(0, 1, n)) if n > 1 else np.zeros(1)
@@ -145,7 +147,7 @@ def test_row_interpolation_matches_numpy_interp(n, seed):
 
 
 def test_align_many_on_threads_equals_one_by_one():
-    from ndlfd._blend import align_many
+    from ndlfd.learner._blend import align_many
 
     rng = np.random.default_rng(3)
     U = [rng.normal(size=(int(rng.integers(5, 60)), 3)) for _ in range(9)]
@@ -170,7 +172,7 @@ def test_alignment_to_a_subset_of_candidates_is_the_best_on_that_subset():
 @settings(max_examples=50, deadline=None)
 @given(st.integers(1, 30), st.integers(1, 3), st.integers(0, 8), st.integers(0, 99))
 def test_moving_average_is_the_mean_of_the_window(n, d, half, seed):
-    from ndlfd._blend import moving_average
+    from ndlfd.learner._blend import moving_average
 
     U = np.random.default_rng(seed).normal(size=(n, d))
     ref = np.array([U[max(i - half, 0) : i + half + 1].mean(axis=0) for i in range(n)])
@@ -179,7 +181,7 @@ def test_moving_average_is_the_mean_of_the_window(n, d, half, seed):
 
 
 def test_the_window_matches_on_the_moving_average():
-    from ndlfd._blend import align_many, moving_average
+    from ndlfd.learner._blend import align_many, moving_average
 
     rng = np.random.default_rng(8)
     U = [rng.normal(size=(int(rng.integers(20, 90)), 2)) for _ in range(6)]
@@ -217,7 +219,7 @@ def test_no_spikes_towards_the_skeleton_on_noisy_data(seed):
 
 
 def test_condition_weights_with_a_known_bandwidth_are_the_same():
-    from ndlfd._blend import BANDWIDTH_FACTOR, condition_bandwidth
+    from ndlfd.learner._conditioning import BANDWIDTH_FACTOR, condition_bandwidth
 
     rng = np.random.default_rng(4)
     pts = rng.normal(size=(50, 3))

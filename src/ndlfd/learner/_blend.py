@@ -28,11 +28,9 @@ Three steps, each exact and cheap:
    shape between key points; averaging after alignment keeps corners sharp
    where a time-aligned mean cuts them.
 
-Conditioning on a start or goal weights the demonstrations by a Gaussian
-kernel on the distance of their first (last) sample to the requested value;
-the skeleton is decoded from the demonstrations that carry weight, and the
-blended path is shifted onto the requested start and goal with an offset faded
-out by a minimum-jerk ramp, so it begins and ends there up to rounding.
+The segment model is in :mod:`ndlfd.learner._segments`, the conditioning on a
+start or goal in :mod:`ndlfd.learner._conditioning`, and the plan that puts the
+steps together in :mod:`ndlfd.learner._generation`.
 """
 
 from __future__ import annotations
@@ -42,29 +40,17 @@ import os
 import numpy as np
 from numba import njit
 
-from ._parallel import thread_pool
+from .._parallel import thread_pool
 
 __all__ = [
     "MATCH_WINDOW",
     "align_many",
     "align_to_skeleton",
     "blend",
-    "condition_bandwidth",
-    "condition_log_weights",
-    "condition_weights",
-    "minimum_jerk",
-    "pin_offset",
-    "segment_states",
+    "moving_average",
     "skeleton_times",
 ]
 
-
-#: Kernel width in units of the median nearest-neighbour distance between the
-#: demonstrations' starts (goals). Chosen on held-out LASA (time + start): 1, 2,
-#: 4 and 8 gave DTW 1.01, 0.98, 0.97 and 0.97 times the faded mean on the
-#: single shapes and 0.133, 0.135, 0.136 and 0.152 on Multi_Models; narrower
-#: kernels copy the nearest demonstration, wider ones start to mix routes.
-BANDWIDTH_FACTOR = 4.0
 
 #: Half-width of the moving average the alignment matches on, as a fraction of
 #: a demonstration's samples (each side). Measured (leave-one-out DTW, ratio to
@@ -73,32 +59,6 @@ BANDWIDTH_FACTOR = 4.0
 #: 0.998, 0.999 with 0.05; single LASA shapes, time only, 0.939 and 0.941 (ratio
 #: of medians over 7 folds x 26 shapes): smooth data hardly notice it.
 MATCH_WINDOW = 0.05
-
-
-def segment_states(key_bins: np.ndarray, key_states: np.ndarray, n_bins: int):
-    """State of the segment a demonstration is in at each time bin.
-
-    Parameters
-    ----------
-    key_bins : ndarray of shape (n_keys,), dtype int64
-        Time bin of each key point (non-decreasing, the first is 0).
-    key_states : ndarray of shape (n_keys,), dtype int64
-        Codebook state of each key point.
-    n_bins : int
-        Number of time bins.
-
-    Returns
-    -------
-    states : ndarray of shape (n_bins,), dtype int64
-        ``states[b]`` is the state of the last key point whose bin is ``<= b``.
-
-    Examples
-    --------
-    >>> segment_states(np.array([0, 2, 2, 4]), np.array([7, 8, 9, 5]), 5)
-    array([7, 7, 9, 9, 5])
-    """
-    pos = np.searchsorted(key_bins, np.arange(n_bins), side="right") - 1
-    return np.asarray(key_states, np.int64)[np.maximum(pos, 0)]
 
 
 @njit(cache=True, nogil=True)
@@ -248,139 +208,6 @@ def align_to_skeleton(
     return index if cand is None else cand[index]
 
 
-def minimum_jerk(s: np.ndarray) -> np.ndarray:
-    """Minimum-jerk ramp ``10 s^3 - 15 s^4 + 6 s^5`` from 0 at ``s=0`` to 1 at ``s=1``.
-
-    Examples
-    --------
-    >>> minimum_jerk(np.array([0.0, 0.5, 1.0]))
-    array([0. , 0.5, 1. ])
-    """
-    s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
-    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
-
-
-def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
-    """Move ``X[row, cols]`` onto ``target``, the offset faded over the rows.
-
-    Every row gets ``(target - X[row, cols]) * fade`` added, and ``X[row,
-    cols]`` is then set to ``target`` exactly (not up to the rounding of the
-    sum). ``X`` is changed in place.
-
-    Parameters
-    ----------
-    X : ndarray of shape (n_samples, n_dims)
-        The path.
-    fade : ndarray of shape (n_samples,)
-        How much of the offset each row takes: ``1 - minimum_jerk(tau)`` to pin a
-        start (row 0), ``minimum_jerk(tau)`` to pin a goal (the last row).
-    row : int
-        The row that must land on ``target``.
-    target : array-like of shape (n_cols,)
-        Where it must land.
-    cols : sequence of int, optional
-        The columns moved (all by default).
-
-    Returns
-    -------
-    X : ndarray of shape (n_samples, n_dims)
-
-    Examples
-    --------
-    >>> X = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
-    >>> pin_offset(X, 1.0 - minimum_jerk(np.array([0.0, 0.5, 1.0])), 0, [0.0, 2.0])
-    array([[0., 2.],
-           [1., 1.],
-           [2., 0.]])
-    """
-    cols = slice(None) if cols is None else cols
-    X[:, cols] += (np.asarray(target, dtype=np.float64) - X[row, cols]) * fade[:, None]
-    X[row, cols] = target
-    return X
-
-
-def condition_bandwidth(points: np.ndarray) -> float:
-    """Kernel width of :func:`condition_weights` for these points.
-
-    :data:`BANDWIDTH_FACTOR` times the median distance from each point to its
-    nearest other one (the width of the whole set if most coincide; 1 for a
-    single point). A k-d tree makes it ``O(n log n)``.
-
-    Examples
-    --------
-    >>> condition_bandwidth(np.array([[0.0], [0.5], [3.0], [3.5]]))
-    2.0
-    """
-    from scipy.spatial import cKDTree
-
-    points = np.asarray(points, dtype=np.float64)
-    if points.shape[0] < 2:
-        return 1.0
-    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
-    h = BANDWIDTH_FACTOR * float(np.median(nearest))
-    if not h > 0:  # most points coincide: the width of the whole set
-        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
-    return h
-
-
-def condition_weights(
-    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
-) -> np.ndarray:
-    """Gaussian-kernel weights of demonstrations for a requested start or goal.
-
-    The bandwidth is :data:`BANDWIDTH_FACTOR` times the median, over the
-    demonstrations, of the distance from each one's point to the nearest other
-    one's: demonstrations of one route lie within it of each other, routes
-    that start apart fall out.
-
-    Parameters
-    ----------
-    points : ndarray of shape (n_demos, n_dims)
-        Each demonstration's first (or last) sample, normalized units.
-    target : ndarray of shape (n_dims,)
-        The requested start (or goal), normalized units.
-    bandwidth : float, optional
-        :func:`condition_bandwidth` of ``points``, if known already.
-
-    Returns
-    -------
-    weights : ndarray of shape (n_demos,)
-        In ``(0, 1]``, the largest is 1.
-
-    Examples
-    --------
-    >>> pts = np.array([[0.0, 0.0], [0.1, 0.0], [5.0, 5.0], [5.1, 5.0]])
-    >>> np.round(condition_weights(pts, np.array([5.0, 5.05])), 3)
-    array([0.   , 0.   , 1.   , 0.969])
-    """
-    logw = condition_log_weights(points, target, bandwidth)
-    return np.exp(logw - logw.max())
-
-
-def condition_log_weights(
-    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
-) -> np.ndarray:
-    """Logarithms of :func:`condition_weights`, before normalizing.
-
-    Normalize them over any subset of the demonstrations with
-    ``np.exp(logw[subset] - logw[subset].max())``: however far the target
-    lies, the nearest demonstration of the subset weighs 1 (the weights over
-    all of them may underflow to 0 outside the nearest one's subset).
-
-    Examples
-    --------
-    >>> pts = np.array([[0.0], [1.0], [3.0]])
-    >>> condition_log_weights(pts, np.array([0.0]), bandwidth=1.0)
-    array([-0. , -0.5, -4.5])
-    """
-    points = np.asarray(points, dtype=np.float64)
-    if points.shape[0] < 2:
-        return np.zeros(points.shape[0])
-    d = np.linalg.norm(points - target, axis=1)
-    h = condition_bandwidth(points) if bandwidth is None else bandwidth
-    return -0.5 * (d / h) ** 2
-
-
 def skeleton_times(tau_list, index_list, weights) -> np.ndarray:
     """Normalized time of each skeleton point (weighted mean of the matches').
 
@@ -438,7 +265,7 @@ def _interp_rows(U, tau, at):  # pragma: no cover - compiled
     return out
 
 
-def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
+def blend(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
     """Weighted average of demonstrations time-warped onto a common skeleton.
 
     Parameters
@@ -451,6 +278,10 @@ def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
         Each one's samples matched to the skeleton points.
     weights : ndarray of shape (n_demos,)
         Non-negative, not all zero.
+    knots : ndarray of shape (n_keys,)
+        Normalized time of each skeleton point: :func:`skeleton_times` of the
+        matches under ``weights / weights.sum()``. Each demonstration's
+        matched samples are warped onto them.
     tq : ndarray of shape (n_out,)
         Normalized output times.
     quat_cols : sequence of int, optional
@@ -460,16 +291,26 @@ def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
     Returns
     -------
     mean : ndarray of shape (n_out, n_dims)
-    key_tau : ndarray of shape (n_keys,)
-        Normalized time of each skeleton point (the weighted mean of the
-        matched samples' times).
+
+    Examples
+    --------
+    Two demonstrations of one line at different speeds, matched at their ends
+    and middles, blend into the line:
+
+    >>> tau = np.linspace(0.0, 1.0, 5)
+    >>> U = [tau[:, None], (tau**2)[:, None]]
+    >>> index = [np.array([0, 2, 4]), np.array([0, 3, 4])]
+    >>> w = np.array([1.0, 1.0])
+    >>> knots = skeleton_times([tau, tau], index, w / w.sum())
+    >>> blend(U, [tau, tau], index, w, knots, np.array([0.0, 1.0]))
+    array([[0.],
+           [1.]])
     """
     w = np.asarray(weights, dtype=np.float64)
     w = w / w.sum()
-    key_tau = skeleton_times(tau_list, index_list, w)
     W = np.stack(
         [
-            _interp_rows(U, tau, np.interp(tq, key_tau, tau[idx]))
+            _interp_rows(U, tau, np.interp(tq, knots, tau[idx]))
             for tau, idx, U in zip(tau_list, index_list, U_list, strict=True)
         ]
     )  # (n_demos, n_out, n_dims)
@@ -478,4 +319,4 @@ def blend(U_list, tau_list, index_list, weights, tq, quat_cols=None):
         for j in range(W.shape[0]):
             flip = np.sum(W[j][:, quat_cols] * ref, axis=1) < 0
             W[j][np.ix_(flip, quat_cols)] *= -1.0
-    return np.tensordot(w, W, axes=1), key_tau
+    return np.tensordot(w, W, axes=1)

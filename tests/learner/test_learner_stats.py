@@ -9,15 +9,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ndlfd import ModelFormatError, ValidationError, hmm
-from ndlfd._fitstats import (
-    FitStats,
-    RangeStats,
-    from_limbs,
-    scale_exponents,
-    template_keys,
-    template_mask,
-    to_limbs,
-)
+from ndlfd.learner import FitStats, RangeStats
+from ndlfd.learner._exact import from_limbs, scale_exponents, to_limbs
+from ndlfd.learner._templates import template_keys, template_mask
 
 # -- exact sums --------------------------------------------------------------------
 

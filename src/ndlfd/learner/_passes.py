@@ -1,12 +1,16 @@
-"""The map steps of :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>` and the two passes.
+"""The two passes of :meth:`ndlfd.KeypointHMM.fit` and their map steps.
 
-A fit reads its demonstrations twice (see :mod:`ndlfd._fitstats`):
+A fit reads its demonstrations twice (see :mod:`ndlfd.learner._stats`):
 
-1. :func:`scan`: the groups and columns from the first demonstration, then per
-   column the range over all (:class:`~ndlfd._fitstats.RangeStats`), from which
-   the scaler is made;
-2. :func:`count`: per demonstration its key points, codebook states, time bins
-   and centroid sums (:class:`~ndlfd._fitstats.FitStats`).
+1. :func:`scan_ranges`: the groups and columns from the first demonstration,
+   then per column the range over all (:class:`~ndlfd.learner.RangeStats`),
+   from which the scaler is made;
+2. :func:`collect_statistics`: per demonstration normalize, reduce to key
+   points, encode them to codebook states and time bins, sum the centroids and
+   keep the full values of the templates (:class:`~ndlfd.learner.FitStats`).
+
+The passes take the estimator's parameters (a dict, ``get_params()``) and the
+demonstration spec (:mod:`ndlfd.learner._spec`), never the estimator.
 
 Each pass is :func:`ndlfd._parallel.map_reduce` of a map step over chunks of
 *items* (a :class:`~ndlfd.Demonstration`, a file path, or a
@@ -20,26 +24,23 @@ import itertools
 import os
 import threading
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sized
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from ._errors import DataFileError, NdlfdError, ValidationError
-from ._fitstats import FitStats, RangeStats, scale_exponents, template_mask
-from ._parallel import check_client, map_reduce
-from ._simplify import simplify
-from .codebook import Codebook, TimeBins
-from .demonstration import Demonstration
-from .io import DemoFile
-from .normalize import GroupScaler
+from .._errors import DataFileError, NdlfdError, ValidationError
+from .._parallel import check_client, map_reduce
+from ..demonstration import Demonstration
+from ..io import DemoFile
+from ._exact import scale_exponents
+from ._spec import DemoSpec, prepare, resolve_groups
+from ._stats import FitStats, RangeStats
+from ._templates import template_mask
 
-if TYPE_CHECKING:
-    from .learner import KeypointHMM
-
-__all__ = ["Scan", "count", "scan"]
+__all__ = ["Scan", "collect_statistics", "scan_ranges"]
 
 _NOT_DEMOS = (
     "demos must be a Demonstration, a list (or any re-iterable) of them, or a list"
@@ -183,95 +184,74 @@ class _PreparedCache:
 
 
 @dataclass(frozen=True)
-class _FitSpec:
+class _PassSpec:
     """What the per-demonstration map steps need (sent to the workers)."""
 
-    est: KeypointHMM  # the parameters (an unfitted copy)
-    groups: tuple[str, ...] = ()
-    columns: tuple[str, ...] = ()
-    col_groups: tuple[str, ...] = ()
-    scaler: GroupScaler | None = None
-    codebook: Codebook | None = None
-    time_bins: TimeBins | None = None
-    weights: np.ndarray | None = None
+    params: dict  # the estimator's parameters
+    demo: DemoSpec = field(default_factory=DemoSpec)
     exponents: np.ndarray | None = None
     templates: np.ndarray | None = None
     cache: _PreparedCache | None = None
-    cli: bool = False  # errors name the command line's flags
-
-    def prepared(self, demo: Demonstration) -> Demonstration:
-        d = self.est._prepare(demo, self.groups, self.cli)
-        if d.columns != self.columns or d.groups != self.col_groups:
-            raise ValidationError(
-                "all demonstrations must have the same columns; the first has"
-                f" {self.columns} and this one has {d.columns}"
-            )
-        return d
 
 
-def _probe(spec: _FitSpec, unit):
+def _probe(spec: _PassSpec, unit):
     """Groups and learned columns, from the first demonstration of the first item."""
     i, item = unit
     demos = _read_item(item, i)
-    groups = spec.est._wanted_groups(demos[0])
+    p = spec.params
+    groups = resolve_groups(p["groups"], demos[0], derive_velocity=p["derive_velocity"])
     where = partial(_where, i, item, 0, len(demos))
-    d = _located(where, spec.est._prepare, demos[0], groups)
+    d = _located(
+        where,
+        partial(prepare, derive_velocity=p["derive_velocity"], cli=spec.demo.cli),
+        demos[0],
+        groups,
+    )
     if spec.cache is not None and isinstance(item, Demonstration):
         spec.cache.put(i, d)
     return groups, d.columns, d.groups, d.n_samples
 
 
-def _map_ranges(spec: _FitSpec, chunk) -> RangeStats:
+def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
     for i, item in chunk:
         if isinstance(item, Demonstration) and spec.cache is not None:
             d = spec.cache.get(i)  # the first one, from the probe
             if d is None:
-                d = _located(f"demos[{i}]", spec.prepared, item)
+                d = _located(f"demos[{i}]", spec.demo.prepared, item)
                 spec.cache.put(i, d)
             parts.append(RangeStats.of(i, d.X))
             continue
         notes: list[str] = []
         demos = _read_item(item, i, notes)
         arrays = [
-            _located(partial(_where, i, item, k, len(demos)), spec.prepared, d).X
+            _located(partial(_where, i, item, k, len(demos)), spec.demo.prepared, d).X
             for k, d in enumerate(demos)
         ]
         parts.append(RangeStats.of(i, *arrays, notes=notes))
     return parts[0].merge(*parts[1:])
 
 
-def _count_one(spec: _FitSpec, demo: Demonstration, j: int, d=None) -> FitStats:
-    est = spec.est
+def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitStats:
+    """Normalize, reduce and encode demonstration ``j``: its statistics."""
     if d is None:
-        d = spec.prepared(demo)
-    u = spec.scaler.transform(d, weighted=False)
-    idx = simplify(
-        u,
-        None if est.n_points is not None else est.epsilon,
-        distance=est.distance,
-        weights=spec.weights,
-        times=d.t if est.distance == "sed" else None,
-        n_points=est.n_points,
-        n_jobs=1,
-    )
-    states, clipped = spec.codebook.encode(u[idx], return_n_clipped=True)
-    tau = spec.time_bins.normalize(d.t)
+        d = spec.demo.prepared(demo)
+    r = spec.demo.encode(d, n_jobs=1)
     return FitStats.of_demo(
         j,
-        u,
-        tau,
-        idx,
-        states,
-        spec.time_bins.transform(tau)[idx],
+        r.values,
+        r.tau,
+        r.keypoints,
+        r.key_states,
+        r.key_bins,
         exponents=spec.exponents,
-        n_clipped=clipped,
+        n_clipped=r.n_clipped,
         template=bool(spec.templates[j]),
     )
 
 
-def _map_counts(spec: _FitSpec, chunk) -> FitStats:
+def _map_statistics(spec: _PassSpec, chunk) -> FitStats:
     """Pass 2: key points, states, bins, centroid sums and templates of some items."""
     parts = []
     for i, start, expected, item in chunk:
@@ -279,7 +259,7 @@ def _map_counts(spec: _FitSpec, chunk) -> FitStats:
             d = spec.cache.pop(i)  # prepared in pass 1
             if d is not None:
                 where = f"demos[{i}]"
-                parts.append(_located(where, _count_one, spec, item, start, d))
+                parts.append(_located(where, _stats_of_one, spec, item, start, d))
                 continue
         demos = _read_item(item, i)
         if len(demos) != expected:
@@ -288,11 +268,11 @@ def _map_counts(spec: _FitSpec, chunk) -> FitStats:
             )
         for k, d in enumerate(demos):
             where = partial(_where, i, item, k, len(demos))
-            parts.append(_located(where, _count_one, spec, d, start + k))
+            parts.append(_located(where, _stats_of_one, spec, d, start + k))
     return parts[0].merge(*parts[1:])
 
 
-def _count_units(source, counts: np.ndarray):
+def _numbered_items(source, counts: np.ndarray):
     start = 0
     n = 0
     for i, item in enumerate(source):
@@ -311,7 +291,7 @@ def _count_units(source, counts: np.ndarray):
 _PROCESS_MIN_ITEMS = 256
 
 
-def _workers(est, mean_length: float, total: int | None) -> tuple[int, str]:
+def _workers(n_jobs, mean_length: float, total: int | None) -> tuple[int, str]:
     """(workers, backend) of a local map: threads for long demonstrations.
 
     The kernels release the GIL, so long demonstrations scale on threads; the
@@ -320,9 +300,9 @@ def _workers(est, mean_length: float, total: int | None) -> tuple[int, str]:
     """
     cpus = os.cpu_count() or 1
     if mean_length >= _THREAD_MIN_SAMPLES:
-        return (est.n_jobs if est.n_jobs is not None else cpus), "threads"
-    if est.n_jobs is not None:
-        return est.n_jobs, "processes"
+        return (n_jobs if n_jobs is not None else cpus), "threads"
+    if n_jobs is not None:
+        return n_jobs, "processes"
     if total is not None and total < _PROCESS_MIN_ITEMS:
         return 1, "threads"
     return cpus, "processes"
@@ -330,13 +310,13 @@ def _workers(est, mean_length: float, total: int | None) -> tuple[int, str]:
 
 @dataclass
 class Scan:
-    """What pass 1 of a fit found (see :func:`scan`).
+    """What pass 1 of a fit found (see :func:`scan_ranges`).
 
     Attributes
     ----------
     source : iterable
-        The training items, to be read again by :func:`count`.
-    spec : _FitSpec
+        The training items, to be read again by :func:`collect_statistics`.
+    spec : _PassSpec
         The groups and columns, and the parameters of the map steps.
     ranges : RangeStats
         Per-column ranges, demonstrations per item, fewest and most samples.
@@ -347,14 +327,28 @@ class Scan:
     """
 
     source: Iterable
-    spec: _FitSpec
+    spec: _PassSpec
     ranges: RangeStats
     total: int | None
     run: dict[str, Any]
 
 
-def scan(est, demos, *, client=None, progress=None) -> Scan:
-    """Pass 1 of ``est.fit(demos)``: groups, columns and per-column ranges."""
+def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
+    """Pass 1 of a fit: groups, columns and per-column ranges.
+
+    Parameters
+    ----------
+    params : dict
+        The estimator's parameters (``KeypointHMM.get_params()``).
+    demos : Demonstration, re-iterable of them, or sequence of paths
+        As :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>` takes them.
+    client, progress
+        As in :meth:`KeypointHMM.fit <ndlfd.KeypointHMM.fit>`.
+
+    Returns
+    -------
+    scan : Scan
+    """
     source = _as_source(demos)
     if client is not None:
         client = check_client(client)
@@ -372,22 +366,26 @@ def scan(est, demos, *, client=None, progress=None) -> Scan:
     # the Demonstrations of an in-memory list: keep them prepared between the
     # passes (local fits on threads only; they are in memory anyway)
     local_list = client is None and isinstance(source, (list, tuple))
-    spec = _FitSpec(
-        est=type(est)(**est.get_params()),
+    spec = _PassSpec(
+        params=dict(params),
+        demo=DemoSpec(cli=getattr(source, "hints", None) == "cli"),
         cache=_PreparedCache(_CACHE_BYTES) if local_list else None,
-        cli=getattr(source, "_hints", None) == "cli",
     )
     if client is not None and not isinstance(first, Demonstration):
         probe = client.submit(_probe, spec, (0, first), pure=False).result()
     else:
         probe = _probe(spec, (0, first))
     groups, columns, col_groups, first_length = probe
-    workers, backend = _workers(est, first_length, total)
+    workers, backend = _workers(params["n_jobs"], first_length, total)
     spec = replace(
         spec,
-        groups=groups,
-        columns=columns,
-        col_groups=col_groups,
+        demo=replace(
+            spec.demo,
+            groups=groups,
+            columns=columns,
+            col_groups=col_groups,
+            derive_velocity=params["derive_velocity"],
+        ),
         cache=None if backend == "processes" and workers > 1 else spec.cache,
     )
     units = itertools.chain([(0, first)], enumerate(items, start=1))
@@ -405,45 +403,61 @@ def scan(est, demos, *, client=None, progress=None) -> Scan:
     return Scan(source, spec, ranges, total, run)
 
 
-def count(est, done: Scan) -> tuple[_FitSpec, FitStats]:
-    """Pass 2 of ``est.fit``: the fit statistics, with the scaler of pass 1.
+def collect_statistics(params: dict, done: Scan) -> tuple[DemoSpec, FitStats]:
+    """Pass 2 of a fit: the fit statistics, with the scaler of pass 1.
 
-    ``est`` may differ from the estimator :func:`scan` had only in parameters
-    that pass 1 does not use (``n_time_bins``, ``epsilon``, ``n_points``).
+    Parameters
+    ----------
+    params : dict
+        The estimator's parameters. They may differ from those
+        :func:`scan_ranges` had only in parameters that pass 1 does not use
+        (``n_time_bins``, ``epsilon``, ``n_points``).
+    done : Scan
+        What pass 1 found.
+
+    Returns
+    -------
+    spec : DemoSpec
+        The learned groups and columns, the scaler, codebook and time bins.
+    stats : FitStats
     """
-    spec, ranges = done.spec, done.ranges
-    scaler = est._scaler_from_ranges(ranges, spec.columns, spec.col_groups)
-    # |u| <= 2**E per column: u is monotone in x, so the extremes bound it
-    ends = scaler.transform(
-        np.vstack([ranges.data_min, ranges.data_max]), weighted=False
-    )
-    w = scaler.column_weights_
-    if est.n_points is not None and est.n_points > ranges.min_samples:
+    first, ranges = done.spec, done.ranges
+    n_points = params["n_points"]
+    if n_points is not None and n_points > ranges.min_samples:
         raise ValidationError(
             f"n_points must be between 2 and {ranges.min_samples}, the number of"
             " samples of the shortest demonstration"
-            f" (demos[{ranges.shortest_item}]); got {est.n_points}"
+            f" (demos[{ranges.shortest_item}]); got {n_points}"
         )
-    spec = replace(
-        spec,
-        est=type(est)(**est.get_params()),
-        scaler=scaler,
-        codebook=Codebook.from_groups(
-            est._levels_by_group(spec.groups), spec.col_groups
-        ),
-        time_bins=TimeBins(est.n_time_bins),
-        weights=None if np.all(w == 1.0) else w,
+    demo = first.demo
+    spec = DemoSpec.fitted(
+        params, ranges, demo.groups, demo.columns, demo.col_groups, cli=demo.cli
+    )
+    # |u| <= 2**E per column: u is monotone in x, so the extremes bound it
+    ends = spec.scaler.transform(
+        np.vstack([ranges.data_min, ranges.data_max]), weighted=False
+    )
+    pass_spec = replace(
+        first,
+        params=dict(params),
+        demo=spec,
         exponents=scale_exponents(np.abs(ends).max(axis=0)),
-        templates=template_mask(ranges.n_demos, est.max_templates, est.random_state),
+        templates=template_mask(
+            ranges.n_demos, params["max_templates"], params["random_state"]
+        ),
     )
     counts = ranges.demos_per_item
-    workers, backend = _workers(est, ranges.n_samples / ranges.n_demos, counts.size)
+    workers, backend = _workers(
+        params["n_jobs"], ranges.n_samples / ranges.n_demos, counts.size
+    )
     if backend == "processes" and workers > 1:
-        spec = replace(spec, cache=None)  # prepared again there (a lock: local)
+        pass_spec = replace(
+            pass_spec, cache=None
+        )  # prepared again there (a lock: local)
     stats = map_reduce(
-        _map_counts,
-        spec,
-        _count_units(done.source, counts),
+        _map_statistics,
+        pass_spec,
+        _numbered_items(done.source, counts),
         total=counts.size,
         desc="fit 2/2 key points",
         n_jobs=workers,

@@ -20,8 +20,9 @@ in demonstration order, and the centroid sums are accumulated as integers (see
 :func:`to_limbs`). Serial, threaded and Dask fits therefore give the same
 model bit for bit.
 
-The map steps themselves are in :mod:`ndlfd._fitmap`; :func:`ndlfd._parallel.map_reduce`
-runs them.
+The passes are in :mod:`ndlfd.learner._passes`; :func:`ndlfd._parallel.map_reduce`
+runs them. The exact sums are in :mod:`ndlfd.learner._exact`, the template
+choice in :mod:`ndlfd.learner._templates`.
 """
 
 from __future__ import annotations
@@ -31,219 +32,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._errors import ModelFormatError, ValidationError
+from .._errors import ModelFormatError, ValidationError
+from ._exact import LIMB_BITS, N_LIMBS, from_limbs, to_limbs
 
-__all__ = [
-    "FitStats",
-    "RangeStats",
-    "from_limbs",
-    "scale_exponents",
-    "template_keys",
-    "template_mask",
-    "to_limbs",
-]
-
-# ----------------------------------------------------------------- exact sums
-
-#: Bits per integer limb of a centroid sum (three limbs: 93 bits below the
-#: column's bound). A limb is at most 2**31 in size, so up to 2**31 key points
-#: of one state add up in int64 without overflow.
-_LIMB_BITS = 31
-_N_LIMBS = 3
-#: Smallest scale exponent (keeps the finest limb's quantum a normal float).
-_MIN_EXPONENT = -900
-
-
-def scale_exponents(bound) -> np.ndarray:
-    """Per column the exponent ``E`` with ``|u| <= 2**E`` for every value ``u``.
-
-    Parameters
-    ----------
-    bound : array-like of shape (n_dims,)
-        The largest absolute value of each column (finite, >= 0).
-
-    Returns
-    -------
-    exponents : ndarray of shape (n_dims,), dtype int64
-
-    Examples
-    --------
-    >>> scale_exponents([1.0, 0.75, 3.0, 0.0])
-    array([   1,    0,    2, -900])
-    """
-    b = np.asarray(bound, dtype=np.float64)
-    e = np.frexp(b)[1].astype(np.int64)  # b = m * 2**e with 0.5 <= m < 1
-    e[b == 0] = _MIN_EXPONENT
-    return np.maximum(e, _MIN_EXPONENT)
-
-
-def _quanta(exponents: np.ndarray) -> list[np.ndarray]:
-    e = np.asarray(exponents, dtype=np.int64)
-    return [np.ldexp(1.0, e - _LIMB_BITS * (k + 1)) for k in range(_N_LIMBS)]
-
-
-def to_limbs(values, exponents) -> np.ndarray:
-    """Split values exactly into integer multiples of fixed powers of two.
-
-    With ``q_k = 2**(E - 31 k)`` (``E`` the column's exponent from
-    :func:`scale_exponents`), ``u = a_1 q_1 + a_2 q_2 + a_3 q_3 + r`` with
-    integers ``|a_k| <= 2**31`` (truncated towards zero, so every step is
-    exact in floating point) and a remainder ``|r| < 2**(E - 93)`` that is
-    dropped. Integer limbs add up exactly and in any order, so a sum of
-    values held as limbs does not depend on how it was split.
-
-    Parameters
-    ----------
-    values : array-like of shape (n, n_dims)
-        Values with ``|u| <= 2**E`` per column.
-    exponents : array-like of shape (n_dims,)
-
-    Returns
-    -------
-    limbs : ndarray of shape (3, n, n_dims), dtype int64
-
-    Examples
-    --------
-    >>> L = to_limbs([[0.5], [0.25]], [0])
-    >>> L[:, :, 0]
-    array([[1073741824,  536870912],
-           [         0,          0],
-           [         0,          0]])
-    >>> from_limbs(L.sum(axis=1), [0])
-    array([0.75])
-    """
-    r = np.asarray(values, dtype=np.float64)
-    out = np.empty((_N_LIMBS, *r.shape), dtype=np.int64)
-    for k, q in enumerate(_quanta(exponents)):
-        a = np.trunc(r / q)
-        out[k] = a
-        r = r - a * q
-    return out
-
-
-def from_limbs(limbs, exponents) -> np.ndarray:
-    """The float value of summed limbs (``sum_k a_k q_k``, in a fixed order).
-
-    Parameters
-    ----------
-    limbs : array-like of shape (3, ..., n_dims), integer
-    exponents : array-like of shape (n_dims,)
-
-    Returns
-    -------
-    values : ndarray of shape (..., n_dims)
-    """
-    L = np.asarray(limbs)
-    q = _quanta(exponents)
-    out = L[0].astype(np.float64) * q[0]
-    for k in range(1, _N_LIMBS):
-        out = out + L[k].astype(np.float64) * q[k]
-    return out
-
-
-# ----------------------------------------------------------------- templates
-
-_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
-
-
-def _splitmix64(z: np.ndarray) -> np.ndarray:
-    with np.errstate(over="ignore"):
-        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return z ^ (z >> np.uint64(31))
-
-
-def seed_word(random_state) -> np.uint64:
-    """One 64-bit word from ``random_state`` (None, an int >= 0 or a Generator).
-
-    An int is mixed by :class:`numpy.random.SeedSequence`; ``None`` is the
-    same as 0, so a fit without a seed is deterministic; a Generator (or a
-    legacy RandomState) gives one draw.
-
-    Examples
-    --------
-    >>> bool(seed_word(None) == seed_word(0))
-    True
-    """
-    if random_state is None:
-        seq = np.random.SeedSequence(0)
-    elif isinstance(random_state, np.random.Generator):
-        seq = np.random.SeedSequence(int(random_state.integers(0, 2**63)))
-    elif isinstance(random_state, np.random.RandomState):  # scikit-learn style
-        seq = np.random.SeedSequence(int(random_state.randint(0, 2**31)))
-    elif isinstance(random_state, (int, np.integer)) and not isinstance(
-        random_state, bool
-    ):
-        if random_state < 0:
-            raise ValidationError(f"random_state must be >= 0; got {random_state}")
-        seq = np.random.SeedSequence(int(random_state))
-    else:
-        raise ValidationError(
-            "random_state must be None, an int >= 0 or a numpy Generator; got"
-            f" {random_state!r}"
-        )
-    return seq.generate_state(1, np.uint64)[0]
-
-
-def template_keys(word, indices) -> np.ndarray:
-    """Key of each demonstration index: ``splitmix64(word + (i + 1) * golden)``.
-
-    Parameters
-    ----------
-    word : int
-        The seed word (see :func:`seed_word`).
-    indices : array-like of int
-        Demonstration indices.
-
-    Returns
-    -------
-    keys : ndarray, dtype uint64
-
-    Examples
-    --------
-    >>> template_keys(0, [0, 1])
-    array([16294208416658607535,  7960286522194355700], dtype=uint64)
-    """
-    i = np.asarray(indices, dtype=np.uint64)
-    with np.errstate(over="ignore"):
-        z = np.uint64(word) + (i + np.uint64(1)) * _GOLDEN
-    return _splitmix64(z)
-
-
-def template_mask(n_demos: int, max_templates: int | None, random_state) -> np.ndarray:
-    """Which demonstrations are kept whole for the blended generation.
-
-    All of them when ``n_demos <= max_templates`` (or ``max_templates`` is
-    None); otherwise the ``max_templates`` whose :func:`template_keys` are the
-    smallest (ties by index). The choice depends on ``random_state`` and each
-    demonstration's index only, not on how the demonstrations are split.
-
-    Parameters
-    ----------
-    n_demos : int
-    max_templates : int or None
-    random_state : None, int or Generator
-
-    Returns
-    -------
-    mask : ndarray of shape (n_demos,), dtype bool
-
-    Examples
-    --------
-    >>> template_mask(3, 5, None)
-    array([ True,  True,  True])
-    >>> int(template_mask(1000, 10, 0).sum())
-    10
-    """
-    mask = np.ones(n_demos, dtype=bool)
-    if max_templates is None or n_demos <= max_templates:
-        return mask
-    keys = template_keys(seed_word(random_state), np.arange(n_demos))
-    order = np.lexsort((np.arange(n_demos), keys))
-    mask[:] = False
-    mask[order[:max_templates]] = True
-    return mask
-
+__all__ = ["FitStats", "RangeStats"]
 
 # ----------------------------------------------------------------- ragged helpers
 
@@ -637,10 +429,10 @@ class FitStats:
             cat([p.centroid_counts for p in parts]),
             cat([p.centroid_limbs for p in parts], axis=1),
         )
-        if counts.size and counts.max() >= 2**_LIMB_BITS:
+        if counts.size and counts.max() >= 2**LIMB_BITS:
             raise ValidationError(
                 f"a codebook state holds {int(counts.max())} key points, more than"
-                f" the {2**_LIMB_BITS} the exact centroid sums allow"
+                f" the {2**LIMB_BITS} the exact centroid sums allow"
             )
         return FitStats(
             exponents=self.exponents,
@@ -744,7 +536,7 @@ def _check_consistent(a: dict) -> None:
         "state": (s,),
         "template": (t,),
         "sample": (n_smp,),
-        "limbs": (_N_LIMBS, s, d),
+        "limbs": (N_LIMBS, s, d),
         "scalar": (),
     }
     problems = []

@@ -1,0 +1,307 @@
+"""Conditioning on a start and goal: demonstration weights and pinning.
+
+A requested start (goal) weights every demonstration by a Gaussian kernel on
+the distance of its first (last) normalized sample to the requested one
+(:func:`condition_log_weights`, the width from :func:`condition_bandwidth`);
+the generated path is then shifted onto the requested start and goal with an
+offset faded out by a minimum-jerk ramp (:func:`pin`), so it begins and ends
+there up to rounding.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .._errors import ValidationError
+
+__all__ = [
+    "BANDWIDTH_FACTOR",
+    "check_condition",
+    "condition_bandwidth",
+    "condition_log_weights",
+    "condition_weights",
+    "group_columns",
+    "log_weights_for",
+    "minimum_jerk",
+    "pin",
+    "pin_offset",
+]
+
+#: Kernel width in units of the median nearest-neighbour distance between the
+#: demonstrations' starts (goals). Chosen on held-out LASA (time + start): 1, 2,
+#: 4 and 8 gave DTW 1.01, 0.98, 0.97 and 0.97 times the faded mean on the
+#: single shapes and 0.133, 0.135, 0.136 and 0.152 on Multi_Models; narrower
+#: kernels copy the nearest demonstration, wider ones start to mix routes.
+BANDWIDTH_FACTOR = 4.0
+
+
+def minimum_jerk(s: np.ndarray) -> np.ndarray:
+    """Minimum-jerk ramp ``10 s^3 - 15 s^4 + 6 s^5`` from 0 at ``s=0`` to 1 at ``s=1``.
+
+    Examples
+    --------
+    >>> minimum_jerk(np.array([0.0, 0.5, 1.0]))
+    array([0. , 0.5, 1. ])
+    """
+    s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
+    return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
+    """Move ``X[row, cols]`` onto ``target``, the offset faded over the rows.
+
+    Every row gets ``(target - X[row, cols]) * fade`` added, and ``X[row,
+    cols]`` is then set to ``target`` exactly (not up to the rounding of the
+    sum). ``X`` is changed in place.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_dims)
+        The path.
+    fade : ndarray of shape (n_samples,)
+        How much of the offset each row takes: ``1 - minimum_jerk(tau)`` to pin a
+        start (row 0), ``minimum_jerk(tau)`` to pin a goal (the last row).
+    row : int
+        The row that must land on ``target``.
+    target : array-like of shape (n_cols,)
+        Where it must land.
+    cols : sequence of int, optional
+        The columns moved (all by default).
+
+    Returns
+    -------
+    X : ndarray of shape (n_samples, n_dims)
+
+    Examples
+    --------
+    >>> X = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> pin_offset(X, 1.0 - minimum_jerk(np.array([0.0, 0.5, 1.0])), 0, [0.0, 2.0])
+    array([[0., 2.],
+           [1., 1.],
+           [2., 0.]])
+    """
+    cols = slice(None) if cols is None else cols
+    X[:, cols] += (np.asarray(target, dtype=np.float64) - X[row, cols]) * fade[:, None]
+    X[row, cols] = target
+    return X
+
+
+def condition_bandwidth(points: np.ndarray) -> float:
+    """Kernel width of :func:`condition_weights` for these points.
+
+    :data:`BANDWIDTH_FACTOR` times the median distance from each point to its
+    nearest other one (the width of the whole set if most coincide; 1 for a
+    single point). A k-d tree makes it ``O(n log n)``.
+
+    Examples
+    --------
+    >>> condition_bandwidth(np.array([[0.0], [0.5], [3.0], [3.5]]))
+    2.0
+    """
+    from scipy.spatial import cKDTree
+
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] < 2:
+        return 1.0
+    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
+    h = BANDWIDTH_FACTOR * float(np.median(nearest))
+    if not h > 0:  # most points coincide: the width of the whole set
+        h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
+    return h
+
+
+def condition_weights(
+    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
+) -> np.ndarray:
+    """Gaussian-kernel weights of demonstrations for a requested start or goal.
+
+    The bandwidth is :data:`BANDWIDTH_FACTOR` times the median, over the
+    demonstrations, of the distance from each one's point to the nearest other
+    one's: demonstrations of one route lie within it of each other, routes
+    that start apart fall out.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_demos, n_dims)
+        Each demonstration's first (or last) sample, normalized units.
+    target : ndarray of shape (n_dims,)
+        The requested start (or goal), normalized units.
+    bandwidth : float, optional
+        :func:`condition_bandwidth` of ``points``, if known already.
+
+    Returns
+    -------
+    weights : ndarray of shape (n_demos,)
+        In ``(0, 1]``, the largest is 1.
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0, 0.0], [0.1, 0.0], [5.0, 5.0], [5.1, 5.0]])
+    >>> np.round(condition_weights(pts, np.array([5.0, 5.05])), 3)
+    array([0.   , 0.   , 1.   , 0.969])
+    """
+    logw = condition_log_weights(points, target, bandwidth)
+    return np.exp(logw - logw.max())
+
+
+def condition_log_weights(
+    points: np.ndarray, target: np.ndarray, bandwidth: float | None = None
+) -> np.ndarray:
+    """Logarithms of :func:`condition_weights`, before normalizing.
+
+    Normalize them over any subset of the demonstrations with
+    ``np.exp(logw[subset] - logw[subset].max())``: however far the target
+    lies, the nearest demonstration of the subset weighs 1 (the weights over
+    all of them may underflow to 0 outside the nearest one's subset).
+
+    Examples
+    --------
+    >>> pts = np.array([[0.0], [1.0], [3.0]])
+    >>> condition_log_weights(pts, np.array([0.0]), bandwidth=1.0)
+    array([-0. , -0.5, -4.5])
+    """
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] < 2:
+        return np.zeros(points.shape[0])
+    d = np.linalg.norm(points - target, axis=1)
+    h = condition_bandwidth(points) if bandwidth is None else bandwidth
+    return -0.5 * (d / h) ** 2
+
+
+def group_columns(column_groups, group: str) -> list[int]:
+    """Indices of the columns of ``group``.
+
+    Examples
+    --------
+    >>> group_columns(("position", "position", "velocity"), "position")
+    [0, 1]
+    """
+    return [i for i, g in enumerate(column_groups) if g == group]
+
+
+def check_condition(values, what: str, column_groups, groups) -> dict | None:
+    """Check a start or goal mapping; return it as ``{group: float array}``.
+
+    Parameters
+    ----------
+    values : mapping of str to array-like, or None
+        The requested values per group, physical units.
+    what : str
+        ``"start"`` or ``"goal"`` (for the messages).
+    column_groups : sequence of str
+        The group of each learned column.
+    groups : sequence of str
+        The learned groups (for the messages).
+
+    Returns
+    -------
+    condition : dict of str to ndarray, or None
+    """
+    if values is None:
+        return None
+    if not isinstance(values, Mapping) or not values:
+        raise ValidationError(
+            f"{what} must be a mapping of group to values, e.g."
+            f" {{'position': [x, y]}}; got {values!r}"
+        )
+    out = {}
+    for g, v in values.items():
+        cols = group_columns(column_groups, g)
+        if not cols:
+            raise ValidationError(
+                f"{what} names group {g!r}, which is not learned; the learned"
+                f" groups are {', '.join(groups)}"
+            )
+        arr = np.asarray(v, dtype=np.float64).reshape(-1)
+        if arr.size != len(cols) or not np.all(np.isfinite(arr)):
+            raise ValidationError(
+                f"{what}[{g!r}] must hold {len(cols)} finite value(s); got"
+                f" {np.asarray(v).tolist()!r}"
+            )
+        out[g] = arr
+    return out
+
+
+def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarray:
+    """Every demonstration's log weight for a checked start or goal.
+
+    Parameters
+    ----------
+    cond : dict of str to ndarray, or None
+        From :func:`check_condition`; ``None`` gives zeros.
+    points : ndarray of shape (n_demos, n_columns)
+        Each demonstration's first (for a start) or last (goal) normalized
+        sample.
+    scaler : GroupScaler
+        The fitted normalization.
+    column_groups : sequence of str
+        The group of each column.
+    cache : dict
+        Kernel widths by ``(key, columns)``: the width depends on the
+        training points only, so it is computed once per model.
+    key : hashable
+        Which points these are (e.g. 0 for the starts, -1 for the goals).
+
+    Returns
+    -------
+    log_weights : ndarray of shape (n_demos,)
+    """
+    if cond is None:
+        return np.zeros(points.shape[0])
+    cols = [c for g in cond for c in group_columns(column_groups, g)]
+    row = scaler.data_min_.copy()
+    for g, v in cond.items():
+        row[group_columns(column_groups, g)] = v
+    target = scaler.transform(row[None, :], weighted=False)[0, cols]
+    pts = points[:, cols]
+    ckey = (key, tuple(cols))
+    if ckey not in cache:
+        cache[ckey] = condition_bandwidth(pts)
+    return condition_log_weights(pts, target, cache[ckey])
+
+
+def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
+    """Shift a path onto ``start`` and ``goal`` with a faded offset.
+
+    The offsets are measured on the first and last of the first ``n_dense``
+    rows (the path at normalized times 0 and 1) and applied to every row at
+    its normalized time ``tq``, faded by :func:`minimum_jerk`.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_rows, n_columns)
+        The path, physical units.
+    tq : ndarray of shape (n_rows,)
+        Normalized time of each row.
+    start, goal : dict of str to ndarray, or None
+        Checked conditions (:func:`check_condition`).
+    column_groups : sequence of str
+        The group of each column.
+    n_dense : int, optional
+        Rows that make the path proper (the rest are extra rows, e.g. key
+        points); all rows by default.
+
+    Returns
+    -------
+    X : ndarray of shape (n_rows, n_columns)
+        A new array (``X`` itself when there is nothing to pin).
+
+    Examples
+    --------
+    >>> X = np.array([[0.0], [1.0], [2.0]])
+    >>> pin(X, np.array([0.0, 0.5, 1.0]), {"p": np.array([1.0])}, None, ("p",))
+    array([[1. ],
+           [1.5],
+           [2. ]])
+    """
+    if start is None and goal is None:
+        return X
+    n = X.shape[0] if n_dense is None else n_dense
+    ramp = minimum_jerk(tq)
+    X = X.copy()
+    for cond, fade, row in ((start, 1.0 - ramp, 0), (goal, ramp, n - 1)):
+        for g, v in (cond or {}).items():
+            pin_offset(X, fade, row, v, group_columns(column_groups, g))
+    return X

@@ -1,0 +1,139 @@
+"""The parameters of KeypointHMM: their names, their checks, their JSON form."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .._errors import ValidationError
+from .._simplify import DISTANCES
+from .._validation import check_nonnegative_scalar, check_positive_int
+from ._decoding import DECODERS, STARTS
+from ._generation import GENERATIONS
+from ._spec import NORMALIZATIONS
+from ._templates import seed_word
+
+__all__ = ["PARAM_NAMES", "ParamsMixin", "check_params", "jsonable", "same"]
+
+#: The constructor parameters, in order.
+PARAM_NAMES = (
+    "groups",
+    "levels",
+    "epsilon",
+    "n_time_bins",
+    "n_points",
+    "distance",
+    "normalization",
+    "weights",
+    "pseudo_transition",
+    "pseudo_emission",
+    "start",
+    "generation",
+    "decoder",
+    "derive_velocity",
+    "n_jobs",
+    "max_templates",
+    "match_window",
+    "random_state",
+)
+
+#: Parameters named by a registry: an unknown name lists the choices.
+_CHOICES = {
+    "normalization": NORMALIZATIONS,
+    "start": STARTS,
+    "generation": GENERATIONS,
+    "decoder": DECODERS,
+    "distance": DISTANCES,
+}
+
+
+def check_params(p: Mapping) -> None:
+    """Check the parameters as :meth:`KeypointHMM.fit` does before reading data.
+
+    ``ndlfd fit`` calls it before it connects to a scheduler and reads files.
+
+    Parameters
+    ----------
+    p : mapping
+        Every name of :data:`PARAM_NAMES` (``KeypointHMM.get_params()``).
+
+    Raises
+    ------
+    ValidationError
+        A value out of its range or choices.
+    """
+    for name, registry in _CHOICES.items():
+        registry.get(p[name])
+    if p["n_points"] is None:
+        check_nonnegative_scalar(p["epsilon"], "epsilon")
+    else:
+        check_positive_int(p["n_points"], "n_points", minimum=2)
+    check_positive_int(p["n_time_bins"], "n_time_bins")
+    if p["pseudo_transition"] is not None:
+        check_nonnegative_scalar(p["pseudo_transition"], "pseudo_transition")
+    check_nonnegative_scalar(p["pseudo_emission"], "pseudo_emission")
+    if p["n_jobs"] is not None:
+        check_positive_int(p["n_jobs"], "n_jobs")
+    if p["max_templates"] is not None:
+        check_positive_int(p["max_templates"], "max_templates")
+    w = check_nonnegative_scalar(p["match_window"], "match_window")
+    if w > 0.5:
+        raise ValidationError(
+            f"match_window must be between 0 and 0.5; got {p['match_window']!r}"
+        )
+    rs = p["random_state"]
+    if not (rs is None or isinstance(rs, (np.random.Generator, np.random.RandomState))):
+        seed_word(rs)  # checks an int (cheap)
+
+
+def same(a, b) -> bool:
+    """``a == b`` for parameter values that may be arrays or Generators."""
+    try:
+        return bool(a == b)
+    except (ValueError, TypeError):
+        return a is b
+
+
+def jsonable(params: dict) -> dict:
+    """The parameters as JSON values (a Generator ``random_state`` is dropped)."""
+    out = {}
+    for k, v in params.items():
+        if isinstance(v, np.generic):
+            v = v.item()
+        if isinstance(v, Mapping):
+            v = {
+                str(kk): (vv.item() if isinstance(vv, np.generic) else vv)
+                for kk, vv in v.items()
+            }
+        if k == "random_state" and not (v is None or isinstance(v, int)):
+            v = None  # a Generator is not stored; generation is deterministic
+        out[k] = v
+    return out
+
+
+class ParamsMixin:
+    """The scikit-learn parameter protocol over :data:`PARAM_NAMES`."""
+
+    def get_params(self, deep: bool = True) -> dict:
+        """Return the constructor parameters (scikit-learn convention)."""
+        return {k: getattr(self, k) for k in PARAM_NAMES}
+
+    def set_params(self, **params):
+        """Set constructor parameters (scikit-learn convention)."""
+        for k, v in params.items():
+            if k not in PARAM_NAMES:
+                raise ValidationError(
+                    f"unknown parameter {k!r}; expected one of: "
+                    + ", ".join(PARAM_NAMES)
+                )
+            setattr(self, k, v)
+        return self
+
+    def __repr__(self) -> str:
+        defaults = type(self)().get_params()
+        changed = {
+            k: v for k, v in self.get_params().items() if not same(v, defaults[k])
+        }
+        inner = ", ".join(f"{k}={v!r}" for k, v in changed.items())
+        return f"{type(self).__name__}({inner})"

@@ -1,0 +1,412 @@
+"""The demonstration spec: what is learned of a demonstration, and how it is encoded.
+
+Fit and generation see a demonstration the same way:
+
+1. **groups** (:func:`resolve_groups`): the physical groups learned, from the
+   parameter ``groups`` and the first demonstration;
+2. **prepare** (:func:`prepare`): velocity derived when wanted, the groups
+   selected;
+3. **scaler** (:func:`scaler_from_ranges`): the group normalization, from the
+   per-column ranges of pass 1 of the fit;
+4. **levels** (:func:`levels_by_group`): the codebook levels of each group;
+5. **reduce** (:meth:`DemoSpec.reduce`): normalize → :func:`ndlfd.simplify`
+   (the key points) → time bins, for one demonstration; the paper's generation
+   decodes the key points' time bins. **encode** (:meth:`DemoSpec.encode`)
+   adds the key points' codebook states, for the fit's second pass.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .._errors import ValidationError
+from .._registry import Registry
+from .._simplify import simplify
+from .._validation import check_positive_int
+from ..codebook import Codebook, TimeBins
+from ..demonstration import Demonstration, with_velocity
+from ..normalize import SCALING_MODES, GroupScaler
+
+__all__ = [
+    "AUTO_GROUPS",
+    "DEFAULT_LEVELS",
+    "NORMALIZATIONS",
+    "DemoSpec",
+    "Reduced",
+    "levels_by_group",
+    "prepare",
+    "resolve_groups",
+    "scaler_from_ranges",
+]
+
+#: The groups ``groups="auto"`` learns when a demonstration has them, in this
+#: order (velocity also when it can be derived from position).
+AUTO_GROUPS = ("position", "velocity", "orientation", "force")
+
+#: Codebook levels per physical group when ``levels`` does not name the group
+#: (the paper's 20 for position and 10 for velocity).
+DEFAULT_LEVELS = {"position": 20, "velocity": 10, "orientation": 10, "force": 10}
+
+#: The scaler's range modes under the learner's parameter name (the errors
+#: then say "normalization").
+NORMALIZATIONS = Registry("normalization")
+for _name in SCALING_MODES:
+    NORMALIZATIONS.add(_name, SCALING_MODES.get(_name))
+
+
+def resolve_groups(groups, first: Demonstration, *, derive_velocity=True):
+    """The groups learned: the parameter ``groups`` resolved on a demonstration.
+
+    Parameters
+    ----------
+    groups : "auto", str, sequence of str or None
+        ``"auto"``: those of :data:`AUTO_GROUPS` the demonstration has
+        (velocity also when ``derive_velocity`` and it has position), or all
+        of its groups if none; ``None``: all of its groups; a name or names:
+        these.
+    first : Demonstration
+        The first training demonstration.
+    derive_velocity : bool, default=True
+        Whether a missing velocity group is derived from position.
+
+    Returns
+    -------
+    groups : tuple of str
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> d = Demonstration.from_arrays(np.arange(3.0), position=np.zeros((3, 2)))
+    >>> resolve_groups("auto", d)
+    ('position', 'velocity')
+    >>> resolve_groups("auto", d, derive_velocity=False)
+    ('position',)
+    """
+    if groups is None:
+        return tuple(first.group_names)
+    if isinstance(groups, str) and groups == "auto":
+        have = set(first.group_names)
+        if derive_velocity and "position" in have:
+            have.add("velocity")
+        auto = tuple(g for g in AUTO_GROUPS if g in have)
+        return auto or tuple(first.group_names)
+    if isinstance(groups, str):
+        return (groups,)
+    out = tuple(groups)
+    if not out or not all(isinstance(g, str) for g in out):
+        raise ValidationError(
+            f"groups must be a non-empty sequence of group names; got {out!r}"
+        )
+    if len(set(out)) != len(out):
+        raise ValidationError(f"groups must not repeat a name; got {out!r}")
+    return out
+
+
+def prepare(
+    demo: Demonstration,
+    groups: Sequence[str],
+    *,
+    derive_velocity: bool = True,
+    cli: bool = False,
+) -> Demonstration:
+    """The demonstration's learned groups, velocity derived if wanted and missing.
+
+    Parameters
+    ----------
+    demo : Demonstration
+    groups : sequence of str
+        The learned groups (:func:`resolve_groups`), in this order.
+    derive_velocity : bool, default=True
+    cli : bool, default=False
+        Errors name the command line's ``--group`` and ``--groups`` flags.
+
+    Returns
+    -------
+    demo : Demonstration
+        With exactly ``groups``.
+    """
+    if (
+        "velocity" in groups
+        and "velocity" not in demo.group_names
+        and "position" in demo.group_names
+        and derive_velocity
+    ):
+        demo = with_velocity(demo)
+    missing = [g for g in groups if g not in demo.group_names]
+    if missing:
+        hint = (
+            f"; map its columns with --group {missing[0]}=NAME,... or leave it"
+            " out of --groups"
+            if cli
+            else ""
+        )
+        raise ValidationError(
+            f"a demonstration lacks group(s) {', '.join(missing)}; it has"
+            f" {', '.join(demo.group_names)}{hint}"
+        )
+    return demo.select(*groups)
+
+
+def levels_by_group(levels, groups: Sequence[str]) -> dict[str, int]:
+    """Codebook levels of each learned group.
+
+    Parameters
+    ----------
+    levels : int, mapping of str to int, or None
+        One int for all groups, or per group; groups not named fall back to
+        :data:`DEFAULT_LEVELS`.
+    groups : sequence of str
+
+    Returns
+    -------
+    levels : dict of str to int
+
+    Examples
+    --------
+    >>> levels_by_group({"velocity": 8}, ("position", "velocity"))
+    {'position': 20, 'velocity': 8}
+    """
+    lv = {} if levels is None else levels
+    if isinstance(lv, numbers.Integral) and not isinstance(lv, bool):
+        return {g: check_positive_int(lv, "levels") for g in groups}
+    if not isinstance(lv, Mapping):
+        raise ValidationError(
+            f"levels must be an int or a mapping of group to int; got {lv!r}"
+        )
+    unknown = [g for g in lv if g not in groups]
+    if unknown:
+        raise ValidationError(
+            f"levels names group(s) {', '.join(map(repr, unknown))} that are not"
+            f" learned; the learned groups are {', '.join(groups)}"
+        )
+    out = {}
+    for g in groups:
+        if g in lv:
+            out[g] = check_positive_int(lv[g], f"levels[{g!r}]")
+        elif g in DEFAULT_LEVELS:
+            out[g] = DEFAULT_LEVELS[g]
+        else:
+            raise ValidationError(
+                f"no codebook levels for group {g!r}; pass levels={{{g!r}: N}}"
+            )
+    return out
+
+
+def scaler_from_ranges(ranges, columns, col_groups, *, normalization, weights):
+    """Exactly ``GroupScaler(mode, weights).fit(prepared demos)``, from pass 1.
+
+    Parameters
+    ----------
+    ranges : RangeStats
+        Per-column extremes and the sample count of the demonstrations.
+    columns, col_groups : sequence of str
+        The learned columns and the group of each.
+    normalization : str
+        The scaler's mode.
+    weights : mapping of str to float or None
+
+    Returns
+    -------
+    scaler : GroupScaler
+    """
+    return GroupScaler.from_data_ranges(
+        ranges.data_min,
+        ranges.data_max,
+        col_groups,
+        n_samples=ranges.n_samples,
+        columns=columns,
+        mode=normalization,
+        weights=weights,
+    )
+
+
+@dataclass(frozen=True)
+class Reduced:
+    """One demonstration normalized, reduced to its key points and time-binned.
+
+    Attributes
+    ----------
+    values : ndarray of shape (n_samples, n_columns)
+        Normalized (unweighted) values.
+    tau : ndarray of shape (n_samples,)
+        Normalized times (0 to 1).
+    keypoints : ndarray of shape (n_keys,), dtype int64
+        Key-point indices.
+    key_bins : ndarray of shape (n_keys,), dtype int64
+        Time bin of each key point.
+    key_states : ndarray of shape (n_keys,), dtype int64 or None
+        Codebook state of each key point (:meth:`DemoSpec.encode` only).
+    n_clipped : int
+        Values the codebook clipped (:meth:`DemoSpec.encode` only).
+    """
+
+    values: np.ndarray
+    tau: np.ndarray
+    keypoints: np.ndarray
+    key_bins: np.ndarray
+    key_states: np.ndarray | None = None
+    n_clipped: int = 0
+
+
+@dataclass(frozen=True)
+class DemoSpec:
+    """What is learned of a demonstration and how it is encoded (fit and generate).
+
+    The fit's first pass knows the groups and columns only; its second pass
+    and a fitted model also the scaler, codebook and time bins.
+
+    Attributes
+    ----------
+    groups : tuple of str
+        The learned groups.
+    columns, col_groups : tuple of str
+        The learned columns and the group of each.
+    derive_velocity : bool
+    epsilon : float
+    n_points : int or None
+    distance : str
+        The reduction's parameters (see :func:`ndlfd.simplify`).
+    scaler : GroupScaler or None
+    codebook : Codebook or None
+    time_bins : TimeBins or None
+    cli : bool
+        Errors name the command line's flags.
+    """
+
+    groups: tuple[str, ...] = ()
+    columns: tuple[str, ...] = ()
+    col_groups: tuple[str, ...] = ()
+    derive_velocity: bool = True
+    epsilon: float = 0.05
+    n_points: int | None = None
+    distance: str = "line"
+    scaler: GroupScaler | None = None
+    codebook: Codebook | None = None
+    time_bins: TimeBins | None = None
+    cli: bool = False
+
+    @classmethod
+    def fitted(cls, params: Mapping, ranges, groups, columns, col_groups, **kw):
+        """The spec of a fit's second pass: the scaler from the ranges of pass 1.
+
+        Parameters
+        ----------
+        params : mapping
+            The estimator's parameters (``KeypointHMM.get_params()``).
+        ranges : RangeStats
+            What pass 1 found.
+        groups, columns, col_groups : tuple of str
+        **kw
+            Other fields (``cli``).
+
+        Returns
+        -------
+        spec : DemoSpec
+        """
+        return cls(
+            groups=groups,
+            columns=columns,
+            col_groups=col_groups,
+            derive_velocity=params["derive_velocity"],
+            epsilon=params["epsilon"],
+            n_points=params["n_points"],
+            distance=params["distance"],
+            scaler=scaler_from_ranges(
+                ranges,
+                columns,
+                col_groups,
+                normalization=params["normalization"],
+                weights=params["weights"],
+            ),
+            codebook=Codebook.from_groups(
+                levels_by_group(params["levels"], groups), col_groups
+            ),
+            time_bins=TimeBins(params["n_time_bins"]),
+            **kw,
+        )
+
+    @classmethod
+    def of_model(cls, est) -> DemoSpec:
+        """The spec of a fitted KeypointHMM (its parameters and learned stages)."""
+        return cls(
+            groups=est.groups_,
+            columns=est.columns_,
+            col_groups=est.column_groups_,
+            derive_velocity=est.derive_velocity,
+            epsilon=est.epsilon,
+            n_points=est.n_points,
+            distance=est.distance,
+            scaler=est.scaler_,
+            codebook=est.codebook_,
+            time_bins=est.time_bins_,
+        )
+
+    def prepared(self, demo: Demonstration) -> Demonstration:
+        """:func:`prepare` of a training demonstration, checked against the first."""
+        d = prepare(
+            demo, self.groups, derive_velocity=self.derive_velocity, cli=self.cli
+        )
+        if d.columns != self.columns or d.groups != self.col_groups:
+            raise ValidationError(
+                "all demonstrations must have the same columns; the first has"
+                f" {self.columns} and this one has {d.columns}"
+            )
+        return d
+
+    @property
+    def column_weights(self) -> np.ndarray | None:
+        """The scaler's per-column weights for the reduction (None if all 1)."""
+        w = self.scaler.column_weights_
+        return None if np.all(w == 1.0) else w
+
+    def reduce(self, d: Demonstration, *, n_jobs=None) -> Reduced:
+        """Normalize a prepared demonstration, find its key points, bin their times.
+
+        Parameters
+        ----------
+        d : Demonstration
+            Prepared (:meth:`prepared`), with the learned columns.
+        n_jobs : int, optional
+            Threads of the reduction (see :func:`ndlfd.simplify`).
+
+        Returns
+        -------
+        reduced : Reduced
+        """
+        u = self.scaler.transform(d, weighted=False)
+        idx = simplify(
+            u,
+            None if self.n_points is not None else self.epsilon,
+            distance=self.distance,
+            weights=self.column_weights,
+            times=d.t if self.distance == "sed" else None,
+            n_points=self.n_points,
+            n_jobs=n_jobs,
+        )
+        tau = self.time_bins.normalize(d.t)
+        return Reduced(u, tau, idx, self.time_bins.transform(tau)[idx])
+
+    def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
+        """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).
+
+        Parameters
+        ----------
+        d : Demonstration
+            Prepared (:meth:`prepared`), with the learned columns.
+        n_jobs : int, optional
+            Threads of the reduction.
+
+        Returns
+        -------
+        reduced : Reduced
+            With ``key_states`` and ``n_clipped``.
+        """
+        r = self.reduce(d, n_jobs=n_jobs)
+        states, clipped = self.codebook.encode(
+            r.values[r.keypoints], return_n_clipped=True
+        )
+        return replace(r, key_states=states, n_clipped=clipped)

@@ -1,0 +1,227 @@
+"""Generation: the blend, conditioning on a start and goal, the band."""
+
+import numpy as np
+import pytest
+
+from learner_helpers import (
+    reaches,
+    resample,
+    tight_starts,
+    two_routes,
+    waves,
+)
+from ndlfd import (
+    ValidationError,
+    hmm,
+)
+from ndlfd.demonstration import Demonstration
+from ndlfd.learner import KeypointHMM
+from ndlfd.metrics import dtw_distance
+
+
+def test_generated_path_is_an_average_not_a_copy():
+    # smooth demonstrations with their own timing and offsets: the generated
+    # path is closer to a held-out one than a typical training demonstration
+    # is (an average), and closer than the time-aligned mean where timing varies
+    t = np.linspace(0.0, 1.0, 300)
+    rng = np.random.default_rng(7)
+    demos = []
+    for _ in range(7):
+        warp = t ** rng.uniform(0.6, 1.6)  # each runs the shape at its own pace
+        off = rng.normal(0, 0.05, 2)
+        P = np.column_stack([np.cos(3 * warp), np.sin(5 * warp)]) + off
+        demos.append(Demonstration.from_arrays(t * rng.uniform(2, 3), position=P))
+    test, train = demos[0], demos[1:]
+    model = KeypointHMM(groups=("position",), epsilon=0.01).fit(train)
+    P = model.generate(test.t, dense=True).get("position")
+    T = test.get("position")
+    mine = dtw_distance(P, T, normalize=True)
+    each = [dtw_distance(d.get("position"), T, normalize=True) for d in train]
+    assert mine < np.median(each)
+    assert all(not np.allclose(P, d.get("position")) for d in train)
+    tau = [(d.t - d.t[0]) / d.duration for d in train]
+    at = (test.t - test.t[0]) / test.duration
+    mean = np.mean(
+        [
+            np.column_stack([np.interp(at, s, c) for c in d.get("position").T])
+            for s, d in zip(tau, train, strict=True)
+        ],
+        axis=0,
+    )
+    assert mine < dtw_distance(mean, T, normalize=True)
+
+
+def test_identical_demonstrations_are_reproduced_exactly():
+    t = np.linspace(0.0, 3.0, 40)
+    P = np.column_stack([np.sin(t), t**2])
+    d = Demonstration.from_arrays(t, position=P)
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10).fit([d] * 3)
+    path, std = model.generate(t, dense=True, return_std=True)
+    np.testing.assert_array_equal(path.t, t)
+    np.testing.assert_allclose(path.X, P, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(std, 0.0, atol=1e-12)
+
+
+def test_start_and_goal_are_honoured_and_velocity_is_the_derivative(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=40).fit(train)
+    start, goal = [0.3, -0.2], [0.1, 0.4]
+    path = model.generate(
+        test.t, dense=True, start={"position": start}, goal={"position": goal}
+    )
+    P = path.get("position")
+    np.testing.assert_array_equal(P[0], start)
+    np.testing.assert_array_equal(P[-1], goal)
+    np.testing.assert_allclose(
+        path.get("velocity"), np.gradient(P, test.t, axis=0), rtol=0, atol=1e-12
+    )
+    # key points: the first and last are at the ends of the timing, pinned too
+    keys = model.generate(test.t, start={"position": start}, goal={"position": goal})
+    assert keys.t[0] == test.t[0] and keys.t[-1] == test.t[-1]
+    np.testing.assert_allclose(keys.get("position")[[0, -1]], [start, goal], atol=1e-12)
+
+
+def test_the_last_sample_is_at_the_end_of_the_timing(square):
+    train, _ = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=20).fit(train)
+    grid = np.linspace(0.0, 3.0, 61)
+    assert model.generate(grid, dense=True).t[-1] == 3.0
+    assert model.generate(grid).t[-1] == 3.0
+
+
+def test_a_conditioned_path_follows_the_matching_route():
+    demos = two_routes()
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=30)
+    model.fit(demos)
+    t = np.linspace(0.0, 2.0, 200)
+    routes = {
+        1.0: np.mean([d.get("position") for d in demos[:4]], axis=0),
+        -1.0: np.mean([d.get("position") for d in demos[4:]], axis=0),
+    }
+    for sign, mine in routes.items():
+        path = model.generate(t, dense=True, start={"position": [0.0, sign]})
+        P = path.get("position")
+        other = routes[-sign]
+        assert dtw_distance(P, mine, normalize=True) < 0.02
+        assert dtw_distance(P, other, normalize=True) > 0.5
+        # the mean of both routes (what an unconditioned average gives) is far
+        both = (mine + other) / 2
+        assert dtw_distance(P, both, normalize=True) > 0.25
+
+
+def test_band_is_the_posterior_spread_of_the_centroids():
+    demos = two_routes(per_route=2)
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10)
+    model.fit(demos)
+    t = np.linspace(0.0, 2.0, 50)
+    _, std = model.generate(t, dense=True, return_std=True)
+    assert std.shape == (50, 2)
+    # independent check at one bin: posterior of the segment model by hand
+    post = hmm.posterior(model.segment_model_, np.arange(10))
+    C = model.centroids_[np.searchsorted(model.centroid_states_, post.states)]
+    g = post.probabilities[4] / post.probabilities[4].sum()
+    mu = g @ C
+    sd_u = np.sqrt(g @ (C - mu) ** 2)
+    sd = sd_u * (model.scaler_.data_max_ - model.scaler_.data_min_)
+    tau = (t - t[0]) / (t[-1] - t[0])
+    at = np.flatnonzero(np.isclose(tau, 0.45))  # bin 4's centre
+    if at.size:
+        np.testing.assert_allclose(std[at[0]], sd, rtol=1e-9)
+    # two routes apart in y: the band's y spread is about the routes' distance
+    assert std[:, 1].max() > 0.5
+    with pytest.raises(ValidationError, match="return_std"):
+        model.set_params(generation="paper").generate(t, return_std=True)
+
+
+def test_bad_start_and_goal(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=20).fit(train)
+    with pytest.raises(ValidationError, match="mapping of group"):
+        model.generate(test.t, start=[0, 0])
+    with pytest.raises(ValidationError, match="not learned"):
+        model.generate(test.t, start={"force": [0, 0]})
+    with pytest.raises(ValidationError, match=r"2 finite value"):
+        model.generate(test.t, goal={"position": [0, np.nan]})
+    with pytest.raises(ValidationError, match="at least two"):
+        model.generate([1.0])
+
+
+def test_paper_dense_path_is_linear_interpolation_of_its_key_points(square):
+    train, test = square
+    model = KeypointHMM(epsilon=0.05, n_time_bins=40, generation="paper").fit(train)
+    keys = model.generate(test)
+    dense = model.generate(test, dense=True)
+    for c in range(keys.X.shape[1]):
+        np.testing.assert_allclose(
+            dense.X[:, c], np.interp(test.t, keys.t, keys.X[:, c]), atol=1e-12
+        )
+
+
+def test_a_reach_with_orientation_is_smooth_not_a_staircase():
+    # defaults on a 3-D reach: orientation learned (not dropped), no standing
+    # still, the demonstrations' speed, a start among theirs, unit quaternions
+    demos = reaches()
+    model = KeypointHMM().fit(demos[1:])
+    assert model.groups_ == ("position", "velocity", "orientation")
+    grid = np.linspace(0.0, 3.0, 300)
+    path = model.generate(grid, dense=True)
+    P = path.get("position")
+    steps = np.linalg.norm(np.diff(P, axis=0), axis=1)
+    interior = steps[5:-5]  # a minimum-jerk reach is at rest only at its ends
+    assert np.all(interior > 1e-5)
+    speed = steps / np.diff(grid)
+    demo_peak = np.median(
+        [
+            np.max(np.linalg.norm(np.diff(d.get("position"), axis=0), axis=1)
+                   / np.diff(d.t)) * d.duration / 3.0
+            for d in demos[1:]
+        ]
+    )  # fmt: skip
+    assert 0.8 < speed.max() / demo_peak < 1.25
+    starts = np.array([d.get("position")[0] for d in demos[1:]])
+    assert np.linalg.norm(P[0] - starts.mean(axis=0)) < 2 * np.max(
+        np.linalg.norm(starts - starts.mean(axis=0), axis=1)
+    )
+    np.testing.assert_allclose(
+        np.linalg.norm(path.get("orientation"), axis=1), 1.0, atol=1e-12
+    )
+    # the held-out reach: as close as the mean of the demonstrations (the
+    # endpoints' 1 cm scatter bounds both)
+    held_out = resample(demos[0], grid)
+    mean = np.mean([resample(d, grid) for d in demos[1:]], axis=0)
+    err = np.linalg.norm(P - held_out, axis=1).mean()
+    assert err < 1.1 * np.linalg.norm(mean - held_out, axis=1).mean()
+
+
+def test_a_refit_forgets_the_conditioning_widths_of_the_last_fit():
+    a = [Demonstration.from_arrays(t, position=P) for t, P in waves(10, seed=1)]
+    b = [Demonstration.from_arrays(t, position=3 * P) for t, P in waves(10, seed=2)]
+    kw = dict(epsilon=0.02, n_time_bins=20)
+    start = {"position": [0.0, 0.1]}
+    t = np.linspace(0.0, 2.0, 50)
+    model = KeypointHMM(**kw).fit(a)
+    model.generate(t, dense=True, start=start)  # widths of a, kept
+    model.fit(b)
+    got = model.generate(t, dense=True, start=start)
+    fresh = KeypointHMM(**kw).fit(b).generate(t, dense=True, start=start)
+    np.testing.assert_array_equal(got.X, fresh.X)
+
+
+@pytest.mark.parametrize("offset", [0.02, 0.5, 30.0])
+def test_a_start_nearest_to_a_demonstration_that_is_no_template(offset):
+    # the kernel weight of every kept template underflows to 0 when the start
+    # lies beyond a demonstration that is not among them: a path all the same
+    demos = tight_starts()
+    model = KeypointHMM(max_templates=200, epsilon=0.05).fit(demos)
+    starts = model.first_values_[:, :2]
+    others = np.setdiff1d(np.arange(len(demos)), model.template_indices_)
+    centre = starts.mean(axis=0)
+    j = others[np.argmax(np.linalg.norm(starts[others] - centre, axis=1))]
+    away = (starts[j] - centre) / np.linalg.norm(starts[j] - centre)
+    here = demos[j].X[0] + offset * away  # demonstration j is the nearest
+    path = model.generate(demos[0].t, dense=True, start={"position": here})
+    P = path.get("position")
+    assert np.isfinite(P).all()
+    np.testing.assert_allclose(P[0], here, atol=1e-12)
+    # it ends where the demonstrations end
+    np.testing.assert_allclose(P[-1], [2.0, 0.0], atol=0.05)
