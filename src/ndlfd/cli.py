@@ -1162,14 +1162,14 @@ def _add_plot(sub) -> None:
 
 # ------------------------------------------------------------------ jobs
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from .experiments import run_demo
+    from .jobs import run_demo
 
     run_demo(args.out, quick=args.quick, plot=not args.no_plot, echo=print)
     return 0
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
-    from .reproduction import reproduce
+    from .jobs import reproduce
 
     reproduce(args.out, quick=args.quick, echo=print)
     return 0
@@ -1205,7 +1205,7 @@ def _add_jobs(sub) -> None:
 
 # --------------------------------------------------------------------- evaluate
 def _cmd_evaluate(args: argparse.Namespace) -> int:
-    from .evaluation import evaluate
+    from .jobs import evaluate
 
     protocols = _split_names(args.protocols, "--protocols")
     result = evaluate(

@@ -11,12 +11,14 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from . import synth
-from ._errors import MissingExtraError
-from .demonstration import Demonstration
-from .io import write_csv
-from .learner import KeypointHMM
-from .metrics import mean_demo_baseline, path_errors
+from .. import plot as _plot
+from .. import synth
+from .._errors import MissingExtraError
+from ..datasets import load_lasa
+from ..demonstration import Demonstration
+from ..io import write_csv
+from ..learner import KeypointHMM
+from ..metrics import mean_demo_baseline, path_errors
 
 __all__ = ["run_demo"]
 
@@ -50,9 +52,7 @@ def _try_plot():
         import matplotlib  # noqa: F401
     except ImportError:
         return None
-    from . import plot
-
-    return plot
+    return _plot
 
 
 def _learn_and_generate(train, test, settings: dict):
@@ -102,8 +102,6 @@ def run_demo(
     train, test = synth.make_dataset("square", n_demos=n_demos, random_state=0)
     jobs.append(("square", train, test, DEMO_SETTINGS["square"]))
     try:
-        from .datasets import load_lasa
-
         lasa = load_lasa("Angle")
         jobs.append(("lasa-Angle", lasa[:-1], lasa[-1], DEMO_SETTINGS["lasa"]))
     except MissingExtraError:
