@@ -92,7 +92,9 @@ def reproduce(
         ``"fig2"``, ``"fig3"``, ``"fig5"``, ``"fig6"`` (each keyed by
         distance, Fig. 5 first by shape), the sweeps ``"fig3_sweep"``,
         ``"fig5_sweep"``, ``"fig6_sweep"``, ``"sentences"``, ``"files"`` and
-        ``"seconds"``.
+        ``"seconds"`` (the run time: printed through ``echo``, never written
+        into ``report.md``, so a rerun leaves the report byte for byte the
+        same).
 
     Examples
     --------
