@@ -11,7 +11,6 @@ here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics``,
 from . import (
     baselines,
     datasets,
-    evaluation,
     hmm,
     io,
     metrics,
@@ -36,8 +35,8 @@ from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
 from .datasets import load_lasa
 from .demonstration import Demonstration, with_velocity
-from .evaluation import evaluate
 from .hmm import DiscreteHMM
+from .jobs import evaluate, evaluation
 from .learner import KeypointHMM
 from .normalize import GroupScaler
 

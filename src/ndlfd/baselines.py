@@ -143,7 +143,12 @@ def _resampled(demos: Sequence[Demonstration], n: int) -> np.ndarray:
 
 
 def _faded_offset(path: np.ndarray, tau: np.ndarray, start) -> np.ndarray:
-    """Shift ``path`` to begin at ``start``, fading the shift out by the end."""
+    """Shift ``path`` to begin at ``start``, fading the shift out by the end.
+
+    ``path`` is returned unchanged when ``start`` is None.
+    """
+    if start is None:
+        return path
     return pin_offset(path.copy(), 1.0 - minimum_jerk(tau), 0, start)
 
 
@@ -159,7 +164,14 @@ def _require(module: str, what: str):
 
 
 class _Generator:
-    """Shared plumbing: checked inputs, the fitted check, the start position."""
+    """The fit and generate every generator shares, written once.
+
+    :meth:`fit` imports the optional package, checks the parameters
+    (:meth:`_params`) and the demonstrations, then calls :meth:`_learn`;
+    :meth:`generate` checks that the generator is fitted, the time stamps and
+    the start, then calls :meth:`_path`. A generator writes only those three
+    hooks.
+    """
 
     #: Whether ``generate(..., return_std=True)`` can return a standard deviation.
     has_std = False
@@ -172,6 +184,70 @@ class _Generator:
         """Raise :class:`MissingExtraError` when an optional package is missing."""
         for module in cls._requires:
             _require(module, cls._name)
+
+    def fit(self, demos, y=None):
+        """Learn from the demonstrations (the class says how).
+
+        Parameters
+        ----------
+        demos : list of Demonstration
+            Training demonstrations with a ``"position"`` group.
+        y : None
+            Ignored.
+
+        Returns
+        -------
+        self : the generator
+
+        Raises
+        ------
+        MissingExtraError
+            The generator's optional package is not installed.
+        ValidationError
+            A parameter or a demonstration is not valid.
+        """
+        extra = _require(self._requires[0], self._name) if self._requires else None
+        params = self._params()
+        demos = _check_demos(demos)
+        self._learn(demos, extra, **params)
+        self.n_dims_ = demos[0].get(GROUP).shape[1]
+        return self
+
+    def generate(self, times, *, start=None) -> np.ndarray:
+        """Positions at the given time stamps, optionally from ``start``.
+
+        Parameters
+        ----------
+        times : array-like of shape (n_samples,)
+            Strictly increasing time stamps (at least two).
+        start : array-like of shape (n_dims,), optional
+            The position to start at (the class says how it is reached).
+
+        Returns
+        -------
+        path : ndarray of shape (n_samples, n_dims)
+        """
+        return self._path(*self._checked(times, start))
+
+    def _params(self) -> dict:
+        """The checked parameters :meth:`_learn` takes (none by default)."""
+        return {}
+
+    def _learn(self, demos: list[Demonstration], extra, **params) -> None:
+        """Set the fitted attributes from checked demonstrations and parameters.
+
+        ``extra`` is the optional module of ``_requires[0]`` (None without one).
+        """
+        raise NotImplementedError
+
+    def _path(self, t: np.ndarray, start: np.ndarray | None) -> np.ndarray:
+        """The path of shape ``(len(t), n_dims)`` at checked time stamps."""
+        raise NotImplementedError
+
+    def _checked(self, times, start) -> tuple[np.ndarray, np.ndarray | None]:
+        """The checked time stamps and start position of a fitted generator."""
+        self._check_fitted()
+        return _check_times(times), self._check_start(start)
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "n_dims_"):
@@ -223,43 +299,12 @@ class MeanBaseline(_Generator):
 
     _name = "mean"
 
-    def fit(self, demos, y=None) -> MeanBaseline:
-        """Remember the demonstrations.
+    def _learn(self, demos, extra) -> None:
+        self.demos_ = demos
 
-        Parameters
-        ----------
-        demos : list of Demonstration
-            Training demonstrations with a ``"position"`` group.
-        y : None
-            Ignored.
-
-        Returns
-        -------
-        self : MeanBaseline
-        """
-        self.demos_ = _check_demos(demos)
-        self.n_dims_ = self.demos_[0].get(GROUP).shape[1]
-        return self
-
-    def generate(self, times, *, start=None) -> np.ndarray:
-        """Mean position at each time stamp, optionally from ``start``.
-
-        Parameters
-        ----------
-        times : array-like of shape (n_samples,)
-            Strictly increasing time stamps (at least two).
-        start : array-like of shape (n_dims,), optional
-            The position to start at.
-
-        Returns
-        -------
-        path : ndarray of shape (n_samples, n_dims)
-        """
-        self._check_fitted()
-        t = _check_times(times)
-        start = self._check_start(start)
+    def _path(self, t, start):
         path = mean_demo_baseline(self.demos_, t, GROUP)
-        return path if start is None else _faded_offset(path, unit_time(t), start)
+        return _faded_offset(path, unit_time(t), start)
 
 
 @BASELINES.register("promp")
@@ -296,53 +341,24 @@ class ProMPBaseline(_Generator):
         self.n_weights_per_dim = n_weights_per_dim
         self.n_grid = n_grid
 
-    def fit(self, demos, y=None) -> ProMPBaseline:
-        """Learn the ProMP's weight distribution from the demonstrations.
+    def _params(self) -> dict:
+        return {
+            "n_w": check_positive_int(self.n_weights_per_dim, "n_weights_per_dim"),
+            "n": check_positive_int(self.n_grid, "n_grid", minimum=2),
+        }
 
-        Parameters
-        ----------
-        demos : list of Demonstration
-            Training demonstrations with a ``"position"`` group.
-        y : None
-            Ignored.
-
-        Returns
-        -------
-        self : ProMPBaseline
-        """
-        promp = _require("movement_primitives.promp", self._name)
-        n_w = check_positive_int(self.n_weights_per_dim, "n_weights_per_dim")
-        n = check_positive_int(self.n_grid, "n_grid", minimum=2)
-        demos = _check_demos(demos)
+    def _learn(self, demos, promp, *, n_w: int, n: int) -> None:
         Y = _resampled(demos, n)
         model = promp.ProMP(n_dims=Y.shape[2], n_weights_per_dim=n_w)
         # ProMP normalizes its time arrays in place: hand it its own copy
         model.imitate(np.tile(np.linspace(0.0, 1.0, n), (len(demos), 1)), Y)
         self.promp_ = model
-        self.n_dims_ = Y.shape[2]
-        return self
 
-    def generate(self, times, *, start=None) -> np.ndarray:
-        """The (start-conditioned) mean trajectory at each time stamp.
-
-        Parameters
-        ----------
-        times : array-like of shape (n_samples,)
-            Strictly increasing time stamps (at least two).
-        start : array-like of shape (n_dims,), optional
-            Condition the ProMP on this position at normalized time 0.
-
-        Returns
-        -------
-        path : ndarray of shape (n_samples, n_dims)
-        """
-        self._check_fitted()
-        tau = unit_time(_check_times(times))
-        start = self._check_start(start)
+    def _path(self, t, start):
         model = self.promp_
         if start is not None:
             model = model.condition_position(start, t=0.0, t_max=1.0)
-        return np.asarray(model.mean_trajectory(tau.copy()), dtype=float)
+        return np.asarray(model.mean_trajectory(unit_time(t).copy()), dtype=float)
 
 
 @BASELINES.register("gmr")
@@ -383,25 +399,14 @@ class GMRBaseline(_Generator):
         self.n_grid = n_grid
         self.random_state = random_state
 
-    def fit(self, demos, y=None) -> GMRBaseline:
-        """Fit the Gaussian mixture to ``(tau, position)`` samples.
+    def _params(self) -> dict:
+        return {
+            "k": check_positive_int(self.n_components, "n_components"),
+            "n": check_positive_int(self.n_grid, "n_grid", minimum=2),
+            "seed": int(check_random_state(self.random_state).integers(2**31 - 1)),
+        }
 
-        Parameters
-        ----------
-        demos : list of Demonstration
-            Training demonstrations with a ``"position"`` group.
-        y : None
-            Ignored.
-
-        Returns
-        -------
-        self : GMRBaseline
-        """
-        gmr = _require("gmr", self._name)
-        k = check_positive_int(self.n_components, "n_components")
-        n = check_positive_int(self.n_grid, "n_grid", minimum=2)
-        seed = int(check_random_state(self.random_state).integers(2**31 - 1))
-        demos = _check_demos(demos)
+    def _learn(self, demos, gmr, *, k: int, n: int, seed: int) -> None:
         Y = _resampled(demos, n)
         X = np.column_stack(
             [np.tile(np.linspace(0.0, 1.0, n), len(demos)), Y.reshape(-1, Y.shape[2])]
@@ -421,30 +426,12 @@ class GMRBaseline(_Generator):
             oracle_approximating_shrinkage=True,
         )
         self.gmm_ = gmm
-        self.n_dims_ = Y.shape[2]
-        return self
 
-    def generate(self, times, *, start=None) -> np.ndarray:
-        """Conditional mean position at each time stamp, optionally from ``start``.
-
-        Parameters
-        ----------
-        times : array-like of shape (n_samples,)
-            Strictly increasing time stamps (at least two).
-        start : array-like of shape (n_dims,), optional
-            The position to start at (faded offset).
-
-        Returns
-        -------
-        path : ndarray of shape (n_samples, n_dims)
-        """
-        self._check_fitted()
-        tau = unit_time(_check_times(times))
-        start = self._check_start(start)
+    def _path(self, t, start):
+        tau = unit_time(t)
         q = ((tau - self.center_[0]) / self.scale_[0])[:, None]
         path = self.gmm_.predict(np.array([0]), q) * self.scale_[1:] + self.center_[1:]
-        path = np.asarray(path, dtype=float)
-        return path if start is None else _faded_offset(path, tau, start)
+        return _faded_offset(np.asarray(path, dtype=float), tau, start)
 
 
 @BASELINES.register("dmp")
@@ -489,25 +476,15 @@ class DMPBaseline(_Generator):
         self.n_grid = n_grid
         self.n_steps = n_steps
 
-    def fit(self, demos, y=None) -> DMPBaseline:
-        """Fit the DMP's forcing term to the time-aligned mean.
-
-        Parameters
-        ----------
-        demos : list of Demonstration
-            Training demonstrations with a ``"position"`` group.
-        y : None
-            Ignored.
-
-        Returns
-        -------
-        self : DMPBaseline
-        """
-        dmp = _require("movement_primitives.dmp", self._name)
-        n_w = check_positive_int(self.n_weights_per_dim, "n_weights_per_dim")
-        n = check_positive_int(self.n_grid, "n_grid", minimum=3)
+    def _params(self) -> dict:
+        params = {
+            "n_w": check_positive_int(self.n_weights_per_dim, "n_weights_per_dim"),
+            "n": check_positive_int(self.n_grid, "n_grid", minimum=3),
+        }
         check_positive_int(self.n_steps, "n_steps", minimum=2)
-        demos = _check_demos(demos)
+        return params
+
+    def _learn(self, demos, dmp, *, n_w: int, n: int) -> None:
         duration = float(np.mean([d.t[-1] - d.t[0] for d in demos]))
         grid = np.linspace(0.0, 1.0, n)
         mean = mean_demo_baseline(demos, grid, GROUP)
@@ -521,27 +498,9 @@ class DMPBaseline(_Generator):
         self.dmp_ = model
         self.start_ = mean[0].copy()
         self.goal_ = mean[-1].copy()
-        self.n_dims_ = mean.shape[1]
-        return self
 
-    def generate(self, times, *, start=None) -> np.ndarray:
-        """Run the DMP over the requested duration, from ``start`` if given.
-
-        Parameters
-        ----------
-        times : array-like of shape (n_samples,)
-            Strictly increasing time stamps (at least two).
-        start : array-like of shape (n_dims,), optional
-            The DMP's start position (``start_y``).
-
-        Returns
-        -------
-        path : ndarray of shape (n_samples, n_dims)
-        """
-        self._check_fitted()
+    def _path(self, t, start):
         dmp = _require("movement_primitives.dmp", self._name)
-        t = _check_times(times)
-        start = self._check_start(start)
         duration = float(t[-1] - t[0])
         n_steps = check_positive_int(self.n_steps, "n_steps", minimum=2)
         # a fresh DMP with the learned weights, so generate leaves dmp_ untouched
@@ -618,24 +577,8 @@ class KeypointHMMGenerator(_Generator):
         inner = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
         return f"KeypointHMMGenerator({inner})"
 
-    def fit(self, demos, y=None) -> KeypointHMMGenerator:
-        """Fit a new :class:`~ndlfd.KeypointHMM` with the stored parameters.
-
-        Parameters
-        ----------
-        demos : list of Demonstration
-            Training demonstrations with a ``"position"`` group.
-        y : None
-            Ignored.
-
-        Returns
-        -------
-        self : KeypointHMMGenerator
-        """
-        demos = _check_demos(demos)
+    def _learn(self, demos, extra) -> None:
         self.model_ = KeypointHMM(**self.params).fit(demos)
-        self.n_dims_ = demos[0].get(GROUP).shape[1]
-        return self
 
     def generate(self, times, *, start=None, return_std: bool = False):
         """Dense generated positions at each time stamp.
@@ -656,9 +599,7 @@ class KeypointHMMGenerator(_Generator):
         std : ndarray of shape (n_samples, n_dims)
             Only with ``return_std=True``.
         """
-        self._check_fitted()
-        t = _check_times(times)
-        start = self._check_start(start)
+        t, start = self._checked(times, start)
         kw = {}
         if start is not None:
             if not _keypoint_hmm_accepts("start"):

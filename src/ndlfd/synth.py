@@ -28,6 +28,7 @@ ndlfd's explicit choice.
 from __future__ import annotations
 
 import functools
+import inspect
 from collections.abc import Callable
 
 import numpy as np
@@ -172,18 +173,74 @@ _SIGNATURE_DOC = """
     demo : Demonstration
         ``t`` of shape (n_points,), groups ``position`` and ``velocity``."""
 
+#: The sampling keywords every shape takes after its own parameters: name,
+#: default and annotation (``speed`` comes first, with each shape's default).
+_SAMPLING = (
+    ("noise", 0.0, "float"),
+    ("velocity_noise", None, "float | None"),
+    ("noise_model", "gaussian", "str"),
+    ("dt", 0.1, "float"),
+    ("random_state", None, inspect.Parameter.empty),
+)
 
-def square(
-    n_points: int = 80,
-    *,
-    side: float = 10.0,
-    speed: str = "constant",
-    noise: float = 0.0,
-    velocity_noise: float | None = None,
-    noise_model: str = "gaussian",
-    dt: float = 0.1,
-    random_state=None,
-) -> Demonstration:
+
+def _shape(n_points: int, speed: str, variation: tuple[float, int] | None = None):
+    """Make a shape generator from the function that builds its path.
+
+    The decorated function takes the shape's own keyword-only parameters
+    (``side``, ``turns``, ...), checks them and returns ``path(s) -> (P,
+    dP/ds)``. The generator it becomes takes ``n_points`` (default
+    ``n_points``), those parameters, ``speed`` (default ``speed``) and the
+    keywords of ``_SAMPLING``, written here once instead of in every shape;
+    it samples the path with :func:`_sample`. Its docstring's ``{sig}`` line
+    becomes the shared documentation of those keywords.
+    """
+    kw_only = inspect.Parameter.KEYWORD_ONLY
+
+    def decorate(build: Callable) -> Callable[..., Demonstration]:
+        own = list(inspect.signature(build).parameters.values())
+        signature = inspect.Signature(
+            [
+                inspect.Parameter(
+                    "n_points",
+                    inspect.Parameter.POSITIONAL_OR_KEYWORD,
+                    default=n_points,
+                    annotation="int",
+                ),
+                *own,
+                inspect.Parameter("speed", kw_only, default=speed, annotation="str"),
+                *(
+                    inspect.Parameter(name, kw_only, default=default, annotation=note)
+                    for name, default, note in _SAMPLING
+                ),
+            ],
+            return_annotation="Demonstration",
+        )
+
+        def generator(*args, **kwargs) -> Demonstration:
+            try:
+                bound = signature.bind(*args, **kwargs)
+            except TypeError as exc:  # as a plain function would say it
+                raise TypeError(f"{build.__name__}() {exc}") from None
+            bound.apply_defaults()
+            options = dict(bound.arguments)
+            path = build(**{p.name: options.pop(p.name) for p in own})
+            return _sample(path, variation=variation, **options)
+
+        generator.__name__ = generator.__qualname__ = build.__name__
+        generator.__module__ = build.__module__
+        generator.__signature__ = signature  # type: ignore[attr-defined]
+        if build.__doc__:  # None under python -OO
+            generator.__doc__ = build.__doc__.replace(
+                "    {sig}", _SIGNATURE_DOC.format(speed=speed).strip("\n")
+            )
+        return generator
+
+    return decorate
+
+
+@_shape(n_points=80, speed="constant")
+def square(*, side: float = 10.0):
     """Closed 2-D square (paper Fig. 5a–f): 80 points by default.
 
     Counter-clockwise from the origin: ``(0, 0) → (side, 0) → (side, side) →
@@ -213,31 +270,11 @@ def square(
     def path(s):
         return _square_loop(s, side, 1)
 
-    return _sample(
-        path,
-        n_points,
-        speed=speed,
-        noise=noise,
-        velocity_noise=velocity_noise,
-        noise_model=noise_model,
-        dt=dt,
-        random_state=random_state,
-    )
+    return path
 
 
-def square_spiral(
-    n_points: int = 71,
-    *,
-    side: float = 10.0,
-    height: float = 10.0,
-    turns: int = 2,
-    speed: str = "variable",
-    noise: float = 0.0,
-    velocity_noise: float | None = None,
-    noise_model: str = "gaussian",
-    dt: float = 0.1,
-    random_state=None,
-) -> Demonstration:
+@_shape(n_points=71, speed="variable")
+def square_spiral(*, side: float = 10.0, height: float = 10.0, turns: int = 2):
     """3-D square spiral along Z (paper Fig. 5g–l): 71 points, variable speed.
 
     The square of :func:`square` is traced ``turns`` times in X–Y while Z rises
@@ -272,29 +309,11 @@ def square_spiral(
         dP = np.column_stack([turns * dP2, np.full_like(z, height)])
         return P, dP
 
-    return _sample(
-        path,
-        n_points,
-        speed=speed,
-        noise=noise,
-        velocity_noise=velocity_noise,
-        noise_model=noise_model,
-        dt=dt,
-        random_state=random_state,
-    )
+    return path
 
 
-def spiral(
-    n_points: int = 150,
-    *,
-    turns: float = 3.0,
-    speed: str = "variable",
-    noise: float = 0.0,
-    velocity_noise: float | None = None,
-    noise_model: str = "gaussian",
-    dt: float = 0.1,
-    random_state=None,
-) -> Demonstration:
+@_shape(n_points=150, speed="variable")
+def spiral(*, turns: float = 3.0):
     """The Fig. 2 spiral: X from -10 to 10, Y in 0..10, Z in -5..5 (6-D with velocity).
 
     ``P(s) = (-10 + 20 s, 5 + 5 cos(2π·turns·s), 5 sin(2π·turns·s))``: it moves
@@ -325,28 +344,11 @@ def spiral(
         )
         return P, dP
 
-    return _sample(
-        path,
-        n_points,
-        speed=speed,
-        noise=noise,
-        velocity_noise=velocity_noise,
-        noise_model=noise_model,
-        dt=dt,
-        random_state=random_state,
-    )
+    return path
 
 
-def curve(
-    n_points: int = 100,
-    *,
-    speed: str = "variable",
-    noise: float = 0.0,
-    velocity_noise: float | None = None,
-    noise_model: str = "gaussian",
-    dt: float = 0.1,
-    random_state=None,
-) -> Demonstration:
+@_shape(n_points=100, speed="variable", variation=CURVE_SPEED_VARIATION)
+def curve():
     """A simple 2-D curve with variable velocity (paper Fig. 3).
 
     One S-shaped wave, ``P(s) = (10 s, 4 sin(2π s))``. Its variable speed uses
@@ -373,17 +375,7 @@ def curve(
         dP = np.column_stack([np.full_like(s, 10.0), 4 * w * np.cos(w * s)])
         return P, dP
 
-    return _sample(
-        path,
-        n_points,
-        speed=speed,
-        noise=noise,
-        velocity_noise=velocity_noise,
-        noise_model=noise_model,
-        dt=dt,
-        random_state=random_state,
-        variation=CURVE_SPEED_VARIATION,
-    )
+    return path
 
 
 def _check_size(value, name):
@@ -392,17 +384,6 @@ def _check_size(value, name):
         raise ValidationError(f"{name} must be > 0; got {value!r}")
     return v
 
-
-for _f, _speed in (
-    (square, "constant"),
-    (square_spiral, "variable"),
-    (spiral, "variable"),
-    (curve, "variable"),
-):
-    if _f.__doc__:  # None under python -OO
-        _f.__doc__ = _f.__doc__.replace(
-            "    {sig}", _SIGNATURE_DOC.format(speed=_speed).strip("\n")
-        )
 
 #: Shape name → generator.
 SHAPES: Registry[Callable[..., Demonstration]] = Registry("shape")

@@ -204,7 +204,7 @@ def test_no_spikes_towards_the_skeleton_on_noisy_data(seed):
     # blend 0.8-1.2 away from it at skeleton points (DTW 1.035-1.065x the mean's);
     # matching the moving average keeps it within 0.4 (0.998-1.007x).
     from ndlfd import synth
-    from ndlfd.experiments import DEMO_SETTINGS
+    from ndlfd.jobs.demo import DEMO_SETTINGS
     from ndlfd.learner import KeypointHMM
     from ndlfd.metrics import mean_demo_baseline
 

@@ -5,9 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..evaluation import evaluate
-from ..experiments import run_demo
-from ..reproduction import reproduce
+from ..jobs import evaluate, reproduce, run_demo
 from ._options import split_names
 
 __all__ = ["add_evaluate", "add_jobs"]

@@ -1,4 +1,4 @@
-"""Tests of the shared table and report layer (``ndlfd._report``)."""
+"""Tests of the shared table and report layer (``ndlfd.jobs._report``)."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import math
 import pytest
 
 from ndlfd._errors import ValidationError
-from ndlfd._report import Report, fmt_number, image, markdown, markdown_table
+from ndlfd.jobs._report import Report, fmt_number, image, markdown, markdown_table
 
 
 # ------------------------------------------------------------------ tables

