@@ -47,6 +47,145 @@ SCALING_MODES.add("per-dimension", _per_column)
 SCALING_MODES.add("none", _identity)
 
 
+# ---------------------------------------------------------------------- input
+def _as_list(data, what):
+    """Return (list of 2-D arrays, column groups or None, columns or None)."""
+    if not _is_collection(data):
+        data = [data]
+    if len(data) == 0:
+        raise ValidationError(f"{what} must hold at least one demonstration")
+    arrays, groups, columns = [], None, None
+    for i, item in enumerate(data):
+        if isinstance(item, Demonstration):
+            if i == 0:
+                groups, columns = item.groups, item.columns
+            elif columns is None:
+                raise ValidationError(
+                    f"{what} mixes arrays and Demonstrations; got a"
+                    f" Demonstration at {what}[{i}]"
+                )
+            elif (item.groups, item.columns) != (groups, columns):
+                raise ValidationError(
+                    f"{what}[{i}] has columns {item.columns} in groups"
+                    f" {item.groups}; expected the columns of {what}[0]:"
+                    f" {columns} in groups {groups}"
+                )
+            arrays.append(np.asarray(item.X))
+        else:
+            if columns is not None:
+                raise ValidationError(
+                    f"{what} mixes Demonstrations and arrays; got"
+                    f" {type(item).__name__} at {what}[{i}]"
+                )
+            name = f"{what}[{i}]" if len(data) > 1 else what
+            arrays.append(check_points(item, name))
+    d = arrays[0].shape[1]
+    for i, a in enumerate(arrays):
+        if a.shape[1] != d:
+            raise ValidationError(
+                f"every demonstration must have the same number of columns"
+                f" ({d}, as {what}[0]); got {a.shape[1]} in {what}[{i}]"
+            )
+    return arrays, groups, columns
+
+
+def _check_groups(param, data_groups, d):
+    if param is None:
+        if data_groups is None:
+            raise ValidationError(
+                "groups must be given (one group name per column) when fitting"
+                " plain arrays; got groups=None. Pass e.g."
+                f" GroupScaler(groups={['position'] * d!r}) or fit Demonstrations"
+            )
+        return tuple(data_groups)
+    if isinstance(param, str) or not isinstance(param, Sequence):
+        raise ValidationError(
+            f"groups must be a sequence of group names, one per column; got {param!r}"
+        )
+    groups = tuple(param)
+    if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
+        raise ValidationError(
+            f"groups must name the group of each of the {d} columns; got {param!r}"
+        )
+    if data_groups is not None and tuple(data_groups) != groups:
+        raise ValidationError(
+            f"groups={groups} disagrees with the demonstrations' groups"
+            f" {tuple(data_groups)}"
+        )
+    return groups
+
+
+def _check_weights(w, groups):
+    d = len(groups)
+    if w is None:
+        return np.ones(d)
+    if isinstance(w, Mapping):
+        unknown = [g for g in w if g not in groups]
+        if unknown:
+            raise ValidationError(
+                f"weights name unknown group(s) {unknown}; the groups are"
+                f" {list(dict.fromkeys(groups))}"
+            )
+        values = np.array([w.get(g, 1.0) for g in groups], dtype=object)
+    else:
+        if isinstance(w, str) or not isinstance(w, (Sequence, np.ndarray)):
+            raise ValidationError(
+                "weights must be a mapping group -> weight or one weight per"
+                f" column; got {w!r}"
+            )
+        values = np.asarray(w, dtype=object)
+        if values.shape != (d,):
+            raise ValidationError(
+                f"weights must have one entry per column (length {d}); got"
+                f" shape {values.shape}"
+            )
+    out = np.empty(d)
+    for j, v in enumerate(values):
+        ok = isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(
+            v, bool
+        )
+        if not ok or not np.isfinite(v) or v < 0:
+            raise ValidationError(
+                "weights must be finite numbers >= 0; got"
+                f" {v!r} for column {j} (group {groups[j]!r})"
+            )
+        out[j] = float(v)
+    return out
+
+
+def _checked_ranges(data_min, data_max, column_groups, columns):
+    """Stored ranges, groups and names of :meth:`GroupScaler.from_ranges`, checked."""
+    lo = check_points(
+        np.atleast_1d(np.asarray(data_min, dtype=float))[None], "data_min"
+    )[0]
+    hi = check_points(
+        np.atleast_1d(np.asarray(data_max, dtype=float))[None], "data_max"
+    )[0]
+    d = lo.shape[0]
+    if hi.shape != (d,):
+        raise ValidationError(
+            f"data_max must have shape ({d},) like data_min; got {hi.shape}"
+        )
+    bad = np.flatnonzero(hi < lo)
+    if bad.size:
+        j = int(bad[0])
+        raise ValidationError(
+            f"data_max must be >= data_min; got {float(hi[j])!r} < {float(lo[j])!r}"
+            f" in column {j}"
+        )
+    groups = tuple(column_groups) if not isinstance(column_groups, str) else ()
+    if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
+        raise ValidationError(
+            f"column_groups must name the group of each of the {d} columns; got"
+            f" {column_groups!r}"
+        )
+    if columns is not None:
+        columns = tuple(columns)
+        if len(columns) != d:
+            raise ValidationError(f"columns must have {d} names; got {len(columns)}")
+    return lo, hi, groups, columns
+
+
 class GroupScaler:
     """Scale each physical group to [0, 1] with one range per group.
 
@@ -109,112 +248,6 @@ class GroupScaler:
         self.mode = mode
         self.weights = weights
 
-    # ------------------------------------------------------------------ input
-    def _as_list(self, data, what):
-        """Return (list of 2-D arrays, column groups or None, columns or None)."""
-        if not _is_collection(data):
-            data = [data]
-        if len(data) == 0:
-            raise ValidationError(f"{what} must hold at least one demonstration")
-        arrays, groups, columns = [], None, None
-        for i, item in enumerate(data):
-            if isinstance(item, Demonstration):
-                if i == 0:
-                    groups, columns = item.groups, item.columns
-                elif columns is None:
-                    raise ValidationError(
-                        f"{what} mixes arrays and Demonstrations; got a"
-                        f" Demonstration at {what}[{i}]"
-                    )
-                elif (item.groups, item.columns) != (groups, columns):
-                    raise ValidationError(
-                        f"{what}[{i}] has columns {item.columns} in groups"
-                        f" {item.groups}; expected the columns of {what}[0]:"
-                        f" {columns} in groups {groups}"
-                    )
-                arrays.append(np.asarray(item.X))
-            else:
-                if columns is not None:
-                    raise ValidationError(
-                        f"{what} mixes Demonstrations and arrays; got"
-                        f" {type(item).__name__} at {what}[{i}]"
-                    )
-                name = f"{what}[{i}]" if len(data) > 1 else what
-                arrays.append(check_points(item, name))
-        d = arrays[0].shape[1]
-        for i, a in enumerate(arrays):
-            if a.shape[1] != d:
-                raise ValidationError(
-                    f"every demonstration must have the same number of columns"
-                    f" ({d}, as {what}[0]); got {a.shape[1]} in {what}[{i}]"
-                )
-        return arrays, groups, columns
-
-    def _check_groups(self, data_groups, d):
-        if self.groups is None:
-            if data_groups is None:
-                raise ValidationError(
-                    "groups must be given (one group name per column) when fitting"
-                    " plain arrays; got groups=None. Pass e.g."
-                    f" GroupScaler(groups={['position'] * d!r}) or fit Demonstrations"
-                )
-            return tuple(data_groups)
-        if isinstance(self.groups, str) or not isinstance(self.groups, Sequence):
-            raise ValidationError(
-                "groups must be a sequence of group names, one per column; got"
-                f" {self.groups!r}"
-            )
-        groups = tuple(self.groups)
-        if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
-            raise ValidationError(
-                f"groups must name the group of each of the {d} columns; got"
-                f" {self.groups!r}"
-            )
-        if data_groups is not None and tuple(data_groups) != groups:
-            raise ValidationError(
-                f"groups={groups} disagrees with the demonstrations' groups"
-                f" {tuple(data_groups)}"
-            )
-        return groups
-
-    def _check_weights(self, groups):
-        d = len(groups)
-        w = self.weights
-        if w is None:
-            return np.ones(d)
-        if isinstance(w, Mapping):
-            unknown = [g for g in w if g not in groups]
-            if unknown:
-                raise ValidationError(
-                    f"weights name unknown group(s) {unknown}; the groups are"
-                    f" {list(dict.fromkeys(groups))}"
-                )
-            values = np.array([w.get(g, 1.0) for g in groups], dtype=object)
-        else:
-            if isinstance(w, str) or not isinstance(w, (Sequence, np.ndarray)):
-                raise ValidationError(
-                    "weights must be a mapping group -> weight or one weight per"
-                    f" column; got {w!r}"
-                )
-            values = np.asarray(w, dtype=object)
-            if values.shape != (d,):
-                raise ValidationError(
-                    f"weights must have one entry per column (length {d}); got"
-                    f" shape {values.shape}"
-                )
-        out = np.empty(d)
-        for j, v in enumerate(values):
-            ok = isinstance(
-                v, (int, float, np.integer, np.floating)
-            ) and not isinstance(v, bool)
-            if not ok or not np.isfinite(v) or v < 0:
-                raise ValidationError(
-                    "weights must be finite numbers >= 0; got"
-                    f" {v!r} for column {j} (group {groups[j]!r})"
-                )
-            out[j] = float(v)
-        return out
-
     # ------------------------------------------------------------------ fit
     def fit(self, demos, y=None) -> GroupScaler:
         """Learn each column's range from one or many demonstrations.
@@ -232,10 +265,10 @@ class GroupScaler:
         self : GroupScaler
         """
         SCALING_MODES.get(self.mode)
-        arrays, data_groups, columns = self._as_list(demos, "demos")
+        arrays, data_groups, columns = _as_list(demos, "demos")
         d = arrays[0].shape[1]
-        groups = self._check_groups(data_groups, d)
-        weights = self._check_weights(groups)
+        groups = _check_groups(self.groups, data_groups, d)
+        weights = _check_weights(self.weights, groups)
         mins = np.min([a.min(axis=0) for a in arrays], axis=0)
         maxs = np.max([a.max(axis=0) for a in arrays], axis=0)
         n_samples = int(sum(a.shape[0] for a in arrays))
@@ -245,11 +278,15 @@ class GroupScaler:
     def _set_fitted(self, mins, maxs, groups, columns, weights, n_samples) -> None:
         """The fitted attributes from the data's column extremes (fit's end)."""
         lo, hi = SCALING_MODES.get(self.mode)(mins, maxs, groups)
+        gmin, gmax = _group_ranges(mins, maxs, groups)
+        self._set_ranges(lo, hi, groups, columns, weights, n_samples, gmin, gmax)
+
+    def _set_ranges(self, lo, hi, groups, columns, weights, n_samples, gmin, gmax):
+        """The fitted attributes: ranges used, data extremes per group, counts."""
         self.n_features_in_ = len(groups)
         self.column_groups_ = groups
         self.columns_ = columns
         self.group_names_ = tuple(dict.fromkeys(groups))
-        gmin, gmax = _group_ranges(mins, maxs, groups)
         self.group_min_ = {g: float(gmin[groups.index(g)]) for g in self.group_names_}
         self.group_max_ = {g: float(gmax[groups.index(g)]) for g in self.group_names_}
         self.data_min_ = lo
@@ -309,7 +346,7 @@ class GroupScaler:
         mins = np.asarray(mins, dtype=np.float64)
         maxs = np.asarray(maxs, dtype=np.float64)
         columns = None if columns is None else tuple(columns)
-        weights = self._check_weights(groups)
+        weights = _check_weights(self.weights, groups)
         self._set_fitted(mins, maxs, groups, columns, weights, int(n_samples))
         return self
 
@@ -359,45 +396,15 @@ class GroupScaler:
         array([[0.5, 1. ]])
         """
         SCALING_MODES.get(mode)
-        lo = check_points(
-            np.atleast_1d(np.asarray(data_min, dtype=float))[None], "data_min"
-        )[0]
-        hi = check_points(
-            np.atleast_1d(np.asarray(data_max, dtype=float))[None], "data_max"
-        )[0]
-        d = lo.shape[0]
-        if hi.shape != (d,):
-            raise ValidationError(
-                f"data_max must have shape ({d},) like data_min; got {hi.shape}"
-            )
-        bad = np.flatnonzero(hi < lo)
-        if bad.size:
-            j = int(bad[0])
-            raise ValidationError(
-                f"data_max must be >= data_min; got {float(hi[j])!r} < {float(lo[j])!r}"
-                f" in column {j}"
-            )
+        lo, hi, groups, columns = _checked_ranges(
+            data_min, data_max, column_groups, columns
+        )
         self = cls(groups=None, mode=mode, weights=weights)
-        groups = tuple(column_groups) if not isinstance(column_groups, str) else ()
-        if len(groups) != d or not all(isinstance(g, str) and g for g in groups):
-            raise ValidationError(
-                f"column_groups must name the group of each of the {d} columns; got"
-                f" {column_groups!r}"
-            )
-        if columns is not None:
-            columns = tuple(columns)
-            if len(columns) != d:
-                raise ValidationError(
-                    f"columns must have {d} names; got {len(columns)}"
-                )
-        self.n_features_in_ = d
-        self.column_groups_ = groups
-        self.columns_ = columns
-        self.group_names_ = tuple(dict.fromkeys(groups))
         gmin, gmax = _group_ranges(lo, hi, groups)
+        weights = _check_weights(self.weights, groups)
+        n = int(n_samples_seen)
+        self._set_ranges(lo.copy(), hi.copy(), groups, columns, weights, n, gmin, gmax)
         names = self.group_names_
-        self.group_min_ = {g: float(gmin[groups.index(g)]) for g in names}
-        self.group_max_ = {g: float(gmax[groups.index(g)]) for g in names}
         for given, have in ((group_min, self.group_min_), (group_max, self.group_max_)):
             if given is not None:
                 if set(given) != set(names):
@@ -406,11 +413,6 @@ class GroupScaler:
                         f" got {tuple(given)}"
                     )
                 have.update((g, float(given[g])) for g in names)
-        self.data_min_ = lo.copy()
-        self.data_max_ = hi.copy()
-        self.data_range_ = hi - lo
-        self.column_weights_ = self._check_weights(groups)
-        self.n_samples_seen_ = int(n_samples_seen)
         return self
 
     # ------------------------------------------------------------------ use

@@ -12,11 +12,10 @@ and holds the parameters, the learned attributes and the entry points.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
 
 import numpy as np
 
-from .._errors import NotFittedError, ValidationError
+from .._errors import NotFittedError
 from .._parallel import keep_workers
 from ._blend import MATCH_WINDOW
 from ._conditioning import check_condition
@@ -32,19 +31,16 @@ __all__ = ["KeypointHMM"]
 
 
 class KeypointHMM(ParamsMixin):
-    """Learn a path from demonstrations and generate it for a new timing.
+    r"""Learn a path from demonstrations and generate it for a new timing.
 
     Parameters
     ----------
     groups : "auto", sequence of str or None, default="auto"
         The physical groups to learn from, in this order. ``"auto"`` learns
         those of :data:`AUTO_GROUPS` (position, velocity, orientation, force)
-        that the first demonstration has, velocity derived when missing, so a
-        file's orientation is never dropped in silence (learning it leaves the
-        position path unchanged: 16.98 mm mean error on a held-out 3-D reach
-        either way). ``None`` uses every group of the first demonstration. A
-        ``"velocity"`` group missing from a demonstration is derived from its
-        position and time stamps when ``derive_velocity`` is true.
+        that the first demonstration has, so orientation is never dropped in
+        silence; ``None`` every group of the first demonstration. A missing
+        ``"velocity"`` is derived from position when ``derive_velocity``.
     levels : int or mapping of str to int, optional
         Codebook levels per group (one int for all groups). Groups not named
         fall back to :data:`DEFAULT_LEVELS` (20 for position, 10 otherwise).
@@ -70,55 +66,37 @@ class KeypointHMM(ParamsMixin):
         Start distribution of the decoder (``"state1"`` reproduces MATLAB
         ``hmmviterbi``).
     generation : {"blend", "paper"}, default="blend"
-        How a path is generated. ``"blend"`` decodes the key points and their
-        times jointly (a segment model over all time bins), aligns the training
-        demonstrations to the decoded key points and blends them (see
-        :mod:`ndlfd.learner._blend`); it follows the demonstrations' shape, can be
-        conditioned on a start and goal, and gives an uncertainty band.
-        ``"paper"`` is the paper's procedure: one observation per time bin (or
-        per key point of a test demonstration), codebook cell centres and
-        straight lines between them.
+        ``"blend"`` decodes the key points and their times jointly, aligns the
+        demonstrations to them and blends them: the demonstrations' shape,
+        conditioning and a band. ``"paper"`` is the paper's procedure (cell
+        centres, straight lines). See :mod:`ndlfd.learner._generation`.
     decoder : {"viterbi", "map"}, default="viterbi"
         ``"viterbi"``: the most likely state sequence; ``"map"``: the most
         likely state at each step (posterior argmax, :func:`ndlfd.hmm.posterior`).
     derive_velocity : bool, default=True
         Derive a missing velocity group from position and time.
     n_jobs : int, optional
-        Workers for the per-demonstration work of :meth:`fit` (read, prepare,
-        normalize, reduce, encode, count) and threads for aligning the
-        templates in generation. In fit, long demonstrations (5,000 samples or
-        more on average) go to threads, as the kernels release the GIL; the
-        work of shorter ones is mostly Python, so they go to worker processes
-        (a persistent pool: ``fork`` on Linux before Python 3.12, ``spawn``
-        otherwise, which imports the caller's main module: guard a script
-        with ``if __name__ == "__main__":``). ``None``: one per CPU, except
-        that fewer than 256 short demonstrations are fitted in the calling
-        thread. The model does not depend on it. Ignored by :meth:`fit` with
-        a Dask ``client``.
+        Workers of :meth:`fit` (threads for long demonstrations, processes
+        for short ones, ended when fit returns; a ``spawn``\ ed worker imports
+        your script: guard it with ``if __name__ == "__main__":``) and
+        threads aligning templates in generation. ``None``: one per CPU (the
+        calling thread for fewer than 256 short demonstrations). The model
+        does not depend on it (:mod:`ndlfd.learner._passes`).
     max_templates : int or None, default=200
-        How many training demonstrations are kept whole as templates of the
-        blended generation (the path is their aligned, weighted average). The
-        counts, centroids, conditioning weights and segment model always use
-        every demonstration; only the full values, which cannot be kept for
-        100,000 demonstrations, are limited. With at most ``max_templates``
-        demonstrations all are templates. ``None`` keeps all.
+        How many demonstrations are kept whole as templates of the blend
+        (``None``: all). Everything else of the model uses every
+        demonstration.
     match_window : float, default=0.05
-        The blended generation matches each decoded key point to a sample of
-        every template's moving average over this fraction of its samples on
-        each side (0: raw samples), so that noisy samples are not matched for
-        their noise, which makes the path spike towards the key points (see
-        :mod:`ndlfd.learner._blend`). Between 0 and 0.5. Models saved before it
-        existed (format 3 and older) load with 0, and generate as they did.
+        The blend matches each decoded key point on every template's moving
+        average over this fraction of its samples on each side (0: raw
+        samples, which spike towards the key points on noisy data; see
+        :mod:`ndlfd.learner._blend`). Between 0 and 0.5.
     random_state : None, int or Generator, default=None
         Chooses the templates when there are more than ``max_templates``
-        demonstrations: those whose key ``splitmix64(s + (i + 1) *
-        0x9E3779B97F4A7C15)`` (``i`` the demonstration's index, ``s`` a 64-bit
-        word drawn from ``random_state`` by :class:`numpy.random.SeedSequence`)
-        are among the ``max_templates`` smallest. The choice depends on the
-        index only, so serial, threaded and Dask fits agree. ``None`` (like
-        an int) gives the same templates every time: the word of
-        ``SeedSequence(0)``, so the same demonstrations always give the same
-        model and path; a Generator gives one draw. Nothing else is random.
+        demonstrations, by index (:mod:`ndlfd.learner._templates`), so serial,
+        parallel and Dask fits agree. ``None`` is seed 0: the same
+        demonstrations always give the same model and path. Nothing else of
+        a fit is random.
 
     Attributes
     ----------
@@ -147,12 +125,10 @@ class KeypointHMM(ParamsMixin):
     first_values_, last_values_ : ndarray of shape (n_demos, n_columns)
         Each demonstration's first and last normalized sample (conditioning).
     fit_stats_ : FitStats
-        The sufficient statistics the model was built from (see
-        :class:`~ndlfd.learner.FitStats`); the attributes above are views of
-        its arrays.
+        The statistics the model was built from (the attributes above are
+        views of its arrays).
     n_clipped_ : int
-        Values clipped by the codebook while fitting (0 unless weights or
-        normalization ``"none"`` push values outside ``[0, 1]``).
+        Values clipped by the codebook while fitting.
 
     Examples
     --------
@@ -230,36 +206,25 @@ class KeypointHMM(ParamsMixin):
         Parameters
         ----------
         demos : Demonstration, iterable of Demonstration, or sequence of paths
-            The training demonstrations (lengths may differ): a list, or any
-            *re-iterable* (an object whose ``__iter__`` starts over each
-            time, e.g. one that reads files lazily), iterated exactly twice.
-            File paths are read with :func:`ndlfd.io.read_demos` (a file may
-            hold several demonstrations) in each pass, on the workers;
-            :class:`ndlfd.io.DemoFiles` does so with a column mapping. A
-            one-shot iterator such as a generator is refused: two passes are
-            needed.
+            The training demonstrations (lengths may differ): a list, or a
+            *re-iterable* (``__iter__`` starts over; a generator is refused),
+            iterated exactly twice. Paths are read on the workers in each
+            pass (:class:`ndlfd.io.DemoFiles` with a column mapping).
         y : None
             Ignored.
         client : distributed.Client or True, optional
-            Run both passes as Dask tasks over chunks of the demonstrations,
-            merged on the workers by a tree reduction; ``True`` uses the
-            running default client. Needs ``pip install "ndlfd[dask]"``. Give
-            paths for data that should be read on the workers. An error in a
-            task (a bad demonstration or file) is raised here, naming it.
+            Run both passes as Dask tasks, merged on the workers; ``True``:
+            the running default client. Needs ``pip install "ndlfd[dask]"``.
         progress : bool or None, default=None
             Progress bars of the two passes on standard error: ``True``
             always, ``False`` never, ``None`` on a terminal when a pass takes
             over a second.
         after_scan : callable, optional
-            ``after_scan(ranges) -> dict or None``, called between the two
-            passes with what the first found (a
-            :class:`~ndlfd.learner.RangeStats`: per-column ranges, the number
-            of demonstrations, the fewest and most samples, how files were
-            read). A dict it returns is set as parameters before the second
-            pass, which may change only those the first does not use
-            (``n_time_bins``, ``epsilon``, ``n_points``); the command line's
-            ``ndlfd fit`` reports the column mappings and bounds the time bins
-            this way.
+            ``after_scan(ranges) -> dict or None``, called between the passes
+            with the first one's :class:`~ndlfd.learner.RangeStats`; a dict it
+            returns sets parameters the first pass does not use
+            (``n_time_bins``, ``epsilon``, ``n_points``) before the second
+            (``ndlfd fit`` bounds the time bins this way).
 
         Returns
         -------
@@ -268,15 +233,13 @@ class KeypointHMM(ParamsMixin):
         Raises
         ------
         ValidationError
-            Bad parameters or demonstrations (the message names
-            ``demos[i]``), or a one-shot iterator.
+            Bad parameters or demonstrations (named), or a one-shot iterator.
         DataFileError
             A file that cannot be read.
         MissingExtraError
             ``client`` without Dask installed.
         ParallelError
-            A worker process died (killed, out of memory, or an unguarded
-            script under ``spawn``).
+            A worker process died (killed, or an unguarded ``spawn`` script).
 
         Examples
         --------
@@ -294,10 +257,6 @@ class KeypointHMM(ParamsMixin):
         (12, 5)
         """
         check_params(self.get_params())
-        if self.weights is not None and not isinstance(self.weights, Mapping):
-            raise ValidationError(
-                f"weights must be a mapping of group to weight; got {self.weights!r}"
-            )
         with keep_workers():  # one pool for both passes, ended after them
             scanned = scan_ranges(
                 self.get_params(), demos, client=client, progress=progress
@@ -332,13 +291,10 @@ class KeypointHMM(ParamsMixin):
     def timing(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Observation times and symbols for a new execution.
 
-        A :class:`Demonstration` is normalized and reduced like the training
-        demonstrations; its key points' times are the observations (the paper's
-        procedure with its "ideal" test demonstration). A plain time vector has
-        no key points: it contributes one observation per time bin it touches,
-        at the bin's first time stamp, keeping only bins that training key points
-        fell into (unless ``pseudo_emission > 0``, where every bin can be
-        emitted).
+        A :class:`Demonstration` gives its key points' times (reduced like the
+        training demonstrations: the paper's procedure); a time vector one
+        observation per time bin it touches, among those that can be emitted
+        (seen in training, or all if ``pseudo_emission > 0``).
 
         Parameters
         ----------
@@ -360,10 +316,8 @@ class KeypointHMM(ParamsMixin):
     def decode(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, float]:
         """Decoded key points of a new timing: their times and codebook states.
 
-        With ``generation="blend"`` the key points come from decoding every time
-        bin with the segment model (a key point where the decoded state
-        changes); with ``"paper"`` from decoding the observations of
-        :meth:`timing`.
+        ``"blend"`` decodes every time bin with the segment model (a key point
+        where the state changes); ``"paper"`` the observations of :meth:`timing`.
 
         Parameters
         ----------
@@ -401,18 +355,12 @@ class KeypointHMM(ParamsMixin):
             generated key points only.
         start, goal : mapping of str to array-like, optional
             Where the robot starts and must end, in physical units, e.g.
-            ``{"position": [x, y]}``. The demonstrations whose start (goal) is
-            near are followed (a Gaussian kernel whose width is the typical
-            distance between neighbouring demonstrations' starts), and the path
-            begins (ends) exactly there: the remaining offset is faded out over
-            the motion by a minimum-jerk ramp. With ``generation="paper"`` only
-            the offset is applied.
+            ``{"position": [x, y]}``: the demonstrations that start (end) near
+            are followed, and the path begins (ends) exactly there
+            (:mod:`ndlfd.learner._conditioning`; ``"paper"``: the offset only).
         return_std : bool, default=False
-            Also return the per-sample standard deviation of the learned
-            positions at each time: the spread of the codebook centroids under
-            the posterior state probabilities of the segment model
-            (:func:`ndlfd.hmm.posterior`), in physical units. Only with
-            ``generation="blend"``.
+            Also return the band: the spread of the state centroids under the
+            segment model's posterior at each time, in physical units (blend).
 
         Returns
         -------
@@ -445,11 +393,8 @@ class KeypointHMM(ParamsMixin):
     def save(self, path: str | os.PathLike) -> None:
         """Save the fitted learner (``.npz`` + JSON metadata, never pickle).
 
-        Format version 4 (:mod:`ndlfd.learner._persist`): the scaler's
-        ranges, the codebook levels and the fit statistics
-        (:meth:`FitStats.to_arrays`, keys ``stats_*``); loading rebuilds the
-        HMMs and centroids from them exactly. A model loaded from a version-1
-        file is written as version 1.
+        Format version 4, or 1 for a model loaded from a version-1 file
+        (:mod:`ndlfd.learner._persist`).
 
         Parameters
         ----------
@@ -473,23 +418,14 @@ class KeypointHMM(ParamsMixin):
         model : KeypointHMM
         """
 
-        def make(params):
-            est = cls(**params)
-            check_params(est.get_params())
-            return est
+        def make(params):  # the estimator of the file's checked parameters
+            check_params({**cls().get_params(), **params})
+            return cls(**params)
 
         with model_file_errors(path):
             file = load_model(path, make)
             self = file.estimator
-            spec = DemoSpec(
-                groups=tuple(self.groups),
-                columns=file.columns,
-                col_groups=file.column_groups,
-                scaler=file.scaler,
-                codebook=file.codebook,
-                time_bins=file.time_bins,
-            )
-            self._set_fitted(spec, file.stats)
+            self._set_fitted(file.spec(tuple(self.groups)), file.stats)
             vars(self).update(file.v1)  # a version-1 file: key points and HMM
             self.n_states_used_ = file.n_states_used
             self.n_clipped_ = file.n_clipped

@@ -85,6 +85,10 @@ def check_params(p: Mapping) -> None:
     rs = p["random_state"]
     if not (rs is None or isinstance(rs, (np.random.Generator, np.random.RandomState))):
         seed_word(rs)  # checks an int (cheap)
+    if p["weights"] is not None and not isinstance(p["weights"], Mapping):
+        raise ValidationError(
+            f"weights must be a mapping of group to weight; got {p['weights']!r}"
+        )
 
 
 def same(a, b) -> bool:

@@ -36,6 +36,7 @@ from ..codebook import Codebook, TimeBins
 from ..normalize import GroupScaler
 from ._exact import scale_exponents
 from ._params import jsonable
+from ._spec import DemoSpec
 from ._stats import FitStats
 
 __all__ = ["FORMAT_VERSION", "Loaded", "load_model", "model_file_errors", "save_model"]
@@ -75,6 +76,17 @@ class Loaded:
     n_clipped: int
     stats: FitStats | None = None
     v1: dict = field(default_factory=dict)
+
+    def spec(self, groups: tuple) -> DemoSpec:
+        """The demonstration spec of the file's model (its learned ``groups``)."""
+        return DemoSpec(
+            groups=groups,
+            columns=self.columns,
+            col_groups=self.column_groups,
+            scaler=self.scaler,
+            codebook=self.codebook,
+            time_bins=self.time_bins,
+        )
 
 
 def save_model(est, path: str | os.PathLike) -> None:
