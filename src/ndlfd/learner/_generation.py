@@ -31,6 +31,7 @@ from ..orientation import normalize_quaternions
 from ._blend import align_many, blend, skeleton_times
 from ._conditioning import group_columns, log_weights_for, pin
 from ._decoding import decode_states
+from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 
@@ -136,8 +137,10 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     start, goal : dict of str to ndarray, or None
         Checked conditions.
     cache : dict
-        The model's conditioning kernel widths (see
-        :func:`~ndlfd.learner._conditioning.log_weights_for`).
+        What depends on the training data only, computed on first use: the
+        conditioning kernel widths (see
+        :func:`~ndlfd.learner._conditioning.log_weights_for`) and the routes
+        (:func:`~ndlfd.learner._routes.route_labels`).
 
     Returns
     -------
@@ -148,33 +151,24 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
             "this model has no training values (a format-1 file); use"
             " generation='paper' or fit it again"
         )
-    # the skeleton: from the statistics of every demonstration that carries
-    # weight; the blend: from the templates among them
+    # the demonstrations that carry weight for the start and goal, then the
+    # route the skeleton decoded from them follows (ndlfd.learner._routes)
     groups = est.column_groups_
     logw = log_weights_for(start, est.first_values_, est.scaler_, groups, cache, 0)
     logw = logw + log_weights_for(
         goal, est.last_values_, est.scaler_, groups, cache, -1
     )
-    # normalized in log space over each set: however far the start, the
-    # nearest demonstration and the nearest template weigh 1
-    w = np.exp(logw - logw.max())
-    demos = np.flatnonzero(w >= _KEEP_WEIGHT)
-    model = est.segment_model_
-    if demos.size != w.size:
-        model = segment_model(
-            est.fit_stats_,
-            demos,
-            est.codebook_.n_states,
-            est.n_time_bins,
-            pseudo_transition=est.pseudo_transition,
-            pseudo_emission=est.pseudo_emission,
-        )
+    if "routes" not in cache:  # the training data's only: once per model
+        paths = segment_paths(est.fit_stats_, est.centroid_states_, est.n_time_bins)
+        cache["routes"] = route_labels(paths, est.template_indices_, est.centroids_)
+    routes = cache["routes"]
+    logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
+    model, states, logp = _decode_skeleton(est, logw)
+    # normalized in log space over the templates: however far the start, the
+    # nearest template weighs 1
     tlogw = logw[est.template_indices_]
     tw = np.exp(tlogw - tlogw.max())
     templates = np.flatnonzero(tw >= _KEEP_WEIGHT)
-    states, logp = decode_states(
-        est.decoder, model, np.arange(est.n_time_bins), est.start
-    )
     change = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
     skel = states[change]
     if skel.size == 1:
@@ -191,6 +185,26 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     norm = np.asarray(weights, dtype=np.float64)
     knots = skeleton_times(taus, index, norm / norm.sum())
     return Plan(skel, logp, model, values, taus, weights, index, key_tau, knots)
+
+
+def _decode_skeleton(est, logw):
+    """Segment model of the demonstrations that weigh, and its decoded bins."""
+    w = np.exp(logw - logw.max())
+    demos = np.flatnonzero(w >= _KEEP_WEIGHT)
+    model = est.segment_model_
+    if demos.size != w.size:
+        model = segment_model(
+            est.fit_stats_,
+            demos,
+            est.codebook_.n_states,
+            est.n_time_bins,
+            pseudo_transition=est.pseudo_transition,
+            pseudo_emission=est.pseudo_emission,
+        )
+    states, logp = decode_states(
+        est.decoder, model, np.arange(est.n_time_bins), est.start
+    )
+    return model, states, logp
 
 
 def observations(est, times_or_demo):
