@@ -107,6 +107,9 @@ def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
     d = P.shape[1]
     best = -1.0
     far = -1
+    # Each mode has its own flat loop over the points, with the key and the
+    # argmax written out in it: unrolled on purpose, so that no mode test or
+    # helper call runs per point.
     if mode == MODE_SED:
         ta = t[a]
         D = t[b] - ta
@@ -205,6 +208,9 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
         return 0
     u = np.empty(P.shape[1])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    # The explicit-stack loop is written out in each dp_* kernel on purpose:
+    # the scans take different arguments, and this way each kernel calls its
+    # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
     sp = 1
@@ -257,6 +263,8 @@ def scan_line2(x, y, a, b, utol2, lo, hi, buf, bits):
     U = ux * ux + uy * uy
     degenerate = U <= utol2
     S = 1.0 if degenerate else U
+    # the block loop: written out in each line-mode scan on purpose, one per
+    # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
@@ -274,6 +282,8 @@ def scan_line2(x, y, a, b, utol2, lo, hi, buf, bits):
                 i = np.uint64(i0 + j)
                 c = (x[i] - xa) * uy - (y[i] - ya) * ux
                 buf[j] = c * c
+        # block max, written out in each scan on purpose (see the note on the
+        # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
         for j in range(m):
             v = bits[j]
@@ -304,6 +314,8 @@ def scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits):
     U = ux * ux + uy * uy + uz * uz
     degenerate = U <= utol2
     S = 1.0 if degenerate else U
+    # the block loop: written out in each line-mode scan on purpose, one per
+    # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
@@ -327,6 +339,8 @@ def scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits):
                 cy = dz * ux - dx * uz
                 cz = dx * uy - dy * ux
                 buf[j] = cx * cx + cy * cy + cz * cz
+        # block max, written out in each scan on purpose (see the note on the
+        # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
         for j in range(m):
             v = bits[j]
@@ -360,6 +374,8 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
         U += u[k] * u[k]
     degenerate = U <= utol2
     S = 1.0 if degenerate else U * U
+    # the block loop: written out in each line-mode scan on purpose, one per
+    # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
@@ -388,6 +404,8 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
                 for j in range(m):
                     r = U * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
                     buf[j] += r * r
+        # block max, written out in each scan on purpose (see the note on the
+        # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
         for j in range(m):
             v = bits[j]
@@ -423,6 +441,8 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
     degenerate = U <= utol2
     UU = U * U
     S = 1.0 if degenerate else UU
+    # the block loop: written out in each line-mode scan on purpose, one per
+    # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
     far = -1
     bestq = -1.0
@@ -438,6 +458,7 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
                     q += r * r
                 buf[j] = q
         elif segment:
+            # "segment" and "line" each have their own flat loop on purpose
             for j in range(m):
                 i = np.uint64(i0 + j)
                 vu = 0.0
@@ -470,6 +491,8 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
                     r = U * (cols[k][i] - pa[k]) - vu * u[k]
                     q += r * r
                 buf[j] = q
+        # block max, written out in each scan on purpose (see the note on the
+        # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
         for j in range(m):
             v = bits[j]
@@ -514,6 +537,9 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
     u = np.empty(d)
     pa = np.empty(d)
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    # The explicit-stack loop is written out in each dp_* kernel on purpose:
+    # the scans take different arguments, and this way each kernel calls its
+    # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
     sp = 1
@@ -579,6 +605,9 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
     u = np.empty(d)
     pa = np.empty(d)
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    # The explicit-stack loop is written out in each dp_* kernel on purpose:
+    # the scans take different arguments, and this way each kernel calls its
+    # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
     sp = 1

@@ -119,6 +119,10 @@ def viterbi_sparse(
     for e in range(start_idx.shape[0]):
         start[start_idx[e]] = start_logp[e]
     o = obs[0]
+    # Step 0 and the steps below each write out the emission scratch update
+    # and the emission lookup, and each loop its tie-breaking argmax: unrolled
+    # on purpose, these are the kernel's inner loops, kept flat (no helper
+    # call per candidate).
     if emit_all:
         for e in range(em_indptr[o], em_indptr[o + 1]):
             em_cur[em_state[e]] = em_logp[e]
@@ -164,10 +168,12 @@ def viterbi_sparse(
                 s = d + unseen_trans
             if s == NEG:
                 continue
+            # argmax, ties to the lowest global id: unrolled on purpose (above)
             if s > best_b or (s == best_b and gid[i] < best_b_g):
                 best_b = s
                 best_b_g = gid[i]
                 best_b_l = i
+        # as at step 0, written out on purpose
         if emit_all:
             for e in range(em_indptr[o], em_indptr[o + 1]):
                 em_cur[em_state[e]] = em_logp[e]
@@ -186,6 +192,7 @@ def viterbi_sparse(
                     if d == NEG:
                         continue
                     s = d + in_logp[e]
+                    # argmax, ties to the lowest global id: unrolled on purpose
                     if s > best or (s == best and gid[i] < bg):
                         best = s
                         bg = gid[i]
@@ -211,7 +218,8 @@ def viterbi_sparse(
         if not any_finite:
             return path, NEG, t
 
-    # final state: best score, ties to the lowest global id
+    # final state: best score, ties to the lowest global id (the argmax
+    # unrolled on purpose, as in the loops above)
     o = obs[T - 1]
     n_last = off[T] - off[T - 1]
     best = NEG
