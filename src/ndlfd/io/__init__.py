@@ -1,12 +1,13 @@
-"""Reading and writing demonstrations: CSV tables, ``.npz`` and HDF5 files.
+"""Reading and writing demonstrations: CSV, ``.npz``, HDF5 files and ROS 2 bags.
 
 Two levels:
 
 * :func:`read_table` / :func:`write_table` move a header row and a numeric
   table between a CSV file and numpy, nothing more.
 * :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
-  :func:`read_hdf5` and :func:`read_demos` move whole
-  :class:`~ndlfd.demonstration.Demonstration` objects.
+  :func:`read_hdf5`, :func:`read_bag` / :func:`write_bag` and :func:`read_demos`
+  move whole :class:`~ndlfd.demonstration.Demonstration` objects;
+  :func:`write_joint_trajectory` writes a ROS ``JointTrajectory`` as YAML.
 
 The CSV dialect is deliberately small: one header row, numbers only below it,
 separated by commas, semicolons, tabs or whitespace (the header row decides
@@ -29,8 +30,8 @@ so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
 :class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5`` and
-``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
-the dispatch by suffix).
+``_bag`` (ROS 2 bags, the ``ros`` extra) and ``_files`` (folders, glob
+patterns, :class:`DemoFile`, :class:`DemoFiles` and the dispatch by suffix).
 
 **Adding a reader** (a ROS 2 bag, a LeRobot dataset: ``_bag.py``,
 ``_lerobot.py``). A reader is a function ``reader(path, hints, **mapping)``
@@ -44,10 +45,13 @@ exactly as for CSV files and names the settings in errors through ``hints``
 :data:`DEMO_SUFFIXES` if a folder should contribute such files); add a public
 ``read_<format>(path, **mapping)`` here. :func:`read_demos`, :class:`DemoFiles`,
 ``KeypointHMM.fit`` and the command line then read the format with no other
-change. An optional third-party library is imported inside the reader, with a
-:class:`~ndlfd.MissingExtraError` that says how to install it (see ``_hdf5``).
+change. Options that only this reader takes (a bag's ``topic``) go into
+:data:`~ndlfd.io._files.READER_OPTIONS`. An optional third-party library is
+imported inside the reader, with a :class:`~ndlfd.MissingExtraError` that says
+how to install it (see ``_hdf5``).
 """
 
+from ._bag import BAG_TYPES, read_bag, write_bag, write_joint_trajectory
 from ._csv import (
     csv_header,
     parse_table,
@@ -78,6 +82,7 @@ from ._npz import read_npz, write_npz
 
 __all__ = [
     "ARRAY_NAMES",
+    "BAG_TYPES",
     "CLI_HINTS",
     "DEMO_SUFFIXES",
     "MAPPING_DEFAULTS",
@@ -90,13 +95,16 @@ __all__ = [
     "demo_files",
     "group_of_column",
     "parse_table",
+    "read_bag",
     "read_csv",
     "read_demos",
     "read_file",
     "read_hdf5",
     "read_npz",
     "read_table",
+    "write_bag",
     "write_csv",
+    "write_joint_trajectory",
     "write_npz",
     "write_table",
 ]

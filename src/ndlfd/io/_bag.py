@@ -1,0 +1,758 @@
+"""ROS 2 bags in and out (needs rosbags: ``pip install "ndlfd[ros]"``).
+
+**Reading.** A bag is a folder with ``metadata.yaml`` (what ``ros2 bag record``
+writes) or one ``.mcap`` / ``.db3`` storage file. The messages of the chosen
+topics become named arrays, mapped to groups by
+:func:`~ndlfd.io._mapping.map_arrays` like the columns of a CSV file:
+
+* ``geometry_msgs/msg/PoseStamped``, ``PoseWithCovarianceStamped``,
+  ``TransformStamped``, ``tf2_msgs/msg/TFMessage`` (``/tf``: the transforms to
+  the child frame ``frame``) and ``nav_msgs/msg/Odometry`` give ``x, y, z``
+  (position) and ``qw, qx, qy, qz`` (orientation, w first);
+* ``sensor_msgs/msg/JointState`` gives the group ``joints``, one column per
+  joint, named after it, in the order of the first message;
+* ``std_msgs/msg/Float64`` / ``Float32`` (a gripper command, say) give one
+  column in a group named after the last part of the topic's name
+  (``/robot/gripper`` → ``gripper``).
+
+A later topic whose groups are taken gets a group named after the topic instead
+(a second pose topic ``/target``: group ``target``, columns ``target_x``, ...,
+``target_qz``). Time comes from the header stamps; a topic without a
+header, or whose stamps are all zero (unset), uses the time the bag received the
+messages. Messages are sorted by time; repeated stamps keep the first message
+(one :class:`~ndlfd.NdlfdWarning`). Time starts at 0 at the first message of the
+first topic (of each segment).
+
+**Several topics** are resampled onto the stamps of the first topic: each
+column linearly (:func:`numpy.interp`), orientations by spherical linear
+interpolation (slerp), and values held at the topic's first or last message
+outside its span. When the rates of the topics differ by more than a factor of
+2 one :class:`~ndlfd.NdlfdWarning` says so (a slow topic is then interpolated
+over long gaps).
+
+**Writing** (:func:`write_bag`): a ``PoseStamped`` per sample for position and
+orientation, a ``JointState`` for the group ``joints`` and a topic for each
+other group (a gripper), with the header stamps and receive times equal; a
+``JointTrajectory`` as YAML (:func:`write_joint_trajectory`) needs no rosbags.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import re
+import shutil
+import tempfile
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
+from .._fileformat import atomic_path
+from ..demonstration import Demonstration
+from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
+
+__all__ = [
+    "BAG_OPTIONS",
+    "BAG_SUFFIXES",
+    "BAG_TYPES",
+    "is_bag_folder",
+    "read_bag",
+    "read_bag_mapped",
+    "write_bag",
+    "write_joint_trajectory",
+]
+
+#: The suffixes (any case) of ROS 2 bag storage files read as bags.
+BAG_SUFFIXES = (".mcap", ".db3")
+#: The options only the bag reader takes, with their defaults.
+BAG_OPTIONS = {"topic": None, "frame": None, "split_gap": None}
+#: How the rates of several topics may differ before a warning.
+RATE_RATIO = 2.0
+
+_POSE_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz")
+
+
+def _rosbags():
+    try:
+        from rosbags import rosbag2, typesys
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise MissingExtraError(
+            "reading and writing ROS 2 bags needs rosbags; install it with: pip"
+            ' install "ndlfd[ros]"'
+        ) from None
+    return rosbag2, typesys
+
+
+def _typestore():
+    _, typesys = _rosbags()
+    return typesys.get_typestore(typesys.Stores.LATEST)
+
+
+def is_bag_folder(p: Path) -> bool:
+    """Whether ``p`` is a ROS 2 bag folder (a folder with ``metadata.yaml``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> is_bag_folder(d)
+    False
+    >>> _ = (d / "metadata.yaml").write_text("rosbag2_bagfile_information: {}")
+    >>> is_bag_folder(d)
+    True
+    """
+    return p.is_dir() and (p / "metadata.yaml").is_file()
+
+
+# ------------------------------------------------------------ message fields
+def _stamp(msg) -> int:
+    s = msg.header.stamp
+    return int(s.sec) * 1_000_000_000 + int(s.nanosec)
+
+
+def _pose(p, o) -> list[float]:
+    return [p.x, p.y, p.z, o.w, o.x, o.y, o.z]
+
+
+def _pose_stamped(m, frame):
+    return _stamp(m), _pose(m.pose.position, m.pose.orientation)
+
+
+def _pose_covariance(m, frame):
+    return _stamp(m), _pose(m.pose.pose.position, m.pose.pose.orientation)
+
+
+def _transform(m, frame):
+    if frame is not None and m.child_frame_id != frame:
+        return None
+    tr = m.transform
+    return _stamp(m), _pose(tr.translation, tr.rotation)
+
+
+def _joint_state(m, frame):
+    return _stamp(m), (list(m.name), np.asarray(m.position, dtype=np.float64))
+
+
+def _scalar(m, frame):
+    return None, [float(m.data)]
+
+
+#: The message types read, each with what it gives: ``"pose"``, ``"joints"``
+#: or ``"scalar"``, and how (``/tf``'s ``TFMessage`` is read transform by
+#: transform as ``TransformStamped``).
+BAG_TYPES = {
+    "geometry_msgs/msg/PoseStamped": ("pose", _pose_stamped),
+    "geometry_msgs/msg/PoseWithCovarianceStamped": ("pose", _pose_covariance),
+    "geometry_msgs/msg/TransformStamped": ("pose", _transform),
+    "tf2_msgs/msg/TFMessage": ("pose", _transform),
+    "nav_msgs/msg/Odometry": ("pose", _pose_covariance),
+    "sensor_msgs/msg/JointState": ("joints", _joint_state),
+    "std_msgs/msg/Float64": ("scalar", _scalar),
+    "std_msgs/msg/Float32": ("scalar", _scalar),
+}
+
+
+def _flags(how: Mapping[str, str]) -> dict[str, str]:
+    """How errors name the bag options: parameters, or the command line's flags."""
+    if how.get("groups", "").startswith("--"):
+        return {"topic": "--topic", "frame": "--frame"}
+    return {"topic": "topic=", "frame": "frame="}
+
+
+def _describe(topics) -> str:
+    return ", ".join(
+        f"{name} ({info.msgtype or 'mixed types'}, {info.msgcount} messages)"
+        for name, info in sorted(topics.items())
+    )
+
+
+class _Topic:
+    """The messages of one topic: stamps (ns, sorted) and named value arrays."""
+
+    def __init__(self, name, kind, stamps, arrays, orientation):
+        self.name, self.kind = name, kind
+        self.stamps, self.arrays, self.orientation = stamps, arrays, orientation
+
+    def rate(self) -> float | None:
+        span = (self.stamps[-1] - self.stamps[0]) / 1e9
+        return (self.stamps.size - 1) / span if span > 0 else None
+
+
+def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
+    """The kind of ``topic`` and its (stamp or None, receive time, values)."""
+    topics = reader.topics
+    if topic not in topics:
+        raise DataFileError(
+            f"{p}: the bag has no topic {topic!r}; its topics are {_describe(topics)}"
+        )
+    info = topics[topic]
+    types = sorted({c.msgtype for c in info.connections})
+    if len(types) > 1:
+        raise DataFileError(
+            f"{p}: topic {topic!r} mixes message types {', '.join(types)}; expected one"
+        )
+    msgtype = types[0]
+    if msgtype not in BAG_TYPES:
+        raise DataFileError(
+            f"{p}: topic {topic!r} holds {msgtype}, which ndlfd does not read;"
+            f" expected one of {', '.join(BAG_TYPES)}"
+        )
+    kind, field = BAG_TYPES[msgtype]
+    tf = msgtype == "tf2_msgs/msg/TFMessage"
+    frames: dict[str, int] = {}
+    rows = []
+    for conn, received, raw in reader.messages(connections=info.connections):
+        msg = store.deserialize_cdr(raw, conn.msgtype)
+        for m in msg.transforms if tf else (msg,):
+            if tf or msgtype.endswith("TransformStamped"):
+                frames[m.child_frame_id] = frames.get(m.child_frame_id, 0) + 1
+            got = field(m, frame)
+            if got is not None:
+                rows.append((got[0], received, got[1]))
+    if frames and ((frame is None and len(frames) > 1) or not rows):
+        which = "several child frames" if frame is None else f"no child frame {frame!r}"
+        raise DataFileError(
+            f"{p}: topic {topic!r} has {which}; pick one with {flags['frame']}"
+            f" (child frames there: {', '.join(sorted(frames))})"
+        )
+    if not rows:
+        raise DataFileError(f"{p}: topic {topic!r} has no messages")
+    return kind, rows
+
+
+def _topic_arrays(p, topic, kind, rows) -> _Topic:
+    """Stamps (sorted, unique) and value arrays of one topic's messages."""
+    stamps = np.array([r[0] for r in rows], dtype=object)
+    if any(s is None for s in stamps) or all(s == 0 for s in stamps):
+        stamps = np.array([r[1] for r in rows], dtype=np.int64)  # receive time
+    else:
+        stamps = stamps.astype(np.int64)
+    if kind == "joints":
+        names = rows[0][2][0]
+        for i, (_, _, (n, v)) in enumerate(rows):
+            if n != names:
+                raise DataFileError(
+                    f"{p}: the JointState messages on {topic!r} name different"
+                    f" joints ({', '.join(names)} in the first, {', '.join(n)} in"
+                    f" message {i}); record each set of joints on its own topic"
+                )
+            if v.shape != (len(names),):
+                raise DataFileError(
+                    f"{p}: JointState message {i} on {topic!r} has {v.size}"
+                    f" positions for {len(names)} joints"
+                )
+        values = np.array([r[2][1] for r in rows], dtype=np.float64)
+        columns = list(names)
+    else:
+        values = np.array([r[2] for r in rows], dtype=np.float64)
+        columns = list(_POSE_COLUMNS) if kind == "pose" else [None]
+    order = np.argsort(stamps, kind="stable")
+    stamps, values = stamps[order], values[order]
+    keep = np.concatenate([[True], np.diff(stamps) > 0])
+    if not keep.all():
+        warnings.warn(
+            f"{p}: dropped {int((~keep).sum())} message(s) on {topic} whose time"
+            " stamp repeats an earlier one (kept the first of each)",
+            NdlfdWarning,
+            stacklevel=4,
+        )
+        stamps, values = stamps[keep], values[keep]
+    return _Topic(
+        topic, kind, stamps, dict(zip(columns, values.T, strict=True)), kind == "pose"
+    )
+
+
+def _group_name(topic: str) -> str:
+    """The last part of the topic's name as a group name (``/ndlfd/gripper``)."""
+    last = topic.rstrip("/").rsplit("/", 1)[-1]
+    name = re.sub(r"[^A-Za-z0-9_\-]+", "_", last).strip("_") or "topic"
+    return name if re.match(r"[A-Za-z_]", name) else f"_{name}"
+
+
+def _named(topics: list[_Topic]) -> list[tuple[_Topic, dict[str, str]]]:
+    """Each topic's array keys: ``x``/``joints.NAME``, or named after the topic."""
+    taken: set[str] = set()
+    out = []
+    for tp in topics:
+        base = _group_name(tp.name)
+        if tp.kind == "pose" and "pose" not in taken:
+            keys = {c: c for c in tp.arrays}
+        elif tp.kind == "joints" and "joints" not in taken:
+            keys = {c: f"joints.{c}" for c in tp.arrays}
+        elif tp.kind == "scalar":
+            keys = {None: f"{base}.{base}"}
+        elif tp.kind == "joints":
+            keys = {c: f"{base}.{c}" for c in tp.arrays}
+        else:  # column names stay unique: target_x, ...
+            keys = {c: f"{base}.{base}_{c}" for c in tp.arrays}
+        taken.add(tp.kind)
+        out.append((tp, keys))
+    return out
+
+
+def _resample(tp: _Topic, at: np.ndarray) -> dict:
+    """The topic's arrays at the times ``at`` (ns): linear, orientation by slerp."""
+    if tp.stamps.size == at.size and np.array_equal(tp.stamps, at):
+        return dict(tp.arrays)
+    x = (tp.stamps - at[0]) / 1e9
+    xi = (at - at[0]) / 1e9
+    out = {c: np.interp(xi, x, v) for c, v in tp.arrays.items()}
+    if tp.orientation and tp.stamps.size > 1:
+        from scipy.spatial.transform import Rotation, Slerp
+
+        q = np.column_stack([tp.arrays[c] for c in ("qx", "qy", "qz", "qw")])
+        norms = np.linalg.norm(q, axis=1)
+        if np.all(np.isfinite(q)) and np.all(norms > 0):
+            slerp = Slerp(x, Rotation.from_quat(q))
+            r = slerp(np.clip(xi, x[0], x[-1])).as_quat()
+            for j, c in enumerate(("qx", "qy", "qz", "qw")):
+                out[c] = r[:, j]
+    return out
+
+
+def _rates_note(p, topics: list[_Topic]) -> None:
+    rates = [(tp.name, tp.rate()) for tp in topics]
+    known = [r for _, r in rates if r is not None]
+    if len(known) > 1 and max(known) > RATE_RATIO * min(known):
+        shown = ", ".join(f"{n} {r:.3g} Hz" for n, r in rates if r is not None)
+        warnings.warn(
+            f"{p}: the topics' rates differ by more than {RATE_RATIO:g}x ({shown});"
+            f" all are resampled onto the stamps of {topics[0].name} (linear,"
+            " orientation by slerp)",
+            NdlfdWarning,
+            stacklevel=3,
+        )
+
+
+def _segments(stamps: np.ndarray, split_gap: float | None) -> list[slice]:
+    if split_gap is None:
+        return [slice(0, stamps.size)]
+    cuts = np.flatnonzero(np.diff(stamps) / 1e9 > split_gap) + 1
+    edges = [0, *cuts.tolist(), stamps.size]
+    return [slice(a, b) for a, b in itertools.pairwise(edges)]
+
+
+def _check_options(topic, frame, split_gap) -> list[str] | None:
+    if topic is not None:
+        topic = [topic] if isinstance(topic, str) else list(topic)
+        if not topic or not all(isinstance(s, str) and s for s in topic):
+            raise ValidationError(
+                f"topic must be a topic name or a list of them; got {topic!r}"
+            )
+        if len(set(topic)) != len(topic):
+            raise ValidationError(f"topic names a topic twice; got {topic!r}")
+    if frame is not None and not (isinstance(frame, str) and frame):
+        raise ValidationError(f"frame must be a frame name; got {frame!r}")
+    if split_gap is not None and not (
+        isinstance(split_gap, (int, float)) and np.isfinite(split_gap) and split_gap > 0
+    ):
+        raise ValidationError(
+            f"split_gap must be a number of seconds > 0; got {split_gap!r}"
+        )
+    return topic
+
+
+def read_bag_mapped(
+    p: Path,
+    how=LIBRARY_HINTS,
+    *,
+    topic=None,
+    frame=None,
+    split_gap=None,
+    groups=None,
+    drop=(),
+    quaternion_order="wxyz",
+    time_column=None,
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """Every demonstration of the bag ``p`` (one, or one per segment) with its mapping.
+
+    ``time_column`` is not used (the time is the stamps); ``groups`` and
+    ``drop`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
+    ``gripper.gripper``) like CSV columns.
+    """
+    topics = _check_options(topic, frame, split_gap)
+    flags = _flags(how)
+    rosbag2, _ = _rosbags()
+    if not p.exists():
+        raise DataFileError(f"{p}: no such file or bag folder")
+    store = _typestore()
+    try:
+        with rosbag2.Reader(p) as reader:
+            if topics is None:
+                usable = [n for n, i in reader.topics.items() if i.msgtype in BAG_TYPES]
+                if len(usable) != 1:
+                    raise DataFileError(
+                        f"{p}: name the topic to read with {flags['topic']}; the"
+                        f" bag's topics are {_describe(reader.topics) or 'none'}"
+                    )
+                topics = usable
+            read = [
+                (t, *_read_topic(p, reader, store, t, frame, flags)) for t in topics
+            ]
+    except (rosbag2.ReaderError, OSError, KeyError) as exc:
+        raise DataFileError(
+            f"{p}: expected a ROS 2 bag (a folder with metadata.yaml, or an .mcap"
+            f" or .db3 file); it is not readable as one ({exc})"
+        ) from None
+    tps = [_topic_arrays(p, t, kind, rows) for t, kind, rows in read]
+    if len(tps) > 1:
+        _rates_note(p, tps)
+    at = tps[0].stamps
+    arrays: dict[str, np.ndarray] = {}
+    for tp, keys in _named(tps):
+        for c, v in _resample(tp, at).items():
+            arrays[keys[c]] = v
+    what = f"{tps[0].name} stamps"
+    out = []
+    segs = _segments(at, split_gap)
+    for i, seg in enumerate(segs):
+        source = str(p) if len(segs) == 1 else f"{p}:{i}"
+        part = {k: v[seg] for k, v in arrays.items()}
+        part["t"] = (at[seg] - at[seg][0]) / 1e9
+        demo, mapping = map_arrays(
+            source,
+            part,
+            time_column="t",
+            groups=groups,
+            drop=drop,
+            quaternion_order=quaternion_order,
+            how=how,
+            source=source,
+        )
+        out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))
+    return out
+
+
+def read_bag(
+    path: str | os.PathLike,
+    topic: str | Sequence[str] | None = None,
+    *,
+    frame: str | None = None,
+    split_gap: float | None = None,
+    groups: Mapping[str, Sequence[str] | str] | None = None,
+    drop: Sequence[str] = (),
+) -> list[Demonstration]:
+    """Read demonstrations from a ROS 2 bag: one, or one per segment.
+
+    Needs the ``ros`` extra (``pip install "ndlfd[ros]"``, pure Python: no ROS
+    installation). See :mod:`ndlfd.io._bag` for the message types read and how
+    several topics are combined.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A bag folder (with ``metadata.yaml``) or an ``.mcap`` / ``.db3`` file.
+    topic : str or sequence of str, optional
+        The topic(s) to read; the first gives the time stamps and the others are
+        resampled onto them. Default: the bag's only topic of a type ndlfd reads.
+    frame : str, optional
+        The child frame of the transforms on a ``/tf`` (``TFMessage``) or
+        ``TransformStamped`` topic; needed when it has several.
+    split_gap : float, optional
+        Start a new demonstration wherever the first topic's stamps are more
+        than this many seconds apart.
+    groups, drop
+        As in :func:`~ndlfd.io.read_csv`, on the arrays' names (``x``, ``qw``,
+        ``joints.NAME``, ``gripper.gripper``).
+
+    Returns
+    -------
+    demos : list of Demonstration
+        Time in seconds from each one's first sample.
+
+    Raises
+    ------
+    DataFileError
+        An unreadable bag, a missing topic (the message lists the bag's topics),
+        a topic with no messages or of a type not read, or values that do not
+        make a demonstration (NaN in a pose).
+    MissingExtraError
+        rosbags is not installed.
+    """
+    return [
+        d
+        for d, _ in read_bag_mapped(
+            Path(path),
+            topic=topic,
+            frame=frame,
+            split_gap=split_gap,
+            groups=groups,
+            drop=drop,
+        )
+    ]
+
+
+# ------------------------------------------------------------------ writing
+def _time_ns(demo: Demonstration, start_time: float) -> np.ndarray:
+    ns = np.round((demo.t + start_time) * 1e9)
+    if ns[0] < 0:
+        raise ValidationError(
+            f"a bag's time stamps must be >= 0; the demonstration starts at"
+            f" {float(demo.t[0])!r} (pass start_time= to shift it)"
+        )
+    return ns.astype(np.int64)
+
+
+def _header(T, ns: int, frame_id: str):
+    stamp = T["builtin_interfaces/msg/Time"](
+        sec=int(ns // 1_000_000_000), nanosec=int(ns % 1_000_000_000)
+    )
+    return T["std_msgs/msg/Header"](stamp=stamp, frame_id=frame_id)
+
+
+def _bag_streams(demo: Demonstration, topic: str):
+    """(topic, msgtype, group, columns) of each stream :func:`write_bag` writes."""
+    streams = []
+    if demo.has_group("position") or demo.has_group("orientation"):
+        if demo.has_group("position") and demo.get("position").shape[1] > 3:
+            raise ValidationError(
+                "a PoseStamped holds at most 3 position columns; the demonstration"
+                f" has {demo.get('position').shape[1]}"
+            )
+        streams.append((topic, "geometry_msgs/msg/PoseStamped", "pose", ()))
+    base = topic.rstrip("/")
+    for g in demo.group_names:
+        if g in ("position", "orientation", "velocity"):
+            continue
+        cols = tuple(
+            c for c, h in zip(demo.columns, demo.groups, strict=True) if h == g
+        )
+        if g == "joints":
+            name = f"{base}/joint_states"
+        else:
+            name = f"{base}/{g}"
+        kind = (
+            "std_msgs/msg/Float64"
+            if len(cols) == 1 and g != "joints"
+            else ("sensor_msgs/msg/JointState")
+        )
+        streams.append((name, kind, g, cols))
+    if not streams:
+        raise ValidationError(
+            "write_bag needs position, orientation, joints or another group to"
+            f" write; the demonstration has only {', '.join(demo.group_names)}"
+        )
+    return streams
+
+
+def _messages(T, demo, stream, ns, frame_id):
+    """The messages of one stream, one per sample."""
+    _, msgtype, group, cols = stream
+    n = demo.n_samples
+    if group == "pose":
+        pos = np.zeros((n, 3))
+        if demo.has_group("position"):
+            P = demo.get("position")
+            pos[:, : P.shape[1]] = P
+        quat = np.tile([1.0, 0.0, 0.0, 0.0], (n, 1))
+        if demo.has_group("orientation"):
+            quat = demo.get("orientation")
+        Point, Quat = T["geometry_msgs/msg/Point"], T["geometry_msgs/msg/Quaternion"]
+        Pose, PS = T["geometry_msgs/msg/Pose"], T[msgtype]
+        for i in range(n):
+            x, y, z = (float(v) for v in pos[i])
+            w, qx, qy, qz = (float(v) for v in quat[i])
+            yield PS(
+                header=_header(T, ns[i], frame_id),
+                pose=Pose(
+                    position=Point(x=x, y=y, z=z),
+                    orientation=Quat(x=qx, y=qy, z=qz, w=w),
+                ),
+            )
+        return
+    V = demo.get(group)
+    if msgtype == "std_msgs/msg/Float64":
+        for i in range(n):
+            yield T[msgtype](data=float(V[i, 0]))
+        return
+    empty = np.zeros(0, dtype=np.float64)
+    for i in range(n):
+        yield T[msgtype](
+            header=_header(T, ns[i], frame_id),
+            name=list(cols),
+            position=np.array(V[i], dtype=np.float64),
+            velocity=empty,
+            effort=empty,
+        )
+
+
+def write_bag(
+    demo: Demonstration,
+    path: str | os.PathLike,
+    *,
+    topic: str = "/ndlfd/path",
+    frame_id: str = "world",
+    start_time: float = 0.0,
+) -> Path:
+    """Write a demonstration as a ROS 2 bag that ``ros2 bag play`` replays, atomically.
+
+    One message per sample and stream, with the header stamp and the receive
+    time both ``t + start_time``: a ``geometry_msgs/msg/PoseStamped`` on
+    ``topic`` for position (up to 3 columns, missing ones 0) and orientation
+    (identity when absent); a ``sensor_msgs/msg/JointState`` on
+    ``TOPIC/joint_states`` for the group ``joints``; and for each other group
+    (a gripper, but not velocity) ``TOPIC/GROUP``: a ``std_msgs/msg/Float64``
+    for one column, a ``JointState`` named after the columns for several.
+
+    Needs the ``ros`` extra (``pip install "ndlfd[ros]"``).
+
+    Parameters
+    ----------
+    demo : Demonstration
+        The path (a generated one, say).
+    path : str or path-like
+        ``NAME.mcap``: one self-contained MCAP file (``ros2 bag play
+        NAME.mcap``); ``NAME.db3``: one SQLite file; any other name: a bag
+        folder (``metadata.yaml`` and an MCAP file) that must not exist yet.
+    topic : str, default="/ndlfd/path"
+        The pose topic; the other topics are below it.
+    frame_id : str, default="world"
+        The headers' frame.
+    start_time : float, default=0.0
+        Seconds added to ``demo.t`` for the stamps (which must be >= 0).
+
+    Returns
+    -------
+    path : Path
+    """
+    if not isinstance(demo, Demonstration):
+        raise ValidationError(
+            f"demo must be a Demonstration; got {type(demo).__name__}"
+        )
+    if not (isinstance(topic, str) and topic.startswith("/") and len(topic) > 1):
+        raise ValidationError(f"topic must be a name like '/ndlfd/path'; got {topic!r}")
+    rosbag2, _ = _rosbags()
+    store = _typestore()
+    T = store.types
+    streams = _bag_streams(demo, topic)
+    ns = _time_ns(demo, float(start_time))
+    final = Path(path)
+    suffix = final.suffix.lower()
+    if suffix not in BAG_SUFFIXES and final.exists():
+        raise ValidationError(
+            f"{final} exists; write_bag writes a new bag folder (remove it first)"
+        )
+    final.parent.mkdir(parents=True, exist_ok=True)
+    plugin = (
+        rosbag2.StoragePlugin.SQLITE3
+        if suffix == ".db3"
+        else (rosbag2.StoragePlugin.MCAP)
+    )
+    tmp = Path(
+        tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
+    )
+    try:
+        bag = tmp / (final.stem if suffix in BAG_SUFFIXES else final.name)
+        with rosbag2.Writer(bag, version=9, storage_plugin=plugin) as writer:
+            for stream in streams:
+                conn = writer.add_connection(stream[0], stream[1], typestore=store)
+                for i, msg in enumerate(_messages(T, demo, stream, ns, frame_id)):
+                    writer.write(conn, int(ns[i]), store.serialize_cdr(msg, stream[1]))
+        if suffix in BAG_SUFFIXES:
+            with atomic_path(final) as out:
+                os.replace(
+                    bag / f"{bag.name}{'.db3' if suffix == '.db3' else '.mcap'}", out
+                )
+        else:
+            os.rename(bag, final)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return final
+
+
+# ---------------------------------------------------------- joint trajectory
+def _yaml_float(v: float) -> str:
+    """A float YAML 1.1 (PyYAML, ``ros2 topic pub``) reads back exactly."""
+    text = repr(float(v))
+    if "e" in text and "." not in text:  # 1e-05 is a string to YAML 1.1
+        text = text.replace("e", ".0e")
+    return text
+
+
+def _yaml_name(name: str) -> str:
+    return "'" + name.replace("'", "''") + "'"
+
+
+def _duration(seconds: float) -> str:
+    ns = round(seconds * 1e9)
+    return f"{{sec: {ns // 1_000_000_000}, nanosec: {ns % 1_000_000_000}}}"
+
+
+def write_joint_trajectory(
+    demo: Demonstration, path: str | os.PathLike, *, group: str = "joints"
+) -> Path:
+    r"""Write a ``trajectory_msgs/msg/JointTrajectory`` as YAML, atomically.
+
+    One point per sample: the positions of ``group``'s columns (the joint
+    names), their velocities (:func:`numpy.gradient` over the real time
+    stamps) and ``time_from_start`` (seconds from the first sample, as
+    ``sec``/``nanosec``). The header's stamp is zero (start now) and its frame
+    empty. The file is the message in YAML flow style, floats written so that
+    they read back exactly, so it can be sent as it is::
+
+        ros2 topic pub --once /joint_trajectory_controller/joint_trajectory \
+            trajectory_msgs/msg/JointTrajectory "$(cat path.yaml)"
+
+    Needs no extra.
+
+    Parameters
+    ----------
+    demo : Demonstration
+        The path; needs the group ``group``.
+    path : str or path-like
+        The YAML file.
+    group : str, default="joints"
+        The group holding the joint positions.
+
+    Returns
+    -------
+    path : Path
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = Demonstration.from_arrays([0.0, 0.5], joints=[[0.0, 1.0], [0.5, 1.0]],
+    ...                               columns={"joints": ["a", "b"]})
+    >>> p = write_joint_trajectory(d, pathlib.Path(tempfile.mkdtemp()) / "j.yaml")
+    >>> print(p.read_text())
+    header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}
+    joint_names: ['a', 'b']
+    points:
+    - {positions: [0.0, 1.0], velocities: [1.0, 0.0], time_from_start: {sec: 0, nanosec: 0}}
+    - {positions: [0.5, 1.0], velocities: [1.0, 0.0], time_from_start: {sec: 0, nanosec: 500000000}}
+    <BLANKLINE>
+    """  # noqa: E501
+    if not isinstance(demo, Demonstration):
+        raise ValidationError(
+            f"demo must be a Demonstration; got {type(demo).__name__}"
+        )
+    if not demo.has_group(group):
+        raise ValidationError(
+            f"a joint trajectory needs the group {group!r} (the joint positions);"
+            f" the path has {', '.join(demo.group_names)}"
+        )
+    names = [c for c, g in zip(demo.columns, demo.groups, strict=True) if g == group]
+    Q = demo.get(group)
+    if demo.n_samples > 1:
+        V = np.gradient(Q, demo.t, axis=0)
+    else:
+        V = np.zeros_like(Q)
+    lines = [
+        "header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}",
+        f"joint_names: [{', '.join(_yaml_name(c) for c in names)}]",
+        "points:",
+    ]
+    for q, v, t in zip(Q, V, demo.t - demo.t[0], strict=True):
+        lines.append(
+            f"- {{positions: [{', '.join(map(_yaml_float, q))}],"
+            f" velocities: [{', '.join(map(_yaml_float, v))}],"
+            f" time_from_start: {_duration(t)}}}"
+        )
+    final = Path(path)
+    with atomic_path(final) as tmp:
+        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return final
