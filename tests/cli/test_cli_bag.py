@@ -1,42 +1,16 @@
+import sys
+
 import numpy as np
 import pytest
 
 pytest.importorskip("rosbags")
 
 from cli_helpers import cli
-from rosbags.rosbag2 import Reader, StoragePlugin, Writer
-from rosbags.typesys import Stores, get_typestore
+from rosbags.rosbag2 import StoragePlugin, Writer
 
+from bag_samples import STORE, joint_state, pose_stamped
+from bag_samples import rosbags_read as messages
 from ndlfd.learner import KeypointHMM
-
-STORE = get_typestore(Stores.LATEST)
-T = STORE.types
-
-
-def header(ns):
-    stamp = T["builtin_interfaces/msg/Time"](
-        sec=int(ns // 10**9), nanosec=int(ns % 10**9)
-    )
-    return T["std_msgs/msg/Header"](stamp=stamp, frame_id="world")
-
-
-def pose_msg(ns, p, q):
-    pose = T["geometry_msgs/msg/Pose"](
-        position=T["geometry_msgs/msg/Point"](x=p[0], y=p[1], z=p[2]),
-        orientation=T["geometry_msgs/msg/Quaternion"](w=q[0], x=q[1], y=q[2], z=q[3]),
-    )
-    return T["geometry_msgs/msg/PoseStamped"](header=header(ns), pose=pose)
-
-
-def joints_msg(ns, values):
-    empty = np.zeros(0)
-    return T["sensor_msgs/msg/JointState"](
-        header=header(ns),
-        name=["shoulder", "elbow"],
-        position=np.asarray(values, dtype=float),
-        velocity=empty,
-        effort=empty,
-    )
 
 
 def reach_bag(path, seed=0, storage=StoragePlugin.MCAP, gaps=0):
@@ -58,9 +32,9 @@ def reach_bag(path, seed=0, storage=StoragePlugin.MCAP, gaps=0):
             "/joint_states", "sensor_msgs/msg/JointState", typestore=STORE
         )
         for k, p, q, j in zip(ns, pos, quat, joints, strict=True):
-            m = pose_msg(int(k), p, q)
+            m = pose_stamped(int(k), p, q)
             w.write(cp, int(k), STORE.serialize_cdr(m, m.__msgtype__))
-            m = joints_msg(int(k), j)
+            m = joint_state(int(k), ["shoulder", "elbow"], j)
             w.write(cj, int(k), STORE.serialize_cdr(m, m.__msgtype__))
     return path
 
@@ -74,15 +48,6 @@ def bags(folder):
     reach_bag(folder / "loose" / "one", seed=4)
     (folder / "loose" / "one" / "one.mcap").rename(folder / "one.mcap")
     return folder
-
-
-def messages(path, topic):
-    with Reader(path) as r:
-        conns = [c for c in r.connections if c.topic == topic]
-        return [
-            (ns, STORE.deserialize_cdr(raw, c.msgtype))
-            for c, ns, raw in r.messages(connections=conns)
-        ]
 
 
 def test_fit_bags_generate_a_bag_read_back_with_rosbags(tmp_path, capsys):
@@ -294,3 +259,13 @@ def test_bag_errors_on_the_command_line(tmp_path, capsys):
         tmp_path / "p.csv",
     )
     assert rc == 2 and "the bag has no topic '/nope'" in err[0]
+
+
+def test_bags_without_rosbags_say_how_to_install_it(tmp_path, capsys, monkeypatch):
+    bag = reach_bag(tmp_path / "b")
+    monkeypatch.setitem(sys.modules, "rosbags", None)  # import rosbags now fails
+    rc, err = cli(capsys, "fit", bag, "--topic", "/ee_pose", "-o", tmp_path / "m")
+    assert rc == 2 and err == [
+        "ndlfd fit: error: reading and writing ROS 2 bags needs rosbags; install it"
+        ' with: pip install "ndlfd[ros]"'
+    ]

@@ -79,7 +79,7 @@ _POSE_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz")
 def _rosbags():
     try:
         from rosbags import rosbag2, typesys
-    except ImportError:  # pragma: no cover - depends on the environment
+    except ImportError:
         raise MissingExtraError(
             "reading and writing ROS 2 bags needs rosbags; install it with: pip"
             ' install "ndlfd[ros]"'
@@ -255,7 +255,7 @@ def _topic_arrays(p, topic, kind, rows) -> _Topic:
     keep = np.concatenate([[True], np.diff(stamps) > 0])
     if not keep.all():
         warnings.warn(
-            f"{p}: dropped {int((~keep).sum())} message(s) on {topic} whose time"
+            f"dropped {int((~keep).sum())} message(s) on {topic} whose time"
             " stamp repeats an earlier one (kept the first of each)",
             NdlfdWarning,
             stacklevel=4,
@@ -320,7 +320,7 @@ def _rates_note(p, topics: list[_Topic]) -> None:
     if len(known) > 1 and max(known) > RATE_RATIO * min(known):
         shown = ", ".join(f"{n} {r:.3g} Hz" for n, r in rates if r is not None)
         warnings.warn(
-            f"{p}: the topics' rates differ by more than {RATE_RATIO:g}x ({shown});"
+            f"the topics' rates differ by more than {RATE_RATIO:g}x ({shown});"
             f" all are resampled onto the stamps of {topics[0].name} (linear,"
             " orientation by slerp)",
             NdlfdWarning,

@@ -148,11 +148,12 @@ def read_file(
 def read_demos(source, *, return_mappings: bool = False, **kwargs):
     """Read many demonstrations: a folder, a glob pattern, a file or a list.
 
-    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5`` and ``.hdf5``
-    files (any case) in sorted order; a glob pattern its matches, sorted.
-    ``.npz`` files are read with :func:`read_npz`, ``.h5``/``.hdf5`` with
-    :func:`read_hdf5` (one demonstration per episode), everything else with
-    :func:`read_csv`; each gets the same column mapping (``kwargs``).
+    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
+    ``.mcap`` and ``.db3`` files (any case) and its ROS 2 bag folders in sorted
+    order; a glob pattern its matches, sorted. ``.npz`` files are read with
+    :func:`read_npz`, ``.h5``/``.hdf5`` with :func:`read_hdf5` (one
+    demonstration per episode), bags with :func:`~ndlfd.io.read_bag`, everything else
+    with :func:`read_csv`; each gets the same column mapping (``kwargs``).
 
     Parameters
     ----------
@@ -162,7 +163,8 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
         Also return the :class:`ColumnMapping` of each demonstration.
     **kwargs
         ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
-        :func:`read_csv`.
+        :func:`read_csv`; for bags also ``topic``, ``frame``, ``split_gap``
+        (see :func:`~ndlfd.io.read_bag`).
 
     Returns
     -------
