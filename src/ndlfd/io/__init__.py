@@ -29,9 +29,10 @@ Every write goes to a temporary file beside the target and is renamed into place
 so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
-:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5`` and
-``_bag`` (ROS 2 bags, the ``ros`` extra) and ``_files`` (folders, glob
-patterns, :class:`DemoFile`, :class:`DemoFiles` and the dispatch by suffix).
+:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5``,
+``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra) and
+``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
+the dispatch by suffix).
 
 **Adding a reader** (a ROS 2 bag, a LeRobot dataset: ``_bag.py``,
 ``_lerobot.py``). A reader is a function ``reader(path, hints, **mapping)``
@@ -51,7 +52,8 @@ imported inside the reader, with a :class:`~ndlfd.MissingExtraError` that says
 how to install it (see ``_hdf5``).
 """
 
-from ._bag import BAG_TYPES, read_bag, write_bag, write_joint_trajectory
+from ._bag import BAG_TYPES, read_bag
+from ._bagout import write_bag, write_joint_trajectory
 from ._csv import (
     csv_header,
     parse_table,
