@@ -15,13 +15,14 @@ topics become named arrays, mapped to groups by
   column in a group named after the last part of the topic's name
   (``/robot/gripper`` → ``gripper``).
 
-A later topic whose groups are taken gets a group named after the topic instead
-(a second pose topic ``/target``: group ``target``, columns ``target_x``, ...,
-``target_qz``). Time comes from the header stamps; a topic without a
-header, or whose stamps are all zero (unset), uses the time the bag received the
-messages. Messages are sorted by time; repeated stamps keep the first message
-(one :class:`~ndlfd.NdlfdWarning`). Time starts at 0 at the first message of the
-first topic (of each segment).
+A later topic whose groups are taken gets a group named after the topic
+instead (a second pose topic ``/target``: group ``target``, columns
+``target_x``, ..., ``target_qz``). Time comes from the header stamps; a topic
+without a header, or with unset (zero) stamps, uses the time the bag received
+the messages. Messages are sorted by time; repeated stamps keep the first
+message (one :class:`~ndlfd.NdlfdWarning`). Time starts at 0 at the first
+message of the first topic (of each segment). The column mapping options
+``groups`` and ``drop`` apply to these names; ``time_column`` is not used.
 
 **Several topics** are resampled onto the stamps of the first topic: each
 column linearly (:func:`numpy.interp`), orientations by spherical linear
@@ -223,7 +224,7 @@ def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
 def _topic_arrays(p, topic, kind, rows) -> _Topic:
     """Stamps (sorted, unique) and value arrays of one topic's messages."""
     stamps = np.array([r[0] for r in rows], dtype=object)
-    if any(s is None for s in stamps) or all(s == 0 for s in stamps):
+    if any(s is None or s == 0 for s in stamps):  # no header, or unset stamps
         stamps = np.array([r[1] for r in rows], dtype=np.int64)  # receive time
     else:
         stamps = stamps.astype(np.int64)
