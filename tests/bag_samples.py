@@ -59,7 +59,7 @@ def joint_state(ns, names, values):
     return T["sensor_msgs/msg/JointState"](
         header=header(ns, ""),
         name=list(names),
-        position=np.asarray(values, dtype=float),
+        position=np.array(values, dtype=float),
         velocity=empty,
         effort=empty,
     )

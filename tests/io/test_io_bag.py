@@ -14,7 +14,6 @@ from bag_samples import (
     transform,
     write_bag,
 )
-
 from ndlfd import NdlfdWarning
 from ndlfd._errors import DataFileError, ValidationError
 from ndlfd.demonstration import Demonstration
@@ -65,22 +64,36 @@ def test_bags_stream_one_item_per_bag(tmp_path):
         DemoFiles(tmp_path, topics="/ee_pose")
 
 
-def test_joint_states_in_the_first_messages_order(tmp_path):
-    ns = 10**9 + np.arange(5) * 10_000_000
-    values = np.random.default_rng(0).normal(size=(5, 3))
+def test_joint_states_by_name_and_by_set_of_joints(tmp_path):
+    ns = 10**9 + np.arange(6) * 10_000_000
+    values = np.random.default_rng(0).normal(size=(6, 3))
     names = ["wrist", "elbow", "shoulder"]
     msgs = [(int(k), joint_state(k, names, v)) for k, v in zip(ns, values, strict=True)]
+    msgs[2] = (int(ns[2]), joint_state(ns[2], names[::-1], values[2, ::-1]))
     bag = write_bag(tmp_path / "js", {"/joint_states": msgs}, "sqlite3")
     (d,) = read_bag(bag, "/joint_states")
     assert d.columns == tuple(names) and d.groups == ("joints",) * 3
     assert np.array_equal(d.X, values) and np.allclose(d.t, seconds(ns))
-    # a message naming other joints
-    bad = [*msgs, (int(ns[-1]) + 10**7, joint_state(ns[-1] + 10**7, names[:2], [0, 1]))]
-    bag = write_bag(tmp_path / "js2", {"/joint_states": bad})
+    # a gripper publishing its own joint on the same topic: a stream of its own
+    ns_f = ns[:4] + 5_000_000
+    finger = np.array([0.0, 0.01, 0.03, 0.04])
+    grip = [
+        (int(k), joint_state(k, ["finger"], [f]))
+        for k, f in zip(ns_f, finger, strict=True)
+    ]
+    both = sorted([*msgs, *grip], key=lambda x: x[0])
+    bag = write_bag(tmp_path / "js2", {"/joint_states": both})
+    (d,) = read_bag(bag, "/joint_states")
+    assert d.columns == (*names, "finger") and d.groups == ("joints",) * 4
+    assert np.array_equal(d.X[:, :3], values)
+    assert np.allclose(d.X[:, 3], np.interp(ns, ns_f, finger))
+    # positions that do not match the names
+    bad = [*msgs, (int(ns[-1]) + 10**7, joint_state(0, names, [0.0, 1.0]))]
+    bag = write_bag(tmp_path / "js3", {"/joint_states": bad})
     with pytest.raises(
         DataFileError,
-        match=r"js2: the JointState messages on"
-        r" '/joint_states' name different joints",
+        match=r"js3: JointState message 6 on '/joint_states' has 2 positions for"
+        r" the joints wrist, elbow, shoulder; expected one per joint",
     ):
         read_bag(bag, "/joint_states")
 

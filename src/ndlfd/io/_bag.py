@@ -10,7 +10,10 @@ topics become named arrays, mapped to groups by
   the child frame ``frame``) and ``nav_msgs/msg/Odometry`` give ``x, y, z``
   (position) and ``qw, qx, qy, qz`` (orientation, w first);
 * ``sensor_msgs/msg/JointState`` gives the group ``joints``, one column per
-  joint, named after it, in the order of the first message;
+  joint, named after it, in the order the joints first appear (messages may
+  list them in any order). Messages that name different sets of joints (an
+  arm and a gripper publishing on ``/joint_states``) give one stream per set,
+  combined like several topics (the set with the most messages first);
 * ``std_msgs/msg/Float64`` / ``Float32`` (a gripper command, say) give one
   column in a group named after the last part of the topic's name
   (``/robot/gripper`` → ``gripper``).
@@ -168,11 +171,17 @@ def _describe(topics) -> str:
 
 
 class _Topic:
-    """The messages of one topic: stamps (ns, sorted) and named value arrays."""
+    """The messages of one topic (or one set of joints): stamps and value arrays.
 
-    def __init__(self, name, kind, stamps, arrays, orientation):
+    ``stamps`` are int64 nanoseconds, sorted and unique; ``arrays`` maps each
+    column (``None`` for a scalar) to its values; ``label`` names it in news.
+    """
+
+    def __init__(self, name, kind, stamps, arrays, label=None):
         self.name, self.kind = name, kind
-        self.stamps, self.arrays, self.orientation = stamps, arrays, orientation
+        self.stamps, self.arrays = stamps, arrays
+        self.orientation = kind == "pose"
+        self.label = label or name
 
     def rate(self) -> float | None:
         span = (self.stamps[-1] - self.stamps[0]) / 1e9
@@ -221,46 +230,66 @@ def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
     return kind, rows
 
 
-def _topic_arrays(p, topic, kind, rows) -> _Topic:
-    """Stamps (sorted, unique) and value arrays of one topic's messages."""
-    stamps = np.array([r[0] for r in rows], dtype=object)
-    if any(s is None or s == 0 for s in stamps):  # no header, or unset stamps
-        stamps = np.array([r[1] for r in rows], dtype=np.int64)  # receive time
-    else:
-        stamps = stamps.astype(np.int64)
+def _stamps_of(rows) -> np.ndarray:
+    """Header stamps, or the receive times without a header or with unset stamps."""
+    if any(r[0] is None or r[0] == 0 for r in rows):
+        return np.array([r[1] for r in rows], dtype=np.int64)
+    return np.array([r[0] for r in rows], dtype=np.int64)
+
+
+def _joint_sets(p, topic, rows) -> list[tuple[list[str], list]]:
+    """The joints' columns (in the order they first appear) and rows of each set.
+
+    Messages may list the joints in any order; messages that name different
+    sets of joints (an arm and a gripper publishing on one topic) make one set
+    each, the set with the most messages first.
+    """
+    seen: dict[str, None] = {}
+    sets: dict[frozenset, list] = {}
+    for i, (stamp, received, (names, v)) in enumerate(rows):
+        if v.shape != (len(names),) or len(set(names)) != len(names):
+            raise DataFileError(
+                f"{p}: JointState message {i} on {topic!r} has {v.size} positions"
+                f" for the joints {', '.join(names) or '(none)'}; expected one per"
+                " joint, each named once"
+            )
+        seen.update(dict.fromkeys(names))
+        value = dict(zip(names, v.tolist(), strict=True))
+        sets.setdefault(frozenset(names), []).append((stamp, received, value))
+    out = []
+    for key, part in sets.items():
+        cols = [n for n in seen if n in key]
+        out.append((cols, [(s, r, [v[c] for c in cols]) for s, r, v in part]))
+    out.sort(key=lambda x: -len(x[1]))  # stable: ties keep the first seen
+    return out
+
+
+def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
+    """The topic's streams (one, or one per set of joints) as :class:`_Topic`."""
     if kind == "joints":
-        names = rows[0][2][0]
-        for i, (_, _, (n, v)) in enumerate(rows):
-            if n != names:
-                raise DataFileError(
-                    f"{p}: the JointState messages on {topic!r} name different"
-                    f" joints ({', '.join(names)} in the first, {', '.join(n)} in"
-                    f" message {i}); record each set of joints on its own topic"
-                )
-            if v.shape != (len(names),):
-                raise DataFileError(
-                    f"{p}: JointState message {i} on {topic!r} has {v.size}"
-                    f" positions for {len(names)} joints"
-                )
-        values = np.array([r[2][1] for r in rows], dtype=np.float64)
-        columns = list(names)
+        sets = _joint_sets(p, topic, rows)
     else:
-        values = np.array([r[2] for r in rows], dtype=np.float64)
-        columns = list(_POSE_COLUMNS) if kind == "pose" else [None]
-    order = np.argsort(stamps, kind="stable")
-    stamps, values = stamps[order], values[order]
-    keep = np.concatenate([[True], np.diff(stamps) > 0])
-    if not keep.all():
-        warnings.warn(
-            f"dropped {int((~keep).sum())} message(s) on {topic} whose time"
-            " stamp repeats an earlier one (kept the first of each)",
-            NdlfdWarning,
-            stacklevel=4,
-        )
-        stamps, values = stamps[keep], values[keep]
-    return _Topic(
-        topic, kind, stamps, dict(zip(columns, values.T, strict=True)), kind == "pose"
-    )
+        sets = [(list(_POSE_COLUMNS) if kind == "pose" else [None], rows)]
+    out = []
+    for columns, part in sets:
+        stamps = _stamps_of(part)
+        values = np.array([r[2] for r in part], dtype=np.float64)
+        values = values.reshape(len(part), len(columns))
+        order = np.argsort(stamps, kind="stable")
+        stamps, values = stamps[order], values[order]
+        keep = np.concatenate([[True], np.diff(stamps) > 0])
+        label = topic if len(sets) == 1 else f"{topic} ({', '.join(columns)})"
+        if not keep.all():
+            warnings.warn(
+                f"dropped {int((~keep).sum())} message(s) on {label} whose time"
+                " stamp repeats an earlier one (kept the first of each)",
+                NdlfdWarning,
+                stacklevel=4,
+            )
+            stamps, values = stamps[keep], values[keep]
+        arrays = dict(zip(columns, values.T, strict=True))
+        out.append(_Topic(topic, kind, stamps, arrays, label))
+    return out
 
 
 def _group_name(topic: str) -> str:
@@ -272,13 +301,14 @@ def _group_name(topic: str) -> str:
 
 def _named(topics: list[_Topic]) -> list[tuple[_Topic, dict[str, str]]]:
     """Each topic's array keys: ``x``/``joints.NAME``, or named after the topic."""
-    taken: set[str] = set()
+    owner: dict[str, str] = {}  # kind -> the topic that has its groups
     out = []
     for tp in topics:
         base = _group_name(tp.name)
-        if tp.kind == "pose" and "pose" not in taken:
+        first = owner.setdefault(tp.kind, tp.name) == tp.name
+        if tp.kind == "pose" and first:
             keys = {c: c for c in tp.arrays}
-        elif tp.kind == "joints" and "joints" not in taken:
+        elif tp.kind == "joints" and first:
             keys = {c: f"joints.{c}" for c in tp.arrays}
         elif tp.kind == "scalar":
             keys = {None: f"{base}.{base}"}
@@ -286,7 +316,6 @@ def _named(topics: list[_Topic]) -> list[tuple[_Topic, dict[str, str]]]:
             keys = {c: f"{base}.{c}" for c in tp.arrays}
         else:  # column names stay unique: target_x, ...
             keys = {c: f"{base}.{base}_{c}" for c in tp.arrays}
-        taken.add(tp.kind)
         out.append((tp, keys))
     return out
 
@@ -312,13 +341,13 @@ def _resample(tp: _Topic, at: np.ndarray) -> dict:
 
 
 def _rates_note(p, topics: list[_Topic]) -> None:
-    rates = [(tp.name, tp.rate()) for tp in topics]
+    rates = [(tp.label, tp.rate()) for tp in topics]
     known = [r for _, r in rates if r is not None]
     if len(known) > 1 and max(known) > RATE_RATIO * min(known):
         shown = ", ".join(f"{n} {r:.3g} Hz" for n, r in rates if r is not None)
         warnings.warn(
             f"the topics' rates differ by more than {RATE_RATIO:g}x ({shown});"
-            f" all are resampled onto the stamps of {topics[0].name} (linear,"
+            f" all are resampled onto the stamps of {topics[0].label} (linear,"
             " orientation by slerp)",
             NdlfdWarning,
             stacklevel=3,
@@ -395,7 +424,7 @@ def read_bag_mapped(
             f"{p}: expected a ROS 2 bag (a folder with metadata.yaml, or an .mcap"
             f" or .db3 file); it is not readable as one ({exc})"
         ) from None
-    tps = [_topic_arrays(p, t, kind, rows) for t, kind, rows in read]
+    tps = [tp for t, kind, rows in read for tp in _topic_arrays(p, t, kind, rows)]
     if len(tps) > 1:
         _rates_note(p, tps)
     at = tps[0].stamps
@@ -403,7 +432,7 @@ def read_bag_mapped(
     for tp, keys in _named(tps):
         for c, v in _resample(tp, at).items():
             arrays[keys[c]] = v
-    what = f"{tps[0].name} stamps"
+    what = f"{tps[0].label} stamps"
     out = []
     segs = _segments(at, split_gap)
     for i, seg in enumerate(segs):
