@@ -1,3 +1,5 @@
+import pickle
+
 import numpy as np
 import pytest
 
@@ -58,7 +60,7 @@ def test_bags_stream_one_item_per_bag(tmp_path):
         write_bag(tmp_path / f"b{i}", {"/ee_pose": msgs})
     files = DemoFiles(tmp_path, topic="/ee_pose", split_gap=1.0)
     assert len(files) == 3 and files[1].path == tmp_path / "b1"
-    first = files[0].read()
+    first = pickle.loads(pickle.dumps(files[0])).read()  # as a worker reads it
     assert np.array_equal(first[0].get("position"), reach_messages(seed=0)[1])
     with pytest.raises(ValidationError, match=r"unexpected argument.*'topics'"):
         DemoFiles(tmp_path, topics="/ee_pose")
@@ -254,6 +256,15 @@ def test_bag_errors_are_one_line_and_name_what_is_there(tmp_path):
         read_bag(tmp_path / "junk.mcap")
     with pytest.raises(DataFileError, match=r"nothing.db3: no such file"):
         read_bag(tmp_path / "nothing.db3")
+
+
+def test_poses_without_orientation_give_position_only(tmp_path):
+    ns, pos, _, _ = reach_messages(n=6)
+    msgs = [
+        (int(k), pose_stamped(k, p, [0.0] * 4)) for k, p in zip(ns, pos, strict=True)
+    ]
+    (d,) = read_bag(write_bag(tmp_path / "p", {"/p": msgs}), "/p")
+    assert d.group_names == ("position",) and np.array_equal(d.X, pos)
 
 
 def test_one_message_and_nan_in_a_pose(tmp_path):

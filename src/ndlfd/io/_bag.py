@@ -8,7 +8,9 @@ topics become named arrays, mapped to groups by
 * ``geometry_msgs/msg/PoseStamped``, ``PoseWithCovarianceStamped``,
   ``TransformStamped``, ``tf2_msgs/msg/TFMessage`` (``/tf``: the transforms to
   the child frame ``frame``) and ``nav_msgs/msg/Odometry`` give ``x, y, z``
-  (position) and ``qw, qx, qy, qz`` (orientation, w first);
+  (position) and ``qw, qx, qy, qz`` (orientation, w first; left out when
+  every quaternion is all zeros, as a publisher that sets no orientation
+  leaves it);
 * ``sensor_msgs/msg/JointState`` gives the group ``joints``, one column per
   joint, named after it, in the order the joints first appear (messages may
   list them in any order). Messages that name different sets of joints (an
@@ -180,7 +182,7 @@ class _Topic:
     def __init__(self, name, kind, stamps, arrays, label=None):
         self.name, self.kind = name, kind
         self.stamps, self.arrays = stamps, arrays
-        self.orientation = kind == "pose"
+        self.orientation = "qw" in arrays
         self.label = label or name
 
     def rate(self) -> float | None:
@@ -288,6 +290,9 @@ def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
             )
             stamps, values = stamps[keep], values[keep]
         arrays = dict(zip(columns, values.T, strict=True))
+        if kind == "pose" and not np.any(values[:, 3:]):  # orientation unset
+            for c in _POSE_COLUMNS[3:]:
+                del arrays[c]
         out.append(_Topic(topic, kind, stamps, arrays, label))
     return out
 
