@@ -58,15 +58,9 @@ def _bag_streams(demo: Demonstration, topic: str):
         cols = tuple(
             c for c, h in zip(demo.columns, demo.groups, strict=True) if h == g
         )
-        if g == "joints":
-            name = f"{base}/joint_states"
-        else:
-            name = f"{base}/{g}"
-        kind = (
-            "std_msgs/msg/Float64"
-            if len(cols) == 1 and g != "joints"
-            else ("sensor_msgs/msg/JointState")
-        )
+        name = f"{base}/joint_states" if g == "joints" else f"{base}/{g}"
+        scalar = len(cols) == 1 and g != "joints"
+        kind = "std_msgs/msg/Float64" if scalar else "sensor_msgs/msg/JointState"
         streams.append((name, kind, g, cols))
     if not streams:
         raise ValidationError(
@@ -177,11 +171,8 @@ def write_bag(
             f"{final} exists; write_bag writes a new bag folder (remove it first)"
         )
     final.parent.mkdir(parents=True, exist_ok=True)
-    plugin = (
-        rosbag2.StoragePlugin.SQLITE3
-        if suffix == ".db3"
-        else (rosbag2.StoragePlugin.MCAP)
-    )
+    sqlite = suffix == ".db3"
+    plugin = rosbag2.StoragePlugin.SQLITE3 if sqlite else rosbag2.StoragePlugin.MCAP
     tmp = Path(
         tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
     )
@@ -194,9 +185,7 @@ def write_bag(
                     writer.write(conn, int(ns[i]), store.serialize_cdr(msg, stream[1]))
         if suffix in BAG_SUFFIXES:
             with atomic_path(final) as out:
-                os.replace(
-                    bag / f"{bag.name}{'.db3' if suffix == '.db3' else '.mcap'}", out
-                )
+                os.replace(bag / f"{bag.name}{'.db3' if sqlite else '.mcap'}", out)
         else:
             os.rename(bag, final)
     finally:
