@@ -263,10 +263,10 @@ def column_options(args: argparse.Namespace) -> dict:
         "quaternion_order": "wxyz",
     }
     split_gap = getattr(args, "split_gap", None)
-    if split_gap is not None:
-        check_range(split_gap, "--split-gap", low=0)
-        if split_gap == 0:
-            raise ValidationError("--split-gap must be a number of seconds > 0; got 0")
+    if split_gap is not None and not (math.isfinite(split_gap) and split_gap > 0):
+        raise ValidationError(
+            f"--split-gap must be a number of seconds > 0; got {split_gap:g}"
+        )
     bag = {
         "topic": getattr(args, "bag_topic", None),
         "frame": getattr(args, "bag_frame", None),
