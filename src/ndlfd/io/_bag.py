@@ -44,6 +44,7 @@ from __future__ import annotations
 import itertools
 import os
 import re
+import struct
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
@@ -424,7 +425,16 @@ def read_bag_mapped(
             read = [
                 (t, *_read_topic(p, reader, store, t, frame, flags)) for t in topics
             ]
-    except (rosbag2.ReaderError, OSError, KeyError) as exc:
+    except DataFileError:
+        raise
+    except (
+        rosbag2.ReaderError,
+        OSError,
+        KeyError,
+        ValueError,
+        IndexError,
+        struct.error,
+    ) as exc:  # a damaged file: the message does not parse
         raise DataFileError(
             f"{p}: expected a ROS 2 bag (a folder with metadata.yaml, or an .mcap"
             f" or .db3 file); it is not readable as one ({exc})"
