@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from ndlfd import synth
 from ndlfd.io import read_csv, write_csv, write_table
@@ -16,10 +17,33 @@ README = Path(__file__).resolve().parents[1] / "README.md"
 BIN = Path(sys.executable).parent / "ndlfd"
 
 
-def _shell_examples() -> list[list[str]]:
+_ROBOT_DATA = "## From ROS 2 and LeRobot"
+
+
+def _shell_examples(section: str | None = None) -> list[list[str]]:
+    """The README's ``$ ndlfd`` lines: of one section, or outside the robot data."""
     text = README.read_text(encoding="utf-8")
+    if section is not None:
+        text = text.split(section, 1)[1]
+        text = re.split(r"^##+ ", text, flags=re.M)[0]
+    elif _ROBOT_DATA in text:  # run by their own tests (they need the extras)
+        head, rest = text.split(_ROBOT_DATA, 1)
+        text = head + rest[rest.index("\n## ") :]
     lines = re.findall(r"^\$ (ndlfd .+)$", text, re.M)
     return [shlex.split(m, comments=True) for m in lines]
+
+
+def _run(args, cwd):
+    env = dict(os.environ, PYTHONWARNINGS="error")
+    r = subprocess.run(
+        [str(BIN), *args[1:]],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert r.returncode == 0, f"{shlex.join(args)} failed: {r.stderr}"
 
 
 def test_readme_shell_examples_run(tmp_path):
@@ -52,21 +76,12 @@ def test_readme_shell_examples_run(tmp_path):
         rows = np.column_stack([d.t, d.get("position")]).tolist()
         text = ["time;pos_x;pos_y"] + [";".join(f"{v:.6g}" for v in r) for r in rows]
         (tmp_path / "recordings" / f"reach{i}.csv").write_text("\n".join(text) + "\n")
-    env = dict(os.environ, PYTHONWARNINGS="error")
     for args in examples:
         if args[1] == "reproduce":
             args = [*args, "--quick"]  # the full run is checked by its own test
         if args[1] == "evaluate":  # the full run is docs/evaluation.md
             args = [*args, "--shapes", "Line", "--folds", "1", "--no-plot"]
-        r = subprocess.run(
-            [str(BIN), *args[1:]],
-            cwd=tmp_path,
-            capture_output=True,
-            text=True,
-            env=env,
-            timeout=600,
-        )
-        assert r.returncode == 0, f"{shlex.join(args)} failed: {r.stderr}"
+        _run(args, tmp_path)
     assert read_csv(tmp_path / "keypoints.csv").n_samples < 500
     path = read_csv(tmp_path / "path.csv")
     assert path.n_samples == 400 and path.t[-1] == 8.0
@@ -77,3 +92,22 @@ def test_readme_shell_examples_run(tmp_path):
     reach = read_csv(tmp_path / "reach.csv")
     assert reach.n_samples == 200 and reach.columns[:2] == ("pos_x", "pos_y")
     assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_readme_ros_bag_examples_run(tmp_path):
+    pytest.importorskip("rosbags")
+    from bag_samples import float64, reach_messages, write_bag
+    from ndlfd.io import read_bag
+
+    examples = _shell_examples("### ROS 2 bags")
+    assert [e[1] for e in examples] == ["fit", "generate"]
+    (tmp_path / "bags").mkdir()
+    for i in range(4):
+        ns, _, _, msgs = reach_messages(n=80, seed=i)
+        grip = [(int(k), float64(j > 40)) for j, k in enumerate(ns)]
+        write_bag(tmp_path / "bags" / f"pick{i}", {"/ee_pose": msgs, "/gripper": grip})
+    for args in examples:
+        _run(args, tmp_path)
+    (path,) = read_bag(tmp_path / "pick.mcap", ["/ndlfd/path", "/ndlfd/path/gripper"])
+    assert path.n_samples == 300 and path.t[-1] == 6.0
+    assert path.group_names == ("position", "orientation", "gripper")

@@ -219,9 +219,10 @@ def add_fit(sub) -> None:
         help="learn a model from demonstration files",
         description=(
             "Learn key points, codebook states and a discrete HMM from"
-            " demonstration files (CSV, .npz or HDF5; a folder means all its"
-            " .csv/.tsv/.npz/.h5/.hdf5 files, in any case). The summary names the"
-            " learned groups and the groups in the files that are not learned."
+            " demonstration files (CSV, .npz, HDF5 or ROS 2 bags; a folder means"
+            " all its .csv/.tsv/.npz/.h5/.hdf5/.mcap/.db3 files, in any case, and"
+            " its bag folders). The summary names the learned groups and the"
+            " groups in the files that are not learned."
         ),
     )
     p.add_argument("demos", nargs="+", help="files, folders or glob patterns")

@@ -9,7 +9,13 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import ValidationError
-from ..io import csv_header, write_csv, write_table
+from ..io import (
+    csv_header,
+    write_bag,
+    write_csv,
+    write_joint_trajectory,
+    write_table,
+)
 from ..learner import KeypointHMM
 from ._options import (
     add_column_options,
@@ -20,7 +26,7 @@ from ._options import (
     say,
 )
 
-__all__ = ["FLOAT_FORMAT", "MAX_SAMPLES", "add_generate"]
+__all__ = ["FLOAT_FORMAT", "FORMATS", "MAX_SAMPLES", "add_generate"]
 
 #: Most samples ``ndlfd generate --samples`` writes (80 MB per column).
 MAX_SAMPLES = 10_000_000
@@ -28,8 +34,34 @@ MAX_SAMPLES = 10_000_000
 FLOAT_FORMAT = "%.10g"
 
 
+#: What ``ndlfd generate -o`` writes, by ``--format`` or the output's suffix.
+FORMATS = ("csv", "bag", "joint-trajectory")
+_FORMAT_OF_SUFFIX = {
+    ".mcap": "bag",
+    ".db3": "bag",
+    ".yaml": "joint-trajectory",
+    ".yml": "joint-trajectory",
+}
+
+
+def _output_format(args: argparse.Namespace, out: Path) -> str:
+    fmt = args.format or _FORMAT_OF_SUFFIX.get(out.suffix.lower(), "csv")
+    if fmt == "bag" and out.suffix.lower() not in (".mcap", ".db3"):
+        raise ValidationError(
+            f"--format bag writes one .mcap (or .db3) file; got -o {out}"
+            f" (e.g. -o {out.with_suffix('.mcap')})"
+        )
+    if args.topic is not None and fmt != "bag":
+        raise ValidationError(
+            f"--topic names the topic of a bag output (-o PATH.mcap); -o {out}"
+            f" writes {fmt}"
+        )
+    return fmt
+
+
 def _cmd_generate(args: argparse.Namespace) -> int:
     out = check_output(args.output)
+    fmt = _output_format(args, out)
     std_out = check_output(args.std, "--std") if args.std is not None else None
     if args.like is not None:
         if args.duration is not None or args.samples is not None:
@@ -88,7 +120,12 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     )
     path, std = result if std_out is not None else (result, None)
     exact_time = args.like is not None and args.dense
-    _write_path(path, out, exact_time=exact_time)
+    if fmt == "bag":
+        write_bag(path, out, topic=args.topic or "/ndlfd/path")
+    elif fmt == "joint-trajectory":
+        write_joint_trajectory(path, out)
+    else:
+        _write_path(path, out, exact_time=exact_time)
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
         formats = [None if exact_time else FLOAT_FORMAT]
         formats += [FLOAT_FORMAT] * path.n_dims
@@ -117,7 +154,14 @@ def add_generate(sub) -> None:
         description=(
             "Decode a new timing with a fitted model and write the generated path"
             " (key points, or every sample with --dense) as CSV, numbers with ten"
-            " significant digits (the time stamps of --like exactly)."
+            " significant digits (the time stamps of --like exactly); or as a ROS 2"
+            " bag (-o PATH.mcap: a PoseStamped per sample on --topic for position"
+            " and orientation, a JointState on TOPIC/joint_states for joints, a"
+            " topic TOPIC/GROUP for each other group such as a gripper; replay it"
+            " with 'ros2 bag play PATH.mcap'), or as a"
+            " trajectory_msgs/msg/JointTrajectory in YAML (-o PATH.yaml: the group"
+            " joints, velocities by numpy.gradient; send it with 'ros2 topic pub')."
+            " Bags need ndlfd[ros]."
         ),
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
@@ -156,8 +200,23 @@ def add_generate(sub) -> None:
         " 'ndlfd plot --std' (models fitted with --generation blend)",
     )
     p.add_argument(
-        "-o", "--output", required=True, help="output CSV file (its folder must exist)"
+        "-o",
+        "--output",
+        required=True,
+        help="output file (its folder must exist): .csv, .mcap (a ROS 2 bag) or"
+        " .yaml (a joint trajectory)",
+    )
+    p.add_argument(
+        "--format",
+        choices=FORMATS,
+        help="what -o holds (default: by its suffix: .mcap/.db3 bag,"
+        " .yaml/.yml joint-trajectory, else csv)",
+    )
+    p.add_argument(
+        "--topic",
+        metavar="TOPIC",
+        help="the pose topic of a bag output (default /ndlfd/path)",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
-    add_column_options(p, what="--like file")
+    add_column_options(p, what="--like file", bags="like-")
     p.set_defaults(func=_cmd_generate)

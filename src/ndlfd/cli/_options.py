@@ -166,7 +166,10 @@ def check_output(path: str, flag: str = "-o") -> Path:
 
 
 # ------------------------------------------------------------- data columns
-def add_column_options(p, *, what: str = "demonstration files") -> None:
+def add_column_options(
+    p, *, what: str = "demonstration files", bags: str | None = ""
+) -> None:
+    """The column mapping flags, and with ``bags`` (a flag prefix) a bag's topics."""
     g = p.add_argument_group(
         f"columns of the {what}",
         "CSV files are comma-, semicolon-, tab- or whitespace-separated (the header"
@@ -194,6 +197,40 @@ def add_column_options(p, *, what: str = "demonstration files") -> None:
     g.add_argument(
         "--drop", metavar="NAME[,NAME...]", help="columns to leave out of the data"
     )
+    if bags is None:
+        return
+    b = p.add_argument_group(
+        f"ROS 2 bags among the {what}",
+        "A bag is a folder with metadata.yaml or an .mcap/.db3 file (needs"
+        " ndlfd[ros]). PoseStamped, PoseWithCovarianceStamped, TransformStamped,"
+        " TFMessage (/tf) and Odometry give position x,y,z and orientation"
+        " qw,qx,qy,qz; JointState the group joints (one column per joint);"
+        " Float64/Float32 a group named after the topic. Time: the header stamps"
+        " (the receive time without them), from 0.",
+    )
+    b.add_argument(
+        f"--{bags}topic",
+        dest="bag_topic",
+        action="append",
+        metavar="TOPIC",
+        help="a topic to read (default: the bag's only readable one); repeat it"
+        " to combine topics: the later ones are resampled onto the first one's"
+        " stamps (linear, orientation by slerp)",
+    )
+    b.add_argument(
+        f"--{bags}frame",
+        dest="bag_frame",
+        metavar="CHILD",
+        help="the child frame of the transforms to read from /tf",
+    )
+    if not bags:
+        b.add_argument(
+            "--split-gap",
+            type=float,
+            metavar="SECONDS",
+            help="one demonstration per stretch of a bag without a gap in the first"
+            " topic's stamps longer than this (> 0)",
+        )
 
 
 def column_options(args: argparse.Namespace) -> dict:
@@ -219,12 +256,24 @@ def column_options(args: argparse.Namespace) -> dict:
     time_column = args.time_column
     if time_column is not None and not time_column.strip():
         raise ValidationError("--time-column must name a column; got ''")
-    return {
+    options = {
         "time_column": TIME_NAMES if time_column is None else time_column.strip(),
         "groups": groups,
         "drop": split_names(args.drop, "--drop") or (),
         "quaternion_order": "wxyz",
     }
+    split_gap = getattr(args, "split_gap", None)
+    if split_gap is not None and not (math.isfinite(split_gap) and split_gap > 0):
+        raise ValidationError(
+            f"--split-gap must be a number of seconds > 0; got {split_gap:g}"
+        )
+    bag = {
+        "topic": getattr(args, "bag_topic", None),
+        "frame": getattr(args, "bag_frame", None),
+        "split_gap": split_gap,
+    }
+    options.update({k: v for k, v in bag.items() if v is not None})
+    return options
 
 
 def describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str:

@@ -1,12 +1,13 @@
-"""Reading and writing demonstrations: CSV tables, ``.npz`` and HDF5 files.
+"""Reading and writing demonstrations: CSV, ``.npz``, HDF5 files and ROS 2 bags.
 
 Two levels:
 
 * :func:`read_table` / :func:`write_table` move a header row and a numeric
   table between a CSV file and numpy, nothing more.
 * :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
-  :func:`read_hdf5` and :func:`read_demos` move whole
-  :class:`~ndlfd.demonstration.Demonstration` objects.
+  :func:`read_hdf5`, :func:`read_bag` / :func:`write_bag` and :func:`read_demos`
+  move whole :class:`~ndlfd.demonstration.Demonstration` objects;
+  :func:`write_joint_trajectory` writes a ROS ``JointTrajectory`` as YAML.
 
 The CSV dialect is deliberately small: one header row, numbers only below it,
 separated by commas, semicolons, tabs or whitespace (the header row decides
@@ -28,7 +29,8 @@ Every write goes to a temporary file beside the target and is renamed into place
 so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
-:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5`` and
+:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5``,
+``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra) and
 ``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
 the dispatch by suffix).
 
@@ -44,10 +46,14 @@ exactly as for CSV files and names the settings in errors through ``hints``
 :data:`DEMO_SUFFIXES` if a folder should contribute such files); add a public
 ``read_<format>(path, **mapping)`` here. :func:`read_demos`, :class:`DemoFiles`,
 ``KeypointHMM.fit`` and the command line then read the format with no other
-change. An optional third-party library is imported inside the reader, with a
-:class:`~ndlfd.MissingExtraError` that says how to install it (see ``_hdf5``).
+change. Options that only this reader takes (a bag's ``topic``) go into
+:data:`~ndlfd.io._files.READER_OPTIONS`. An optional third-party library is
+imported inside the reader, with a :class:`~ndlfd.MissingExtraError` that says
+how to install it (see ``_hdf5``).
 """
 
+from ._bag import BAG_TYPES, read_bag
+from ._bagout import write_bag, write_joint_trajectory
 from ._csv import (
     csv_header,
     parse_table,
@@ -78,6 +84,7 @@ from ._npz import read_npz, write_npz
 
 __all__ = [
     "ARRAY_NAMES",
+    "BAG_TYPES",
     "CLI_HINTS",
     "DEMO_SUFFIXES",
     "MAPPING_DEFAULTS",
@@ -90,13 +97,16 @@ __all__ = [
     "demo_files",
     "group_of_column",
     "parse_table",
+    "read_bag",
     "read_csv",
     "read_demos",
     "read_file",
     "read_hdf5",
     "read_npz",
     "read_table",
+    "write_bag",
     "write_csv",
+    "write_joint_trajectory",
     "write_npz",
     "write_table",
 ]

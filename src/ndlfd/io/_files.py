@@ -10,6 +10,7 @@ from pathlib import Path
 
 from .._errors import DataFileError, ValidationError
 from ..demonstration import Demonstration
+from ._bag import BAG_OPTIONS, BAG_SUFFIXES, is_bag_folder, read_bag_mapped
 from ._csv import read_csv_mapped
 from ._hdf5 import HDF5_SUFFIXES, read_hdf5_mapped
 from ._mapping import CLI_HINTS, LIBRARY_HINTS, MAPPING_DEFAULTS, ColumnMapping
@@ -18,6 +19,7 @@ from ._npz import read_npz_mapped
 __all__ = [
     "DEMO_SUFFIXES",
     "READERS",
+    "READER_OPTIONS",
     "DemoFile",
     "DemoFiles",
     "demo_files",
@@ -26,8 +28,8 @@ __all__ = [
 ]
 
 #: The file suffixes (any case) that a folder given to :func:`read_demos`
-#: contributes.
-DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".h5", ".hdf5")
+#: contributes (besides its sub-folders that are ROS 2 bags).
+DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".h5", ".hdf5", *BAG_SUFFIXES)
 
 
 def demo_files(source) -> list[Path]:
@@ -36,9 +38,10 @@ def demo_files(source) -> list[Path]:
     Parameters
     ----------
     source : str, path-like or list of them
-        A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.h5`` and ``.hdf5``
-        files, in any case, sorted), a glob pattern (its matches, sorted), a
-        file, or a list of these.
+        A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
+        ``.mcap`` and ``.db3`` files, in any case, and its sub-folders that are
+        ROS 2 bags, sorted), a ROS 2 bag folder (one source), a glob pattern
+        (its matches, sorted), a file, or a list of these.
 
     Returns
     -------
@@ -55,21 +58,27 @@ def demo_files(source) -> list[Path]:
 def _expand(source) -> list[Path]:
     if isinstance(source, (str, os.PathLike)):
         p = Path(source)
-        if p.is_dir():
+        if p.is_dir() and not is_bag_folder(p):
             found = sorted(
                 q
                 for q in p.iterdir()
-                if q.is_file() and q.suffix.lower() in DEMO_SUFFIXES
+                if (q.is_file() and q.suffix.lower() in DEMO_SUFFIXES)
+                or is_bag_folder(q)
             )
             if not found:
                 raise DataFileError(
-                    f"{p}: expected .csv, .tsv, .npz, .h5 or .hdf5 files in the"
-                    " folder (any case); found none"
+                    f"{p}: expected .csv, .tsv, .npz, .h5, .hdf5, .mcap or .db3"
+                    " files or ROS 2 bag folders in the folder (any case); found"
+                    " none"
                 )
             return found
         s = os.fspath(source)
         if glob.has_magic(s):
-            found = sorted(Path(q) for q in glob.glob(s) if Path(q).is_file())
+            found = sorted(
+                Path(q)
+                for q in glob.glob(s)
+                if Path(q).is_file() or is_bag_folder(Path(q))
+            )
             if not found:
                 raise DataFileError(f"{s}: the pattern matched no files")
             return found
@@ -92,12 +101,20 @@ def _expand(source) -> list[Path]:
 
 
 #: Which reader takes a file, by its suffix (any case); a file of any other
-#: suffix is read as CSV. A reader is called ``reader(path, hints, **mapping)``
-#: and gives a list of (Demonstration, ColumnMapping): see :mod:`ndlfd.io`.
+#: suffix is read as CSV, a ROS 2 bag folder as a bag. A reader is called
+#: ``reader(path, hints, **mapping)`` and gives a list of (Demonstration,
+#: ColumnMapping): see :mod:`ndlfd.io`.
 READERS = {
     ".npz": read_npz_mapped,
     **dict.fromkeys(HDF5_SUFFIXES, read_hdf5_mapped),
+    **dict.fromkeys(BAG_SUFFIXES, read_bag_mapped),
 }
+
+#: The options that only some readers take (a bag's ``topic``, ``frame`` and
+#: ``split_gap``), with their defaults, by reader. :class:`DemoFiles` and
+#: :func:`read_demos` accept them besides the column mapping and give each
+#: reader those it takes (a CSV file in the same folder as a bag ignores them).
+READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS}
 
 
 def read_file(
@@ -119,18 +136,24 @@ def read_file(
     -------
     pairs : list of (Demonstration, ColumnMapping)
     """
-    reader = READERS.get(p.suffix.lower(), read_csv_mapped)
-    return reader(p, how, **mapping)
+    if is_bag_folder(p):
+        reader = read_bag_mapped
+    else:
+        reader = READERS.get(p.suffix.lower(), read_csv_mapped)
+    own = READER_OPTIONS.get(reader, {})
+    options = {k: v for k, v in mapping.items() if k in MAPPING_DEFAULTS or k in own}
+    return reader(p, how, **options)
 
 
 def read_demos(source, *, return_mappings: bool = False, **kwargs):
     """Read many demonstrations: a folder, a glob pattern, a file or a list.
 
-    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5`` and ``.hdf5``
-    files (any case) in sorted order; a glob pattern its matches, sorted.
-    ``.npz`` files are read with :func:`read_npz`, ``.h5``/``.hdf5`` with
-    :func:`read_hdf5` (one demonstration per episode), everything else with
-    :func:`read_csv`; each gets the same column mapping (``kwargs``).
+    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
+    ``.mcap`` and ``.db3`` files (any case) and its ROS 2 bag folders in sorted
+    order; a glob pattern its matches, sorted. ``.npz`` files are read with
+    :func:`read_npz`, ``.h5``/``.hdf5`` with :func:`read_hdf5` (one
+    demonstration per episode), bags with :func:`~ndlfd.io.read_bag`, everything else
+    with :func:`read_csv`; each gets the same column mapping (``kwargs``).
 
     Parameters
     ----------
@@ -140,7 +163,8 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
         Also return the :class:`ColumnMapping` of each demonstration.
     **kwargs
         ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
-        :func:`read_csv`.
+        :func:`read_csv`; for bags also ``topic``, ``frame``, ``split_gap``
+        (see :func:`~ndlfd.io.read_bag`).
 
     Returns
     -------
@@ -176,11 +200,14 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
 
 def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
     """The column mapping options with their defaults; unknown names refused."""
-    unknown = sorted(set(kwargs) - set(MAPPING_DEFAULTS))
+    known = dict(MAPPING_DEFAULTS)
+    for options in READER_OPTIONS.values():
+        known.update(options)
+    unknown = sorted(set(kwargs) - set(known))
     if unknown:
         raise ValidationError(
             f"{who} got unexpected argument(s) {unknown}; expected"
-            f" {', '.join(MAPPING_DEFAULTS)} {more}".rstrip()
+            f" {', '.join(known)} {more}".rstrip()
         )
     return {**MAPPING_DEFAULTS, **kwargs}
 

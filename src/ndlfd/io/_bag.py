@@ -1,0 +1,527 @@
+"""ROS 2 bags in and out (needs rosbags: ``pip install "ndlfd[ros]"``).
+
+**Reading.** A bag is a folder with ``metadata.yaml`` (what ``ros2 bag record``
+writes) or one ``.mcap`` / ``.db3`` storage file. The messages of the chosen
+topics become named arrays, mapped to groups by
+:func:`~ndlfd.io._mapping.map_arrays` like the columns of a CSV file:
+
+* ``geometry_msgs/msg/PoseStamped``, ``PoseWithCovarianceStamped``,
+  ``TransformStamped``, ``tf2_msgs/msg/TFMessage`` (``/tf``: the transforms to
+  the child frame ``frame``) and ``nav_msgs/msg/Odometry`` give ``x, y, z``
+  (position) and ``qw, qx, qy, qz`` (orientation, w first; left out when
+  every quaternion is all zeros, as a publisher that sets no orientation
+  leaves it);
+* ``sensor_msgs/msg/JointState`` gives the group ``joints``, one column per
+  joint, named after it, in the order the joints first appear (messages may
+  list them in any order). Messages that name different sets of joints (an
+  arm and a gripper publishing on ``/joint_states``) give one stream per set,
+  combined like several topics (the set with the most messages first);
+* ``std_msgs/msg/Float64`` / ``Float32`` (a gripper command, say) give one
+  column in a group named after the last part of the topic's name
+  (``/robot/gripper`` → ``gripper``).
+
+A later topic whose groups are taken gets a group named after the topic
+instead (a second pose topic ``/target``: group ``target``, columns
+``target_x``, ..., ``target_qz``). Time comes from the header stamps; a topic
+without a header, or with unset (zero) stamps, uses the time the bag received
+the messages. Messages are sorted by time; repeated stamps keep the first
+message (one :class:`~ndlfd.NdlfdWarning`). Time starts at 0 at the first
+message of the first topic (of each segment). The column mapping options
+``groups`` and ``drop`` apply to these names; ``time_column`` is not used.
+
+**Several topics** are resampled onto the stamps of the first topic: each
+column linearly (:func:`numpy.interp`), orientations by spherical linear
+interpolation (slerp), and values held at the topic's first or last message
+outside its span. When the rates of the topics differ by more than a factor of
+2 one :class:`~ndlfd.NdlfdWarning` says so (a slow topic is then interpolated
+over long gaps).
+
+Writing bags and joint trajectories: ``_bagout``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import re
+import struct
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
+from ..demonstration import Demonstration
+from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
+
+__all__ = [
+    "BAG_OPTIONS",
+    "BAG_SUFFIXES",
+    "BAG_TYPES",
+    "is_bag_folder",
+    "read_bag",
+    "read_bag_mapped",
+    "rosbags_modules",
+    "typestore",
+]
+
+#: The suffixes (any case) of ROS 2 bag storage files read as bags.
+BAG_SUFFIXES = (".mcap", ".db3")
+#: The options only the bag reader takes, with their defaults.
+BAG_OPTIONS = {"topic": None, "frame": None, "split_gap": None}
+#: How the rates of several topics may differ before a warning.
+RATE_RATIO = 2.0
+
+_POSE_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz")
+
+
+def rosbags_modules():
+    """Rosbags' ``rosbag2`` and ``typesys`` modules, or a clear error without them."""
+    try:
+        from rosbags import rosbag2, typesys
+    except ImportError:
+        raise MissingExtraError(
+            "reading and writing ROS 2 bags needs rosbags; install it with: pip"
+            ' install "ndlfd[ros]"'
+        ) from None
+    return rosbag2, typesys
+
+
+def typestore():
+    """The message types of the latest ROS 2 release (rosbags' own)."""
+    _, typesys = rosbags_modules()
+    return typesys.get_typestore(typesys.Stores.LATEST)
+
+
+def is_bag_folder(p: Path) -> bool:
+    """Whether ``p`` is a ROS 2 bag folder (a folder with ``metadata.yaml``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> is_bag_folder(d)
+    False
+    >>> _ = (d / "metadata.yaml").write_text("rosbag2_bagfile_information: {}")
+    >>> is_bag_folder(d)
+    True
+    """
+    return p.is_dir() and (p / "metadata.yaml").is_file()
+
+
+# ------------------------------------------------------------ message fields
+def _stamp(msg) -> int:
+    s = msg.header.stamp
+    return int(s.sec) * 1_000_000_000 + int(s.nanosec)
+
+
+def _pose(p, o) -> list[float]:
+    return [p.x, p.y, p.z, o.w, o.x, o.y, o.z]
+
+
+def _pose_stamped(m, frame):
+    return _stamp(m), _pose(m.pose.position, m.pose.orientation)
+
+
+def _pose_covariance(m, frame):
+    return _stamp(m), _pose(m.pose.pose.position, m.pose.pose.orientation)
+
+
+def _transform(m, frame):
+    if frame is not None and m.child_frame_id != frame:
+        return None
+    tr = m.transform
+    return _stamp(m), _pose(tr.translation, tr.rotation)
+
+
+def _joint_state(m, frame):
+    return _stamp(m), (list(m.name), np.asarray(m.position, dtype=np.float64))
+
+
+def _scalar(m, frame):
+    return None, [float(m.data)]
+
+
+#: The message types read, each with what it gives: ``"pose"``, ``"joints"``
+#: or ``"scalar"``, and how (``/tf``'s ``TFMessage`` is read transform by
+#: transform as ``TransformStamped``).
+BAG_TYPES = {
+    "geometry_msgs/msg/PoseStamped": ("pose", _pose_stamped),
+    "geometry_msgs/msg/PoseWithCovarianceStamped": ("pose", _pose_covariance),
+    "geometry_msgs/msg/TransformStamped": ("pose", _transform),
+    "tf2_msgs/msg/TFMessage": ("pose", _transform),
+    "nav_msgs/msg/Odometry": ("pose", _pose_covariance),
+    "sensor_msgs/msg/JointState": ("joints", _joint_state),
+    "std_msgs/msg/Float64": ("scalar", _scalar),
+    "std_msgs/msg/Float32": ("scalar", _scalar),
+}
+
+
+def _flags(how: Mapping[str, str]) -> dict[str, str]:
+    """How errors name the bag options: parameters, or the command line's flags."""
+    if how.get("groups", "").startswith("--"):
+        return {"topic": "--topic", "frame": "--frame"}
+    return {"topic": "topic=", "frame": "frame="}
+
+
+def _describe(topics) -> str:
+    return ", ".join(
+        f"{name} ({info.msgtype or 'mixed types'}, {info.msgcount} messages)"
+        for name, info in sorted(topics.items())
+    )
+
+
+class _Topic:
+    """The messages of one topic (or one set of joints): stamps and value arrays.
+
+    ``stamps`` are int64 nanoseconds, sorted and unique; ``arrays`` maps each
+    column (``None`` for a scalar) to its values; ``label`` names it in news.
+    """
+
+    def __init__(self, name, kind, stamps, arrays, label=None):
+        self.name, self.kind = name, kind
+        self.stamps, self.arrays = stamps, arrays
+        self.orientation = "qw" in arrays
+        self.label = label or name
+
+    def rate(self) -> float | None:
+        span = (self.stamps[-1] - self.stamps[0]) / 1e9
+        return (self.stamps.size - 1) / span if span > 0 else None
+
+
+def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
+    """The kind of ``topic`` and its (stamp or None, receive time, values)."""
+    topics = reader.topics
+    if topic not in topics:
+        raise DataFileError(
+            f"{p}: the bag has no topic {topic!r}; its topics are {_describe(topics)}"
+        )
+    info = topics[topic]
+    types = sorted({c.msgtype for c in info.connections})
+    if len(types) > 1:
+        raise DataFileError(
+            f"{p}: topic {topic!r} mixes message types {', '.join(types)}; expected one"
+        )
+    msgtype = types[0]
+    if msgtype not in BAG_TYPES:
+        raise DataFileError(
+            f"{p}: topic {topic!r} holds {msgtype}, which ndlfd does not read;"
+            f" expected one of {', '.join(BAG_TYPES)}"
+        )
+    kind, field = BAG_TYPES[msgtype]
+    tf = msgtype == "tf2_msgs/msg/TFMessage"
+    frames: dict[str, int] = {}
+    rows = []
+    for conn, received, raw in reader.messages(connections=info.connections):
+        msg = store.deserialize_cdr(raw, conn.msgtype)
+        for m in msg.transforms if tf else (msg,):
+            if tf or msgtype.endswith("TransformStamped"):
+                frames[m.child_frame_id] = frames.get(m.child_frame_id, 0) + 1
+            got = field(m, frame)
+            if got is not None:
+                rows.append((got[0], received, got[1]))
+    if frames and ((frame is None and len(frames) > 1) or not rows):
+        which = "several child frames" if frame is None else f"no child frame {frame!r}"
+        raise DataFileError(
+            f"{p}: topic {topic!r} has {which}; pick one with {flags['frame']}"
+            f" (child frames there: {', '.join(sorted(frames))})"
+        )
+    if not rows:
+        raise DataFileError(f"{p}: topic {topic!r} has no messages")
+    return kind, rows
+
+
+def _stamps_of(rows) -> np.ndarray:
+    """Header stamps, or the receive times without a header or with unset stamps."""
+    if any(r[0] is None or r[0] == 0 for r in rows):
+        return np.array([r[1] for r in rows], dtype=np.int64)
+    return np.array([r[0] for r in rows], dtype=np.int64)
+
+
+def _joint_sets(p, topic, rows) -> list[tuple[list[str], list]]:
+    """The joints' columns (in the order they first appear) and rows of each set.
+
+    Messages may list the joints in any order; messages that name different
+    sets of joints (an arm and a gripper publishing on one topic) make one set
+    each, the set with the most messages first.
+    """
+    seen: dict[str, None] = {}
+    sets: dict[frozenset, list] = {}
+    for i, (stamp, received, (names, v)) in enumerate(rows):
+        if v.shape != (len(names),) or len(set(names)) != len(names):
+            raise DataFileError(
+                f"{p}: JointState message {i} on {topic!r} has {v.size} positions"
+                f" for the joints {', '.join(names) or '(none)'}; expected one per"
+                " joint, each named once"
+            )
+        seen.update(dict.fromkeys(names))
+        value = dict(zip(names, v.tolist(), strict=True))
+        sets.setdefault(frozenset(names), []).append((stamp, received, value))
+    out = []
+    for key, part in sets.items():
+        cols = [n for n in seen if n in key]
+        out.append((cols, [(s, r, [v[c] for c in cols]) for s, r, v in part]))
+    out.sort(key=lambda x: -len(x[1]))  # stable: ties keep the first seen
+    return out
+
+
+def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
+    """The topic's streams (one, or one per set of joints) as :class:`_Topic`."""
+    if kind == "joints":
+        sets = _joint_sets(p, topic, rows)
+    else:
+        sets = [(list(_POSE_COLUMNS) if kind == "pose" else [None], rows)]
+    out = []
+    for columns, part in sets:
+        stamps = _stamps_of(part)
+        values = np.array([r[2] for r in part], dtype=np.float64)
+        values = values.reshape(len(part), len(columns))
+        order = np.argsort(stamps, kind="stable")
+        stamps, values = stamps[order], values[order]
+        keep = np.concatenate([[True], np.diff(stamps) > 0])
+        label = topic if len(sets) == 1 else f"{topic} ({', '.join(columns)})"
+        if not keep.all():
+            warnings.warn(
+                f"dropped {int((~keep).sum())} message(s) on {label} whose time"
+                " stamp repeats an earlier one (kept the first of each)",
+                NdlfdWarning,
+                stacklevel=4,
+            )
+            stamps, values = stamps[keep], values[keep]
+        arrays = dict(zip(columns, values.T, strict=True))
+        if kind == "pose" and not np.any(values[:, 3:]):  # orientation unset
+            for c in _POSE_COLUMNS[3:]:
+                del arrays[c]
+        out.append(_Topic(topic, kind, stamps, arrays, label))
+    return out
+
+
+def _group_name(topic: str) -> str:
+    """The last part of the topic's name as a group name (``/ndlfd/gripper``)."""
+    last = topic.rstrip("/").rsplit("/", 1)[-1]
+    name = re.sub(r"[^A-Za-z0-9_\-]+", "_", last).strip("_") or "topic"
+    return name if re.match(r"[A-Za-z_]", name) else f"_{name}"
+
+
+def _named(topics: list[_Topic]) -> list[tuple[_Topic, dict[str, str]]]:
+    """Each topic's array keys: ``x``/``joints.NAME``, or named after the topic."""
+    owner: dict[str, str] = {}  # kind -> the topic that has its groups
+    out = []
+    for tp in topics:
+        base = _group_name(tp.name)
+        first = owner.setdefault(tp.kind, tp.name) == tp.name
+        if tp.kind == "pose" and first:
+            keys = {c: c for c in tp.arrays}
+        elif tp.kind == "joints" and first:
+            keys = {c: f"joints.{c}" for c in tp.arrays}
+        elif tp.kind == "scalar":
+            keys = {None: f"{base}.{base}"}
+        elif tp.kind == "joints":
+            keys = {c: f"{base}.{c}" for c in tp.arrays}
+        else:  # column names stay unique: target_x, ...
+            keys = {c: f"{base}.{base}_{c}" for c in tp.arrays}
+        out.append((tp, keys))
+    return out
+
+
+def _resample(tp: _Topic, at: np.ndarray) -> dict:
+    """The topic's arrays at the times ``at`` (ns): linear, orientation by slerp."""
+    if tp.stamps.size == at.size and np.array_equal(tp.stamps, at):
+        return dict(tp.arrays)
+    x = (tp.stamps - at[0]) / 1e9
+    xi = (at - at[0]) / 1e9
+    out = {c: np.interp(xi, x, v) for c, v in tp.arrays.items()}
+    if tp.orientation and tp.stamps.size > 1:
+        from scipy.spatial.transform import Rotation, Slerp
+
+        q = np.column_stack([tp.arrays[c] for c in ("qx", "qy", "qz", "qw")])
+        norms = np.linalg.norm(q, axis=1)
+        if np.all(np.isfinite(q)) and np.all(norms > 0):
+            slerp = Slerp(x, Rotation.from_quat(q))
+            r = slerp(np.clip(xi, x[0], x[-1])).as_quat()
+            for j, c in enumerate(("qx", "qy", "qz", "qw")):
+                out[c] = r[:, j]
+    return out
+
+
+def _rates_note(p, topics: list[_Topic]) -> None:
+    rates = [(tp.label, tp.rate()) for tp in topics]
+    known = [r for _, r in rates if r is not None]
+    if len(known) > 1 and max(known) > RATE_RATIO * min(known):
+        shown = ", ".join(f"{n} {r:.3g} Hz" for n, r in rates if r is not None)
+        warnings.warn(
+            f"the topics' rates differ by more than {RATE_RATIO:g}x ({shown});"
+            f" all are resampled onto the stamps of {topics[0].label} (linear,"
+            " orientation by slerp)",
+            NdlfdWarning,
+            stacklevel=3,
+        )
+
+
+def _segments(stamps: np.ndarray, split_gap: float | None) -> list[slice]:
+    if split_gap is None:
+        return [slice(0, stamps.size)]
+    cuts = np.flatnonzero(np.diff(stamps) / 1e9 > split_gap) + 1
+    edges = [0, *cuts.tolist(), stamps.size]
+    return [slice(a, b) for a, b in itertools.pairwise(edges)]
+
+
+def _check_options(topic, frame, split_gap) -> list[str] | None:
+    if topic is not None:
+        topic = [topic] if isinstance(topic, str) else list(topic)
+        if not topic or not all(isinstance(s, str) and s for s in topic):
+            raise ValidationError(
+                f"topic must be a topic name or a list of them; got {topic!r}"
+            )
+        if len(set(topic)) != len(topic):
+            raise ValidationError(f"topic names a topic twice; got {topic!r}")
+    if frame is not None and not (isinstance(frame, str) and frame):
+        raise ValidationError(f"frame must be a frame name; got {frame!r}")
+    if split_gap is not None and not (
+        isinstance(split_gap, (int, float)) and np.isfinite(split_gap) and split_gap > 0
+    ):
+        raise ValidationError(
+            f"split_gap must be a number of seconds > 0; got {split_gap!r}"
+        )
+    return topic
+
+
+def read_bag_mapped(
+    p: Path,
+    how=LIBRARY_HINTS,
+    *,
+    topic=None,
+    frame=None,
+    split_gap=None,
+    groups=None,
+    drop=(),
+    quaternion_order="wxyz",
+    time_column=None,
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """Every demonstration of the bag ``p`` (one, or one per segment) with its mapping.
+
+    ``time_column`` is not used (the time is the stamps); ``groups`` and
+    ``drop`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
+    ``gripper.gripper``) like CSV columns.
+    """
+    topics = _check_options(topic, frame, split_gap)
+    flags = _flags(how)
+    rosbag2, _ = rosbags_modules()
+    if not p.exists():
+        raise DataFileError(f"{p}: no such file or bag folder")
+    store = typestore()
+    try:
+        with rosbag2.Reader(p) as reader:
+            if topics is None:
+                usable = [n for n, i in reader.topics.items() if i.msgtype in BAG_TYPES]
+                if len(usable) != 1:
+                    raise DataFileError(
+                        f"{p}: name the topic to read with {flags['topic']}; the"
+                        f" bag's topics are {_describe(reader.topics) or 'none'}"
+                    )
+                topics = usable
+            read = [
+                (t, *_read_topic(p, reader, store, t, frame, flags)) for t in topics
+            ]
+    except DataFileError:
+        raise
+    except (
+        rosbag2.ReaderError,
+        OSError,
+        KeyError,
+        ValueError,
+        IndexError,
+        struct.error,
+    ) as exc:  # a damaged file: the message does not parse
+        raise DataFileError(
+            f"{p}: expected a ROS 2 bag (a folder with metadata.yaml, or an .mcap"
+            f" or .db3 file); it is not readable as one ({exc})"
+        ) from None
+    tps = [tp for t, kind, rows in read for tp in _topic_arrays(p, t, kind, rows)]
+    if len(tps) > 1:
+        _rates_note(p, tps)
+    at = tps[0].stamps
+    arrays: dict[str, np.ndarray] = {}
+    for tp, keys in _named(tps):
+        for c, v in _resample(tp, at).items():
+            arrays[keys[c]] = v
+    what = f"{tps[0].label} stamps"
+    out = []
+    segs = _segments(at, split_gap)
+    for i, seg in enumerate(segs):
+        source = str(p) if len(segs) == 1 else f"{p}:{i}"
+        part = {k: v[seg] for k, v in arrays.items()}
+        part["t"] = (at[seg] - at[seg][0]) / 1e9
+        demo, mapping = map_arrays(
+            source,
+            part,
+            time_column="t",
+            groups=groups,
+            drop=drop,
+            quaternion_order=quaternion_order,
+            how=how,
+            source=source,
+        )
+        out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))
+    return out
+
+
+def read_bag(
+    path: str | os.PathLike,
+    topic: str | Sequence[str] | None = None,
+    *,
+    frame: str | None = None,
+    split_gap: float | None = None,
+    groups: Mapping[str, Sequence[str] | str] | None = None,
+    drop: Sequence[str] = (),
+) -> list[Demonstration]:
+    """Read demonstrations from a ROS 2 bag: one, or one per segment.
+
+    Needs the ``ros`` extra (``pip install "ndlfd[ros]"``, pure Python: no ROS
+    installation). See :mod:`ndlfd.io._bag` for the message types read and how
+    several topics are combined.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A bag folder (with ``metadata.yaml``) or an ``.mcap`` / ``.db3`` file.
+    topic : str or sequence of str, optional
+        The topic(s) to read; the first gives the time stamps and the others are
+        resampled onto them. Default: the bag's only topic of a type ndlfd reads.
+    frame : str, optional
+        The child frame of the transforms on a ``/tf`` (``TFMessage``) or
+        ``TransformStamped`` topic; needed when it has several.
+    split_gap : float, optional
+        Start a new demonstration wherever the first topic's stamps are more
+        than this many seconds apart.
+    groups, drop
+        As in :func:`~ndlfd.io.read_csv`, on the arrays' names (``x``, ``qw``,
+        ``joints.NAME``, ``gripper.gripper``).
+
+    Returns
+    -------
+    demos : list of Demonstration
+        Time in seconds from each one's first sample.
+
+    Raises
+    ------
+    DataFileError
+        An unreadable bag, a missing topic (the message lists the bag's topics),
+        a topic with no messages or of a type not read, or values that do not
+        make a demonstration (NaN in a pose).
+    MissingExtraError
+        rosbags is not installed.
+    """
+    return [
+        d
+        for d, _ in read_bag_mapped(
+            Path(path),
+            topic=topic,
+            frame=frame,
+            split_gap=split_gap,
+            groups=groups,
+            drop=drop,
+        )
+    ]

@@ -1,0 +1,109 @@
+"""ROS 2 bags written with rosbags' own Writer, for the bag tests."""
+
+import numpy as np
+from rosbags.rosbag2 import StoragePlugin, Writer
+from rosbags.typesys import Stores, get_typestore
+
+STORE = get_typestore(Stores.LATEST)
+T = STORE.types
+STORAGES = {"mcap": StoragePlugin.MCAP, "sqlite3": StoragePlugin.SQLITE3}
+
+
+def header(ns, frame="world"):
+    stamp = T["builtin_interfaces/msg/Time"](
+        sec=int(ns // 10**9), nanosec=int(ns % 10**9)
+    )
+    return T["std_msgs/msg/Header"](stamp=stamp, frame_id=frame)
+
+
+def pose(p, q):
+    """A geometry_msgs Pose from (x, y, z) and (w, x, y, z)."""
+    return T["geometry_msgs/msg/Pose"](
+        position=T["geometry_msgs/msg/Point"](x=p[0], y=p[1], z=p[2]),
+        orientation=T["geometry_msgs/msg/Quaternion"](w=q[0], x=q[1], y=q[2], z=q[3]),
+    )
+
+
+def pose_stamped(ns, p, q):
+    return T["geometry_msgs/msg/PoseStamped"](header=header(ns), pose=pose(p, q))
+
+
+def transform(ns, child, p, q):
+    tr = T["geometry_msgs/msg/Transform"](
+        translation=T["geometry_msgs/msg/Vector3"](x=p[0], y=p[1], z=p[2]),
+        rotation=T["geometry_msgs/msg/Quaternion"](w=q[0], x=q[1], y=q[2], z=q[3]),
+    )
+    return T["geometry_msgs/msg/TransformStamped"](
+        header=header(ns), child_frame_id=child, transform=tr
+    )
+
+
+def odometry(ns, p, q):
+    cov = T["geometry_msgs/msg/PoseWithCovariance"](
+        pose=pose(p, q), covariance=np.zeros(36)
+    )
+    twist = T["geometry_msgs/msg/TwistWithCovariance"](
+        twist=T["geometry_msgs/msg/Twist"](
+            linear=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+            angular=T["geometry_msgs/msg/Vector3"](x=0.0, y=0.0, z=0.0),
+        ),
+        covariance=np.zeros(36),
+    )
+    return T["nav_msgs/msg/Odometry"](
+        header=header(ns), child_frame_id="base", pose=cov, twist=twist
+    )
+
+
+def joint_state(ns, names, values):
+    empty = np.zeros(0)
+    return T["sensor_msgs/msg/JointState"](
+        header=header(ns, ""),
+        name=list(names),
+        position=np.array(values, dtype=float),
+        velocity=empty,
+        effort=empty,
+    )
+
+
+def float64(v):
+    return T["std_msgs/msg/Float64"](data=float(v))
+
+
+def write_bag(path, topics, storage="mcap"):
+    """A bag at ``path`` with ``topics``: {name: [(receive ns, msg), ...]}."""
+    with Writer(path, version=9, storage_plugin=STORAGES[storage]) as w:
+        for name, msgs in topics.items():
+            types = sorted({m.__msgtype__ for _, m in msgs}) or [
+                "geometry_msgs/msg/PoseStamped"
+            ]
+            conns = {ty: w.add_connection(name, ty, typestore=STORE) for ty in types}
+            for ns, m in msgs:
+                w.write(conns[m.__msgtype__], ns, STORE.serialize_cdr(m, m.__msgtype__))
+    return path
+
+
+def reach_messages(n=40, seed=0, start_ns=1_700_000_000 * 10**9):
+    """PoseStamped messages of a 3-D reach: (ns, pos, quat, messages)."""
+    rng = np.random.default_rng(seed)
+    ns = start_ns + np.cumsum(rng.integers(5_000_000, 20_000_000, n))
+    s = np.linspace(0, 1, n)
+    pos = np.column_stack([s, s**2, np.sin(s)]) + rng.normal(0, 1e-3, (n, 3))
+    half = 0.5 * s
+    quat = np.column_stack([np.cos(half), 0 * s, 0 * s, np.sin(half)])
+    msgs = [
+        (int(k), pose_stamped(int(k), p, q))
+        for k, p, q in zip(ns, pos, quat, strict=True)
+    ]
+    return ns, pos, quat, msgs
+
+
+def rosbags_read(path, topic):
+    """(receive ns, message) of ``topic``, read with rosbags alone."""
+    from rosbags.rosbag2 import Reader
+
+    with Reader(path) as r:
+        conns = [c for c in r.connections if c.topic == topic]
+        return [
+            (ns, STORE.deserialize_cdr(raw, c.msgtype))
+            for c, ns, raw in r.messages(connections=conns)
+        ]

@@ -1,0 +1,271 @@
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rosbags")
+
+from cli_helpers import cli
+from rosbags.rosbag2 import StoragePlugin, Writer
+
+from bag_samples import STORE, joint_state, pose_stamped
+from bag_samples import rosbags_read as messages
+from ndlfd.learner import KeypointHMM
+
+
+def reach_bag(path, seed=0, storage=StoragePlugin.MCAP, gaps=0):
+    """A bag of a 3-D reach with orientation on /ee_pose and two joints."""
+    rng = np.random.default_rng(seed)
+    n = 60
+    dt = rng.integers(18_000_000, 22_000_000, n)
+    dt[1:][np.arange(1, n) % 20 == 0] += 5 * 10**9 * (gaps > 0)  # 5 s pauses
+    ns = 1_700_000_000 * 10**9 + np.cumsum(dt)
+    s = np.tile(np.linspace(0, 1, 20), 3) if gaps else np.linspace(0, 1, n)
+    pos = np.column_stack([s, s**2, np.sin(s)]) + rng.normal(0, 1e-3, (n, 3))
+    quat = np.column_stack([np.cos(s / 2), 0 * s, 0 * s, np.sin(s / 2)])
+    joints = np.column_stack([s, 1 - s]) + rng.normal(0, 1e-3, (n, 2))
+    with Writer(path, version=9, storage_plugin=storage) as w:
+        cp = w.add_connection(
+            "/ee_pose", "geometry_msgs/msg/PoseStamped", typestore=STORE
+        )
+        cj = w.add_connection(
+            "/joint_states", "sensor_msgs/msg/JointState", typestore=STORE
+        )
+        for k, p, q, j in zip(ns, pos, quat, joints, strict=True):
+            m = pose_stamped(int(k), p, q)
+            w.write(cp, int(k), STORE.serialize_cdr(m, m.__msgtype__))
+            m = joint_state(int(k), ["shoulder", "elbow"], j)
+            w.write(cj, int(k), STORE.serialize_cdr(m, m.__msgtype__))
+    return path
+
+
+def bags(folder):
+    folder.mkdir()
+    for i in range(3):
+        reach_bag(folder / f"demo{i}", seed=i)
+    reach_bag(folder / "sq", seed=3, storage=StoragePlugin.SQLITE3)
+    (folder / "loose").mkdir()
+    reach_bag(folder / "loose" / "one", seed=4)
+    (folder / "loose" / "one" / "one.mcap").rename(folder / "one.mcap")
+    return folder
+
+
+def test_fit_bags_generate_a_bag_read_back_with_rosbags(tmp_path, capsys):
+    folder = bags(tmp_path / "bags")
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(capsys, "fit", folder, "--topic", "/ee_pose", "-o", model)
+    assert rc == 0, err
+    assert err[0] == (
+        "read 5 demonstration(s) from 5 file(s): time=/ee_pose stamps;"
+        " position=x,y,z; orientation=qw,qx,qy,qz (ROS 2 bag)"
+    )
+    assert "on position, velocity, orientation (velocity derived" in err[1]
+    out = tmp_path / "path.mcap"
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--duration",
+        1.5,
+        "--samples",
+        40,
+        "--dense",
+        "-o",
+        out,
+        "--topic",
+        "/ndlfd/path",
+    )
+    assert rc == 0, err
+    assert err == [f"generated 40 samples -> {out}"]
+    want = KeypointHMM.load(model).generate(np.linspace(0.0, 1.5, 40), dense=True)
+    got = messages(out, "/ndlfd/path")
+    assert [ns for ns, _ in got] == [round(t * 1e9) for t in want.t]
+    assert [m.header.stamp.sec * 10**9 + m.header.stamp.nanosec for _, m in got] == [
+        ns for ns, _ in got
+    ]
+    P = np.array(
+        [[m.pose.position.x, m.pose.position.y, m.pose.position.z] for _, m in got]
+    )
+    Q = np.array(
+        [
+            [
+                m.pose.orientation.w,
+                m.pose.orientation.x,
+                m.pose.orientation.y,
+                m.pose.orientation.z,
+            ]
+            for _, m in got
+        ]
+    )
+    assert np.array_equal(P, want.get("position"))
+    assert np.array_equal(Q, want.get("orientation"))
+    assert np.allclose(np.linalg.norm(Q, axis=1), 1.0, atol=1e-12)
+    # and ndlfd reads it back as the path it generated
+    rc, err = cli(capsys, "generate", model, "--like", out, "-o", tmp_path / "a.csv")
+    assert rc == 0, err
+
+
+def test_several_topics_and_split_gap(tmp_path, capsys):
+    bag = reach_bag(tmp_path / "long", gaps=2)
+    rc, err = cli(
+        capsys,
+        "fit",
+        bag,
+        "--topic",
+        "/ee_pose",
+        "--topic",
+        "/joint_states",
+        "--split-gap",
+        1,
+        "-o",
+        tmp_path / "m.ndlfd",
+    )
+    assert rc == 0, err
+    assert err[0].startswith("read 3 demonstration(s) from 1 file(s): time=/ee_pose")
+    assert "joints=joints.shoulder,joints.elbow (ROS 2 bag)" in err[0]
+    assert err[-1].startswith("not learned: joints")
+    rc, err = cli(
+        capsys,
+        "fit",
+        bag,
+        "--topic",
+        "/ee_pose",
+        "--split-gap",
+        0,
+        "-o",
+        tmp_path / "m.ndlfd",
+    )
+    assert rc == 2 and err == [
+        "ndlfd fit: error: --split-gap must be a number of seconds > 0; got 0"
+    ]
+
+
+def test_joint_trajectory_yaml_from_a_joint_model(tmp_path, capsys):
+    yaml = pytest.importorskip("yaml")
+    folder = bags(tmp_path / "bags")
+    model = tmp_path / "j.ndlfd"
+    rc, err = cli(
+        capsys,
+        "fit",
+        folder,
+        "--topic",
+        "/joint_states",
+        "--groups",
+        "joints",
+        "--levels",
+        "joints=12",
+        "-o",
+        model,
+    )
+    assert rc == 0, err
+    assert "joints=joints.shoulder,joints.elbow" in err[0]
+    out = tmp_path / "traj.yaml"
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--duration",
+        2,
+        "--samples",
+        30,
+        "--dense",
+        "-o",
+        out,
+    )
+    assert rc == 0, err
+    want = KeypointHMM.load(model).generate(np.linspace(0.0, 2.0, 30), dense=True)
+    msg = yaml.safe_load(out.read_text())
+    assert msg["joint_names"] == ["shoulder", "elbow"]
+    positions = [p["positions"] for p in msg["points"]]
+    assert np.array_equal(positions, want.get("joints"))
+    stamps = [p["time_from_start"] for p in msg["points"]]
+    assert stamps[-1] == {"sec": 2, "nanosec": 0}
+    # a bag of the joints: JointState on TOPIC/joint_states
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--duration",
+        2,
+        "-o",
+        tmp_path / "j.mcap",
+        "--topic",
+        "/arm",
+        "--samples",
+        30,
+        "--dense",
+    )
+    assert rc == 0, err
+    got = messages(tmp_path / "j.mcap", "/arm/joint_states")
+    assert got[0][1].name == ["shoulder", "elbow"] and len(got) == want.n_samples
+
+
+def test_bag_errors_on_the_command_line(tmp_path, capsys):
+    bag = reach_bag(tmp_path / "b")
+    rc, err = cli(capsys, "fit", bag, "--topic", "/nope", "-o", tmp_path / "m.ndlfd")
+    assert rc == 2 and len(err) == 1
+    assert err[0] == (
+        f"ndlfd fit: error: {bag}: the bag has no topic '/nope'; its topics are"
+        " /ee_pose (geometry_msgs/msg/PoseStamped, 60 messages), /joint_states"
+        " (sensor_msgs/msg/JointState, 60 messages)"
+    )
+    rc, err = cli(capsys, "fit", bag, "-o", tmp_path / "m.ndlfd")
+    assert rc == 2 and err[0].startswith(
+        f"ndlfd fit: error: {bag}: name the topic to read with --topic; the bag's"
+    )
+    model = tmp_path / "m.ndlfd"
+    assert cli(capsys, "fit", bag, "--topic", "/ee_pose", "-o", model)[0] == 0
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--duration",
+        1,
+        "-o",
+        tmp_path / "p.csv",
+        "--topic",
+        "/x",
+    )
+    assert rc == 2 and err == [
+        "ndlfd generate: error: --topic names the topic of a bag output (-o"
+        f" PATH.mcap); -o {tmp_path / 'p.csv'} writes csv"
+    ]
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--duration",
+        1,
+        "-o",
+        tmp_path / "p.csv",
+        "--format",
+        "bag",
+    )
+    assert rc == 2 and "--format bag writes one .mcap (or .db3) file" in err[0]
+    rc, err = cli(capsys, "generate", model, "--duration", 1, "-o", tmp_path / "p.yaml")
+    assert rc == 2 and err == [
+        "ndlfd generate: error: a joint trajectory needs the group 'joints' (the"
+        " joint positions); the path has position, velocity, orientation"
+    ]
+    rc, err = cli(
+        capsys,
+        "generate",
+        model,
+        "--like",
+        bag,
+        "--like-topic",
+        "/nope",
+        "-o",
+        tmp_path / "p.csv",
+    )
+    assert rc == 2 and "the bag has no topic '/nope'" in err[0]
+
+
+def test_bags_without_rosbags_say_how_to_install_it(tmp_path, capsys, monkeypatch):
+    bag = reach_bag(tmp_path / "b")
+    monkeypatch.setitem(sys.modules, "rosbags", None)  # import rosbags now fails
+    rc, err = cli(capsys, "fit", bag, "--topic", "/ee_pose", "-o", tmp_path / "m")
+    assert rc == 2 and err == [
+        "ndlfd fit: error: reading and writing ROS 2 bags needs rosbags; install it"
+        ' with: pip install "ndlfd[ros]"'
+    ]
