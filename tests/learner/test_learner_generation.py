@@ -235,3 +235,29 @@ def test_a_start_nearest_to_a_demonstration_that_is_no_template(offset):
     np.testing.assert_allclose(P[0], here, atol=1e-12)
     # it ends where the demonstrations end
     np.testing.assert_allclose(P[-1], [2.0, 0.0], atol=0.05)
+
+
+@pytest.mark.parametrize("pseudo_emission", [0.0, 0.5])
+def test_timing_keeps_every_bin_the_model_can_emit(pseudo_emission):
+    # few key points in many bins: most bins are unseen in training. Without
+    # an emission pseudo-count they cannot be emitted and are dropped; with
+    # one every bin can be, and each bin the timing touches is an observation
+    demos = two_routes(per_route=2)
+    nt = 40
+    model = KeypointHMM(epsilon=0.2, n_time_bins=nt, pseudo_emission=pseudo_emission)
+    model.fit(demos)
+    seen = set()
+    for d, kp in zip(demos, model.keypoints_, strict=True):
+        tau = (d.t - d.t[0]) / (d.t[-1] - d.t[0])
+        seen |= set(np.minimum(np.floor(tau[kp] * nt), nt - 1).astype(int).tolist())
+    assert 0 < len(seen) < nt  # the case this test is about
+    t = np.linspace(0.0, 3.0, 301)
+    touched = np.minimum(np.floor((t - t[0]) / (t[-1] - t[0]) * nt), nt - 1)
+    expected = sorted(set(touched.astype(int).tolist()))
+    if pseudo_emission == 0:
+        expected = [b for b in expected if b in seen]
+    key_t, symbols, all_t = model.timing(t)
+    np.testing.assert_array_equal(symbols, expected)
+    # each observation at the first time stamp of its bin
+    np.testing.assert_array_equal(key_t, [t[np.argmax(touched == b)] for b in expected])
+    np.testing.assert_array_equal(all_t, t)
