@@ -153,6 +153,16 @@ def test_fit_generation_and_decoder_change_generation_not_the_fit(fit_setup):
     np.testing.assert_array_equal(model.generate(grid).X, paper.generate(grid).X)
 
 
+def test_fit_random_state_is_the_library_parameter(fit_setup):
+    folder, demos, default, tmp = fit_setup
+    model = fit_model(folder, tmp / "seeded.ndlfd", "--random-state", "5")
+    assert model.get_params() == {**default.get_params(), "random_state": 5}
+    assert_same_fit(model, KeypointHMM(random_state=5).fit(demos))
+    # without it, a fixed choice: two runs give the same model
+    again = fit_model(folder, tmp / "again.ndlfd")
+    assert_same_fit(again, default)
+
+
 def test_fit_distance(fit_setup):
     folder, demos, default, tmp = fit_setup
     model = fit_model(folder, tmp / "sed.ndlfd", "--distance", "sed")
@@ -256,6 +266,7 @@ def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
          " >= 0; got -1.0"),
         (["--match-window", "0.7"], "--match-window must be between 0 and 0.5;"
          " got 0.7"),
+        (["--random-state", "-1"], "--random-state must be an integer >= 0; got -1"),
     ],
 )  # fmt: skip
 def test_fit_settings_out_of_range_are_one_line_errors(tmp_path, capsys, args,

@@ -121,6 +121,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     check_range(args.match_window, "--match-window", low=0, high=0.5)
     if args.n_jobs is not None:
         check_range(args.n_jobs, "--n-jobs", low=1)
+    if args.random_state is not None:
+        check_range(args.random_state, "--random-state", low=0)
     # the files are read as a stream (twice, on the workers): only the first
     # one here, for the groups and the checks that name the flags
 
@@ -169,6 +171,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         decoder=args.decoder,
         n_jobs=args.n_jobs,
         match_window=args.match_window,
+        random_state=args.random_state,
     )
     check_params(model.get_params())  # as fit does, before connecting
     files = DemoFiles.for_cli(paths, **options)
@@ -284,6 +287,14 @@ def add_fit(sub) -> None:
         help="the blend matches key points on each demonstration's moving average"
         " over this fraction of its samples each side, 0 to 0.5 (default"
         f" {defaults.match_window}; 0: raw samples, which spike on noisy data)",
+    )
+    p.add_argument(
+        "--random-state",
+        type=int,
+        default=None,
+        metavar="SEED",
+        help="which demonstrations are kept whole as templates when there are"
+        " more than 200 (default: a fixed choice, the same every run)",
     )
     p.add_argument(
         "--n-jobs",
