@@ -1,11 +1,11 @@
-"""Reading and writing demonstrations: CSV tables, ``.npz`` and HDF5 files.
+"""Reading and writing demonstrations: CSV, ``.npz``, HDF5 files, LeRobot datasets.
 
 Two levels:
 
 * :func:`read_table` / :func:`write_table` move a header row and a numeric
   table between a CSV file and numpy, nothing more.
 * :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
-  :func:`read_hdf5` and :func:`read_demos` move whole
+  :func:`read_hdf5`, :func:`read_lerobot` and :func:`read_demos` move whole
   :class:`~ndlfd.demonstration.Demonstration` objects.
 
 The CSV dialect is deliberately small: one header row, numbers only below it,
@@ -65,13 +65,16 @@ from ._files import (
     read_file,
 )
 from ._hdf5 import read_hdf5
+from ._lerobot import LeRobotEpisode, read_lerobot
 from ._mapping import (
     ARRAY_NAMES,
     CLI_HINTS,
+    EULER_NAMES,
     MAPPING_DEFAULTS,
     NAMING_CONVENTION,
     TIME_NAMES,
     ColumnMapping,
+    euler_columns,
     group_of_column,
 )
 from ._npz import read_npz, write_npz
@@ -80,20 +83,24 @@ __all__ = [
     "ARRAY_NAMES",
     "CLI_HINTS",
     "DEMO_SUFFIXES",
+    "EULER_NAMES",
     "MAPPING_DEFAULTS",
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
     "DemoFile",
     "DemoFiles",
+    "LeRobotEpisode",
     "csv_header",
     "demo_files",
+    "euler_columns",
     "group_of_column",
     "parse_table",
     "read_csv",
     "read_demos",
     "read_file",
     "read_hdf5",
+    "read_lerobot",
     "read_npz",
     "read_table",
     "write_csv",
