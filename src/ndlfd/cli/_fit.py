@@ -23,9 +23,11 @@ from ..learner import (
 )
 from ._options import (
     add_column_options,
+    check_datasets,
     check_output,
     check_range,
     column_options,
+    dataset_options,
     describe_mappings,
     noting,
     parse_pairs,
@@ -155,7 +157,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     # one here, for the groups and the checks that name the flags
 
     options = column_options(args)
-    paths = demo_files(args.demos)
+    paths = demo_files(args.demos, **dataset_options(args))
+    check_datasets(args, paths)
     news: list = []
     with noting(paths[0], news):
         pairs = read_file(paths[0], CLI_HINTS, **options)
@@ -210,7 +213,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             ranges = scanned.ranges
             n_demos = ranges.n_demos
             mappings = {text: n for text, _, n in ranges.notes}
-            say(args, describe_mappings(mappings, n_demos, len(paths)))
+            say(args, describe_mappings(mappings, n_demos, paths))
             time_bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
             model.set_params(n_time_bins=time_bins, n_points=args.n_points)
             spec, stats = _count(model, scanned)
