@@ -74,11 +74,15 @@ def write_lerobot(
     per_file=4,
     variable=False,
     names_as=list,
+    row_group_per_episode=True,
 ):
     """Write ``episodes`` (dicts feature -> (n, k) arrays) as a LeRobot dataset.
 
     ``names``: feature -> component names (``names_as=dict`` stores them as
-    ``{"motors": [...]}``, as aloha datasets do). Returns the root.
+    ``{"motors": [...]}``, as aloha datasets do). v3.0 files get one row group
+    per episode (LeRobot's writer), or with ``row_group_per_episode=False``
+    one for the whole file (as the v2.1 -> v3.0 conversion's
+    ``DataFrame.to_parquet`` writes small files). Returns the root.
     """
     root = Path(root)
     (root / "meta").mkdir(parents=True, exist_ok=True)
@@ -100,6 +104,7 @@ def write_lerobot(
     meta = []
     writer = None
     file_index = -1
+    pending = []
     for e, values in enumerate(episodes):
         table = _episode_table(values, e, start, fps, variable)
         n = table.num_rows
@@ -110,12 +115,18 @@ def write_lerobot(
         else:
             if e % per_file == 0:
                 if writer is not None:
+                    if pending:
+                        writer.write_table(pa.concat_tables(pending))
                     writer.close()
+                    pending = []
                 file_index += 1
                 path = root / V3_PATH.format(chunk_index=0, file_index=file_index)
                 path.parent.mkdir(parents=True, exist_ok=True)
                 writer = pq.ParquetWriter(path, table.schema)
-            writer.write_table(table)  # one row group per episode, as LeRobot
+            if row_group_per_episode:
+                writer.write_table(table)  # one row group per episode, as LeRobot
+            else:
+                pending.append(table)
         meta.append(
             {
                 "episode_index": e,
@@ -129,6 +140,8 @@ def write_lerobot(
         )
         start += n
     if writer is not None:
+        if pending:
+            writer.write_table(pa.concat_tables(pending))
         writer.close()
     if version.startswith("v2"):
         with open(root / "meta" / "episodes.jsonl", "w") as f:

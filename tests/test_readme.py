@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from ndlfd import synth
 from ndlfd.io import read_csv, write_csv, write_table
@@ -34,6 +35,8 @@ def test_readme_shell_examples_run(tmp_path):
         "fit",
         "generate",
         "plot",
+        "fit",
+        "generate",
     ]
     # the files the examples name
     rng = np.random.default_rng(0)
@@ -52,7 +55,23 @@ def test_readme_shell_examples_run(tmp_path):
         rows = np.column_stack([d.t, d.get("position")]).tolist()
         text = ["time;pos_x;pos_y"] + [";".join(f"{v:.6g}" for v in r) for r in rows]
         (tmp_path / "recordings" / f"reach{i}.csv").write_text("\n".join(text) + "\n")
+    # "LeRobot datasets": a v3.0 dataset of 41 picks (x, y, z, roll, pitch, yaw,
+    # gripper), as LeRobot writes it
+    pytest.importorskip("pyarrow")
+    from lerobot_writer import write_lerobot
+
+    s = np.linspace(0, 1, 50)
+    picks = [
+        np.column_stack([s, s**2, 0 * s + 0.01 * i, 0.1 * s, 0 * s, s - 0.5, s > 0.5])
+        for i in range(41)
+    ]
+    names = ["x", "y", "z", "roll", "pitch", "yaw", "gripper"]
+    write_lerobot(tmp_path / "pick_cube", [{"observation.state": p} for p in picks],
+                  {"observation.state": names})  # fmt: skip
     env = dict(os.environ, PYTHONWARNINGS="error")
+    # this source tree, also from the examples' folder (PYTHONPATH=src)
+    paths = env.get("PYTHONPATH", "").split(os.pathsep)
+    env["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in paths if p)
     for args in examples:
         if args[1] == "reproduce":
             args = [*args, "--quick"]  # the full run is checked by its own test
@@ -77,3 +96,5 @@ def test_readme_shell_examples_run(tmp_path):
     reach = read_csv(tmp_path / "reach.csv")
     assert reach.n_samples == 200 and reach.columns[:2] == ("pos_x", "pos_y")
     assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    pick = (tmp_path / "pick.csv").read_text().splitlines()[0]
+    assert pick.startswith("t,x,y,z,vx,vy,vz,roll,pitch,yaw")

@@ -187,3 +187,20 @@ def test_a_folder_listed_with_files_and_unknown_options(tmp_path):
     assert len(lerobot_episodes(root)) == 2
     with pytest.raises(ValidationError, match=r"unexpected argument\(s\) \['topic'\]"):
         DemoFiles(root, topic="/x")
+
+
+def test_v3_files_of_one_row_group_and_a_missing_column(tmp_path):
+    eps = _episodes([4, 5, 6, 3, 2])
+    root = write_lerobot(tmp_path / "a", eps, _names(), per_file=3,
+                         row_group_per_episode=False)  # fmt: skip
+    for e, d in enumerate(read_lerobot(root, episodes="::-1")[::-1]):
+        written = eps[e]["observation.state"].astype(np.float32).astype(np.float64)
+        np.testing.assert_array_equal(d.get("position"), written[:, :3])
+    # info.json names a feature the data files do not hold
+    info = root / "meta" / "info.json"
+    text = info.read_text().replace('"action"', '"action.missing"')
+    info.write_text(text)
+    with pytest.raises(
+        DataFileError, match=r"episode 0: .* no column 'action.missing'"
+    ):
+        read_lerobot(root, feature="action.missing", episodes=[0])

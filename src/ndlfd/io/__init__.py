@@ -28,9 +28,10 @@ Every write goes to a temporary file beside the target and is renamed into place
 so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
-:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5`` and
-``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
-the dispatch by suffix).
+:class:`ColumnMapping`, Euler angles), ``_csv`` (delimited text), ``_npz``,
+``_hdf5``, ``_lerobot`` (LeRobot dataset folders: one :class:`LeRobotEpisode`
+item per episode) and ``_files`` (folders, glob patterns, :class:`DemoFile`,
+:class:`DemoFiles` and the dispatch by suffix).
 
 **Adding a reader** (a ROS 2 bag, a LeRobot dataset: ``_bag.py``,
 ``_lerobot.py``). A reader is a function ``reader(path, hints, **mapping)``
