@@ -103,6 +103,11 @@ def test_parse_episodes_known_answers():
     assert parse_episodes(" 2 ", eps, "d") == [2]
     with pytest.raises(ValidationError, match="episodes must be None, an episode"):
         parse_episodes(1.5, eps, "d")
+    assert parse_episodes(iter([4, 1]), eps, "d") == [4, 1]
+    with pytest.raises(
+        ValidationError, match=r"names episode 3 twice; got \[3, 1, 3\]"
+    ):
+        parse_episodes("3,1,3", eps, "d")
 
 
 @pytest.mark.parametrize("version", LAYOUTS)

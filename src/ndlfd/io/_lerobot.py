@@ -229,7 +229,9 @@ def parse_episodes(episodes, available: Sequence[int], where: str) -> list[int]:
         return chosen
     if isinstance(episodes, (int, np.integer)):
         episodes = [episodes]
-    if not isinstance(episodes, Iterable) or not all(
+    if isinstance(episodes, Iterable):
+        episodes = list(episodes)
+    if not isinstance(episodes, list) or not all(
         isinstance(e, (int, np.integer)) and not isinstance(e, bool) for e in episodes
     ):
         raise ValidationError(
@@ -237,6 +239,9 @@ def parse_episodes(episodes, available: Sequence[int], where: str) -> list[int]:
             f" a string such as '0:40' or '3,5,8'; got {episodes!r}"
         )
     chosen = [int(e) for e in episodes]
+    twice = next((e for e in chosen if chosen.count(e) > 1), None)
+    if twice is not None:
+        raise ValidationError(f"episodes names episode {twice} twice; got {episodes}")
     have = set(available)
     missing = [e for e in chosen if e not in have]
     if missing:
