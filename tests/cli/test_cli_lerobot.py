@@ -1,5 +1,7 @@
 """``ndlfd fit DATASET_DIR``: LeRobot datasets, Euler angles and grippers."""
 
+import sys
+
 import numpy as np
 import pytest
 
@@ -126,3 +128,30 @@ def test_quaternion_order_on_the_command_line(tmp_path, capsys):
     assert "orientation=d,a,b,c" in err[0]  # listed w, x, y, z
     m = KeypointHMM.load(model)
     assert "orientation" in m.groups_
+
+
+def test_without_pyarrow_says_how_to_install_it(tmp_path, capsys, monkeypatch):
+    root, _ = pick_dataset(tmp_path / "pick", n_demos=2)
+    for name in ("pyarrow", "pyarrow.parquet", "pyarrow.compute"):
+        monkeypatch.setitem(sys.modules, name, None)  # import pyarrow now fails
+    rc, err = cli(capsys, "fit", root, "-o", tmp_path / "m.ndlfd")
+    assert rc == 2
+    assert err == [
+        "ndlfd fit: error: reading LeRobot datasets needs pyarrow; install it"
+        ' with: pip install "ndlfd[lerobot]"'
+    ]
+
+
+def test_a_gripper_column_of_another_name(tmp_path, capsys):
+    n = 40
+    s = np.linspace(0, 1, n)
+    rows = np.column_stack([s, s, s**2, s > 0.5]).tolist()
+    text = "t,x,y,hand\n" + "\n".join(",".join(map(repr, r)) for r in rows)
+    (tmp_path / "g.csv").write_text(text + "\n")
+    model = tmp_path / "m.npz"
+    rc, err = cli(capsys, "fit", tmp_path / "g.csv", "-o", model,
+                  "--group", "gripper=hand", "--groups", "position,gripper",
+                  "--levels", "position=20,gripper=2")  # fmt: skip
+    assert rc == 0, err
+    assert "gripper=hand" in err[0]
+    assert KeypointHMM.load(model).groups_ == ("position", "gripper")

@@ -127,7 +127,10 @@ def add_generate(sub) -> None:
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     p.add_argument(
-        "--like", help="a test demonstration whose timing is used (one file)"
+        "--like",
+        help="a test demonstration whose timing is used (one file, or one episode"
+        " of a LeRobot dataset with --episodes N); when it gives the orientation"
+        " as Euler angles, the output does too, under its names",
     )
     p.add_argument(
         "--start",
