@@ -35,6 +35,9 @@ def _shell_examples(section: str | None = None) -> list[list[str]]:
 
 def _run(args, cwd):
     env = dict(os.environ, PYTHONWARNINGS="error")
+    # this source tree, also from the examples' folder (PYTHONPATH=src)
+    paths = env.get("PYTHONPATH", "").split(os.pathsep)
+    env["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in paths if p)
     r = subprocess.run(
         [str(BIN), *args[1:]],
         cwd=cwd,
@@ -111,3 +114,25 @@ def test_readme_ros_bag_examples_run(tmp_path):
     (path,) = read_bag(tmp_path / "pick.mcap", ["/ndlfd/path", "/ndlfd/path/gripper"])
     assert path.n_samples == 300 and path.t[-1] == 6.0
     assert path.group_names == ("position", "orientation", "gripper")
+
+
+def test_readme_lerobot_examples_run(tmp_path):
+    pytest.importorskip("pyarrow")
+    from lerobot_writer import write_lerobot
+
+    examples = _shell_examples("### LeRobot datasets")
+    assert [e[1] for e in examples] == ["fit", "generate"]
+    # a v3.0 dataset of 41 picks (x, y, z, roll, pitch, yaw, gripper), as
+    # LeRobot writes it
+    s = np.linspace(0, 1, 50)
+    picks = [
+        np.column_stack([s, s**2, 0 * s + 0.01 * i, 0.1 * s, 0 * s, s - 0.5, s > 0.5])
+        for i in range(41)
+    ]
+    names = ["x", "y", "z", "roll", "pitch", "yaw", "gripper"]
+    write_lerobot(tmp_path / "pick_cube", [{"observation.state": p} for p in picks],
+                  {"observation.state": names})  # fmt: skip
+    for args in examples:
+        _run(args, tmp_path)
+    pick = (tmp_path / "pick.csv").read_text().splitlines()[0]
+    assert pick.startswith("t,x,y,z,vx,vy,vz,roll,pitch,yaw")

@@ -12,6 +12,7 @@ reduced or interpolated, consecutive quaternions are sign-aligned
 
 from __future__ import annotations
 
+import re
 import warnings
 
 import numpy as np
@@ -21,11 +22,15 @@ from ._registry import Registry
 from ._validation import check_points
 
 __all__ = [
+    "EULER_AXES",
     "QUATERNION_ORDERS",
     "RENORMALIZE_TOL",
+    "check_euler",
     "check_quaternions",
+    "euler_to_quaternions",
     "make_continuous",
     "normalize_quaternions",
+    "quaternions_to_euler",
     "to_order",
 ]
 
@@ -283,3 +288,116 @@ def normalize_quaternions(Q, *, zero="error") -> np.ndarray:
         A[tiny] = (1.0, 0.0, 0.0, 0.0)
         norms = np.where(tiny, 1.0, norms)
     return A / norms[:, None]
+
+
+# ------------------------------------------------------------------ Euler angles
+#: What an Euler convention looks like: three axes, all lower case (extrinsic:
+#: rotations about the fixed frame's axes) or all upper case (intrinsic: about
+#: the rotating frame's), no axis twice in a row (scipy's rule).
+EULER_AXES = re.compile(r"^(?:[xyz]{3}|[XYZ]{3})$")
+
+
+def check_euler(seq) -> str:
+    """``seq`` if it is an Euler convention scipy takes, else a clear error.
+
+    Parameters
+    ----------
+    seq : str
+        Three axes, e.g. ``"xyz"`` (extrinsic: roll about x, then pitch about
+        y, then yaw about z, all about the fixed axes: the ROS convention) or
+        ``"ZYX"`` (intrinsic z-y'-x'', the same rotation for the same angles
+        listed yaw, pitch, roll).
+
+    Returns
+    -------
+    seq : str
+
+    Examples
+    --------
+    >>> check_euler("ZYX")
+    'ZYX'
+    """
+    if (
+        not isinstance(seq, str)
+        or not EULER_AXES.match(seq)
+        or seq[0] == seq[1]
+        or seq[1] == seq[2]
+    ):
+        raise ValidationError(
+            "euler must be three axes from xyz (extrinsic) or XYZ (intrinsic), no"
+            f" axis twice in a row, e.g. 'xyz' or 'ZYX'; got {seq!r}"
+        )
+    return seq
+
+
+def euler_to_quaternions(angles, seq: str = "xyz") -> np.ndarray:
+    """Unit quaternions ``(w, x, y, z)`` of Euler angles (radians).
+
+    Parameters
+    ----------
+    angles : array-like of shape (n_samples, 3)
+        The angles about the axes of ``seq``, in its order.
+    seq : str, default="xyz"
+        The convention (see :func:`check_euler`).
+
+    Returns
+    -------
+    Q : ndarray of shape (n_samples, 4)
+        Scalar-first unit quaternions, sign-aligned from one sample to the
+        next (:func:`make_continuous`).
+
+    Examples
+    --------
+    >>> euler_to_quaternions([[0.0, 0.0, np.pi / 2]]).round(4)
+    array([[0.7071, 0.    , 0.    , 0.7071]])
+    """
+    from scipy.spatial.transform import Rotation
+
+    seq = check_euler(seq)
+    A = check_points(angles, "Euler angles")
+    if A.shape[1] != 3:
+        raise ValidationError(
+            "Euler angles must have shape (n_samples, 3); got an array of shape"
+            f" {A.shape}"
+        )
+    xyzw = Rotation.from_euler(seq, A).as_quat()
+    return make_continuous(np.ascontiguousarray(xyzw[:, [3, 0, 1, 2]]))
+
+
+def quaternions_to_euler(Q, seq: str = "xyz") -> np.ndarray:
+    """Euler angles (radians) of unit quaternions ``(w, x, y, z)``.
+
+    The inverse of :func:`euler_to_quaternions` up to the angles' ranges: each
+    column is unwrapped along the samples (no jump of 2 pi from one sample to
+    the next), starting in scipy's range (the first and last angle in
+    ``[-pi, pi]``, the middle one in ``[-pi/2, pi/2]`` for three distinct
+    axes). Near gimbal lock (middle angle at +-pi/2) only the sum or
+    difference of the other two is defined; scipy then sets the third to 0
+    and warns, which is kept quiet here.
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+        Scalar-first unit quaternions.
+    seq : str, default="xyz"
+        The convention (see :func:`check_euler`).
+
+    Returns
+    -------
+    angles : ndarray of shape (n_samples, 3)
+        The angles about the axes of ``seq``, in its order.
+
+    Examples
+    --------
+    >>> Q = euler_to_quaternions([[0.1, -0.2, 0.3]], "xyz")
+    >>> quaternions_to_euler(Q, "xyz").round(6)
+    array([[ 0.1, -0.2,  0.3]])
+    """
+    from scipy.spatial.transform import Rotation
+
+    seq = check_euler(seq)
+    A = _as_quaternion_array(Q, "quaternions")
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*[Gg]imbal.*")
+        angles = Rotation.from_quat(A[:, [1, 2, 3, 0]]).as_euler(seq)
+    return np.unwrap(angles, axis=0)

@@ -23,9 +23,11 @@ from ..learner import (
 )
 from ._options import (
     add_column_options,
+    check_datasets,
     check_output,
     check_range,
     column_options,
+    dataset_options,
     describe_mappings,
     noting,
     parse_pairs,
@@ -127,7 +129,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     # one here, for the groups and the checks that name the flags
 
     options = column_options(args)
-    paths = demo_files(args.demos)
+    paths = demo_files(args.demos, **dataset_options(args))
+    check_datasets(args, paths)
     news: list = []
     with noting(paths[0], news):
         pairs = read_file(paths[0], CLI_HINTS, **options)
@@ -179,7 +182,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
     def after_scan(ranges):  # report the mappings, bound the time bins
         mappings = {text: n for text, _, n in ranges.notes}
-        say(args, describe_mappings(mappings, ranges.n_demos, len(paths)))
+        say(args, describe_mappings(mappings, ranges.n_demos, paths))
         bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
         scanned.update(n_demos=ranges.n_demos, time_bins=bins, note=note)
         return dict(n_time_bins=bins, n_points=args.n_points)

@@ -108,9 +108,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
                 f"--like must name one demonstration; {args.like} holds"
                 f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
             )
-        timing = demos[0]
+        timing, like = demos[0], maps[0]
     else:
-        timing = np.linspace(0.0, args.duration, n)
+        timing, like = np.linspace(0.0, args.duration, n), None
     result = model.generate(
         timing,
         dense=args.dense,
@@ -125,7 +125,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     elif fmt == "joint-trajectory":
         write_joint_trajectory(path, out)
     else:
-        _write_path(path, out, exact_time=exact_time)
+        _write_path(path, out, exact_time=exact_time, like=like)
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
         formats = [None if exact_time else FLOAT_FORMAT]
         formats += [FLOAT_FORMAT] * path.n_dims
@@ -137,13 +137,18 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     return 0
 
 
-def _write_path(demo, path: Path, *, exact_time: bool) -> None:
-    """Computed values with ten significant digits; given time stamps exactly."""
+def _write_path(demo, path: Path, *, exact_time: bool, like=None) -> None:
+    """Computed values with ten significant digits; given time stamps exactly.
+
+    When the ``--like`` file gave the orientation as Euler angles (its mapping
+    ``like`` says so), the orientation is written back as those columns.
+    """
     write_csv(
         demo,
         path,
         float_format=FLOAT_FORMAT,
         time_format=None if exact_time else FLOAT_FORMAT,
+        mapping=like,
     )
 
 
@@ -166,7 +171,10 @@ def add_generate(sub) -> None:
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     p.add_argument(
-        "--like", help="a test demonstration whose timing is used (one file)"
+        "--like",
+        help="a test demonstration whose timing is used (one file, or one episode"
+        " of a LeRobot dataset with --episodes N); when it gives the orientation"
+        " as Euler angles, the output does too, under its names",
     )
     p.add_argument(
         "--start",

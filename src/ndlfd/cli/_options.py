@@ -23,16 +23,19 @@ from pathlib import Path
 
 from .._errors import NdlfdWarning, ValidationError
 from ..demonstration import with_velocity
-from ..io import CLI_HINTS, TIME_NAMES, demo_files, read_file
+from ..io import CLI_HINTS, TIME_NAMES, LeRobotEpisode, demo_files, read_file
+from ..orientation import QUATERNION_ORDERS, check_euler
 
 __all__ = [
     "EXIT_USAGE",
     "GROUP_NAME",
     "Parser",
     "add_column_options",
+    "check_datasets",
     "check_output",
     "check_range",
     "column_options",
+    "dataset_options",
     "describe_mappings",
     "noting",
     "parse_floats",
@@ -167,9 +170,18 @@ def check_output(path: str, flag: str = "-o") -> Path:
 
 # ------------------------------------------------------------- data columns
 def add_column_options(
-    p, *, what: str = "demonstration files", bags: str | None = ""
+    p,
+    *,
+    what: str = "demonstration files",
+    bags: str | None = "",
+    demonstrations: bool = True,
 ) -> None:
-    """The column mapping flags, and with ``bags`` (a flag prefix) a bag's topics."""
+    """Add the column mapping flags to the parser ``p``.
+
+    With ``bags`` (a flag prefix; ``None``: none), also a bag's topics; with
+    ``demonstrations``, the flags of the readers of whole demonstrations
+    (orientation conventions, LeRobot datasets).
+    """
     g = p.add_argument_group(
         f"columns of the {what}",
         "CSV files are comma-, semicolon-, tab- or whitespace-separated (the header"
@@ -197,39 +209,100 @@ def add_column_options(
     g.add_argument(
         "--drop", metavar="NAME[,NAME...]", help="columns to leave out of the data"
     )
-    if bags is None:
-        return
-    b = p.add_argument_group(
-        f"ROS 2 bags among the {what}",
-        "A bag is a folder with metadata.yaml or an .mcap/.db3 file (needs"
-        " ndlfd[ros]). PoseStamped, PoseWithCovarianceStamped, TransformStamped,"
-        " TFMessage (/tf) and Odometry give position x,y,z and orientation"
-        " qw,qx,qy,qz; JointState the group joints (one column per joint);"
-        " Float64/Float32 a group named after the topic. Time: the header stamps"
-        " (the receive time without them), from 0.",
-    )
-    b.add_argument(
-        f"--{bags}topic",
-        dest="bag_topic",
-        action="append",
-        metavar="TOPIC",
-        help="a topic to read (default: the bag's only readable one); repeat it"
-        " to combine topics: the later ones are resampled onto the first one's"
-        " stamps (linear, orientation by slerp)",
-    )
-    b.add_argument(
-        f"--{bags}frame",
-        dest="bag_frame",
-        metavar="CHILD",
-        help="the child frame of the transforms to read from /tf",
-    )
-    if not bags:
+    if bags is not None:
+        b = p.add_argument_group(
+            f"ROS 2 bags among the {what}",
+            "A bag is a folder with metadata.yaml or an .mcap/.db3 file (needs"
+            " ndlfd[ros]). PoseStamped, PoseWithCovarianceStamped, TransformStamped,"
+            " TFMessage (/tf) and Odometry give position x,y,z and orientation"
+            " qw,qx,qy,qz; JointState the group joints (one column per joint);"
+            " Float64/Float32 a group named after the topic. Time: the header stamps"
+            " (the receive time without them), from 0.",
+        )
         b.add_argument(
-            "--split-gap",
-            type=float,
-            metavar="SECONDS",
-            help="one demonstration per stretch of a bag without a gap in the first"
-            " topic's stamps longer than this (> 0)",
+            f"--{bags}topic",
+            dest="bag_topic",
+            action="append",
+            metavar="TOPIC",
+            help="a topic to read (default: the bag's only readable one); repeat it"
+            " to combine topics: the later ones are resampled onto the first one's"
+            " stamps (linear, orientation by slerp)",
+        )
+        b.add_argument(
+            f"--{bags}frame",
+            dest="bag_frame",
+            metavar="CHILD",
+            help="the child frame of the transforms to read from /tf",
+        )
+        if not bags:
+            b.add_argument(
+                "--split-gap",
+                type=float,
+                metavar="SECONDS",
+                help="one demonstration per stretch of a bag without a gap in the first"
+                " topic's stamps longer than this (> 0)",
+            )
+    if demonstrations:
+        _add_demonstration_options(p, g)
+
+
+def _add_demonstration_options(p, g) -> None:
+    """Orientation conventions and LeRobot datasets (issue 19)."""
+    g.add_argument(
+        "--quaternion-order",
+        default="wxyz",
+        choices=QUATERNION_ORDERS.names,
+        help="the order of four orientation columns not named qw,qx,qy,qz"
+        " (default wxyz; xyzw is scipy's and ROS's)",
+    )
+    g.add_argument(
+        "--euler",
+        default="xyz",
+        metavar="AXES",
+        help="the convention of Euler angle columns (roll,pitch,yaw, or three"
+        " columns of --group orientation=..., radians), which are learned as unit"
+        " quaternions and written back as angles: xyz (default) is extrinsic"
+        " (ROS's roll-pitch-yaw), XYZ intrinsic, e.g. ZYX",
+    )
+    d = p.add_argument_group(
+        "LeRobot datasets",
+        "A folder with meta/info.json is a LeRobot dataset (layout 2.x or 3.0): one"
+        " demonstration per episode, time from 'timestamp', the columns named after"
+        " the feature's components in info.json and mapped as above. Needs"
+        " ndlfd[lerobot] (pyarrow).",
+    )
+    d.add_argument(
+        "--feature",
+        metavar="NAME",
+        help="the feature read (default observation.state; e.g. action)",
+    )
+    d.add_argument(
+        "--episodes",
+        metavar="SELECTION",
+        help="the episodes read: a slice such as 0:40 or -10: (Python syntax, over"
+        " the episodes in order), an episode index, or a list such as 3,5,8"
+        " (default all)",
+    )
+
+
+def dataset_options(args: argparse.Namespace) -> dict:
+    """``demo_files`` keyword arguments from ``--feature/--episodes``."""
+    out = {}
+    if getattr(args, "feature", None) is not None:
+        out["feature"] = args.feature.strip()
+    if getattr(args, "episodes", None) is not None:
+        out["episodes"] = args.episodes
+    return out
+
+
+def check_datasets(args: argparse.Namespace, items) -> None:
+    """Refuse ``--feature/--episodes`` when no source is a LeRobot dataset."""
+    given = [f"--{f}" for f in ("feature", "episodes")
+             if getattr(args, f, None) is not None]  # fmt: skip
+    if given and not any(isinstance(p, LeRobotEpisode) for p in items):
+        raise ValidationError(
+            f"{given[0]} selects from a LeRobot dataset (a folder with"
+            " meta/info.json); none of the sources is one"
         )
 
 
@@ -256,11 +329,16 @@ def column_options(args: argparse.Namespace) -> dict:
     time_column = args.time_column
     if time_column is not None and not time_column.strip():
         raise ValidationError("--time-column must name a column; got ''")
+    try:
+        euler = check_euler(getattr(args, "euler", "xyz"))
+    except ValidationError as exc:
+        raise ValidationError("--" + str(exc)) from None
     options = {
         "time_column": TIME_NAMES if time_column is None else time_column.strip(),
         "groups": groups,
         "drop": split_names(args.drop, "--drop") or (),
-        "quaternion_order": "wxyz",
+        "quaternion_order": getattr(args, "quaternion_order", "wxyz"),
+        "euler": euler,
     }
     split_gap = getattr(args, "split_gap", None)
     if split_gap is not None and not (math.isfinite(split_gap) and split_gap > 0):
@@ -276,9 +354,12 @@ def column_options(args: argparse.Namespace) -> dict:
     return options
 
 
-def describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str:
+def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:
     """One line: how the files were read (the distinct mappings, with counts)."""
-    head = f"read {n_demos} demonstration(s) from {n_files} file(s)"
+    n_eps = sum(isinstance(p, LeRobotEpisode) for p in items)
+    parts = [f"{len(items) - n_eps} file(s)"] if len(items) > n_eps else []
+    parts += [f"{n_eps} LeRobot episode(s)"] if n_eps else []
+    head = f"read {n_demos} demonstration(s) from {' and '.join(parts)}"
     if len(texts) == 1:
         return f"{head}: {next(iter(texts))}"
     return f"{head}: " + " | ".join(f"{k} as {t}" for t, k in texts.items())
@@ -287,7 +368,8 @@ def describe_mappings(texts: dict[str, int], n_demos: int, n_files: int) -> str:
 def read_sources(args, sources, *, flag: str, progress: bool = False):
     """Read demonstrations with the column options; report the mapping."""
     options = column_options(args)
-    paths = demo_files(sources)
+    paths = demo_files(sources, **dataset_options(args))
+    check_datasets(args, paths)
     if progress:
         paths_iter = _progress(paths, len(paths), "reading demos")
     else:
@@ -302,7 +384,7 @@ def read_sources(args, sources, *, flag: str, progress: bool = False):
     demos = [d for d, _ in pairs]
     maps = [m for _, m in pairs]
     texts = Counter(str(m) for m in maps)
-    say(args, describe_mappings(texts, len(maps), len(paths)))
+    say(args, describe_mappings(texts, len(maps), paths))
     return demos, maps
 
 

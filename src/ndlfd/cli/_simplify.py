@@ -226,5 +226,5 @@ def add_simplify(sub) -> None:
         "-o", "--output", required=True, help="output CSV file (its folder must exist)"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
-    add_column_options(p, what="input file", bags=None)
+    add_column_options(p, what="input file", bags=None, demonstrations=False)
     p.set_defaults(func=_cmd_simplify)

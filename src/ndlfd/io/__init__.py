@@ -1,13 +1,13 @@
-"""Reading and writing demonstrations: CSV, ``.npz``, HDF5 files and ROS 2 bags.
+"""Reading and writing demonstrations: CSV, .npz, HDF5, ROS 2 bags, LeRobot datasets.
 
 Two levels:
 
 * :func:`read_table` / :func:`write_table` move a header row and a numeric
   table between a CSV file and numpy, nothing more.
 * :func:`read_csv` / :func:`write_csv`, :func:`read_npz` / :func:`write_npz`,
-  :func:`read_hdf5`, :func:`read_bag` / :func:`write_bag` and :func:`read_demos`
-  move whole :class:`~ndlfd.demonstration.Demonstration` objects;
-  :func:`write_joint_trajectory` writes a ROS ``JointTrajectory`` as YAML.
+  :func:`read_hdf5`, :func:`read_bag` / :func:`write_bag`, :func:`read_lerobot`
+  and :func:`read_demos` move whole :class:`~ndlfd.demonstration.Demonstration`
+  objects; :func:`write_joint_trajectory` writes a ROS ``JointTrajectory`` as YAML.
 
 The CSV dialect is deliberately small: one header row, numbers only below it,
 separated by commas, semicolons, tabs or whitespace (the header row decides
@@ -29,10 +29,11 @@ Every write goes to a temporary file beside the target and is renamed into place
 so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
-:class:`ColumnMapping`), ``_csv`` (delimited text), ``_npz``, ``_hdf5``,
-``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra) and
-``_files`` (folders, glob patterns, :class:`DemoFile`, :class:`DemoFiles` and
-the dispatch by suffix).
+:class:`ColumnMapping`, Euler angles), ``_csv`` (delimited text), ``_npz``,
+``_hdf5``, ``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra),
+``_lerobot`` (LeRobot dataset folders: one :class:`LeRobotEpisode` item per
+episode) and ``_files`` (folders, glob patterns, :class:`DemoFile`,
+:class:`DemoFiles` and the dispatch by suffix).
 
 **Adding a reader** (a ROS 2 bag, a LeRobot dataset: ``_bag.py``,
 ``_lerobot.py``). A reader is a function ``reader(path, hints, **mapping)``
@@ -71,13 +72,16 @@ from ._files import (
     read_file,
 )
 from ._hdf5 import read_hdf5
+from ._lerobot import LeRobotEpisode, read_lerobot
 from ._mapping import (
     ARRAY_NAMES,
     CLI_HINTS,
+    EULER_NAMES,
     MAPPING_DEFAULTS,
     NAMING_CONVENTION,
     TIME_NAMES,
     ColumnMapping,
+    euler_columns,
     group_of_column,
 )
 from ._npz import read_npz, write_npz
@@ -87,14 +91,17 @@ __all__ = [
     "BAG_TYPES",
     "CLI_HINTS",
     "DEMO_SUFFIXES",
+    "EULER_NAMES",
     "MAPPING_DEFAULTS",
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
     "DemoFile",
     "DemoFiles",
+    "LeRobotEpisode",
     "csv_header",
     "demo_files",
+    "euler_columns",
     "group_of_column",
     "parse_table",
     "read_bag",
@@ -102,6 +109,7 @@ __all__ = [
     "read_demos",
     "read_file",
     "read_hdf5",
+    "read_lerobot",
     "read_npz",
     "read_table",
     "write_bag",

@@ -399,11 +399,12 @@ def read_bag_mapped(
     drop=(),
     quaternion_order="wxyz",
     time_column=None,
+    euler="xyz",
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """Every demonstration of the bag ``p`` (one, or one per segment) with its mapping.
 
-    ``time_column`` is not used (the time is the stamps); ``groups`` and
-    ``drop`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
+    ``time_column`` is not used (the time is the stamps); ``groups``, ``drop``
+    and ``euler`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
     ``gripper.gripper``) like CSV columns.
     """
     topics = _check_options(topic, frame, split_gap)
@@ -462,6 +463,7 @@ def read_bag_mapped(
             drop=drop,
             quaternion_order=quaternion_order,
             how=how,
+            euler=euler,
             source=source,
         )
         out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))

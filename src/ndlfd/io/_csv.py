@@ -25,6 +25,7 @@ from ._mapping import (
     LIBRARY_HINTS,
     TIME_NAMES,
     ColumnMapping,
+    euler_columns,
     group_of_column,
     map_arrays,
 )
@@ -399,14 +400,16 @@ def read_csv(
     groups: Mapping[str, Sequence[str] | str] | None = None,
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
+    euler: str = "xyz",
 ) -> Demonstration:
     r"""Read one demonstration from a CSV file.
 
     Every column except the time column and ``drop`` belongs to a group:
     the one ``groups`` maps it to, or else the one its name gives
     (:func:`group_of_column`): ``x, y, z`` (or ``p0, p1, ...``) position,
-    ``vx, vy, vz`` (or ``v0, ...``) velocity, ``qw, qx, qy, qz`` orientation,
-    ``fx, fy, fz`` (or ``f0, ...``) force, ``group.column`` a user group; any
+    ``vx, vy, vz`` (or ``v0, ...``) velocity, ``qw, qx, qy, qz`` orientation
+    (or Euler angles ``roll, pitch, yaw``), ``fx, fy, fz`` (or ``f0, ...``)
+    force, ``gripper``, ``group.column`` a user group; any
     other name is an error asking for ``groups=``. Names are matched
     case-insensitively (an exact match wins). The groups of ``groups`` come
     first, in its order, then the others in the order their first column
@@ -431,6 +434,11 @@ def read_csv(
         names decide and this is not used.
     drop : sequence of str, default=()
         Columns to ignore.
+    euler : str, default="xyz"
+        The convention of Euler angle columns (``roll, pitch, yaw``, or three
+        columns of ``groups["orientation"]``, in radians), which become unit
+        quaternions: ``"xyz"`` extrinsic (ROS's roll-pitch-yaw), ``"ZYX"``
+        intrinsic, ... (see :mod:`ndlfd.io._mapping`).
 
     Returns
     -------
@@ -461,6 +469,7 @@ def read_csv(
         groups=groups,
         quaternion_order=quaternion_order,
         drop=drop,
+        euler=euler,
     )[0][0]
 
 
@@ -487,8 +496,12 @@ def csv_header(demo: Demonstration, time_column: str) -> list[str]:
     >>> csv_header(d, "t")
     ['t', 'x', 'y', 'grip.grip0']
     """
+    return _header(demo.columns, demo.groups, time_column)
+
+
+def _header(columns, groups, time_column: str) -> list[str]:
     header = [time_column]
-    for c, g in zip(demo.columns, demo.groups, strict=True):
+    for c, g in zip(columns, groups, strict=True):
         hit = group_of_column(c)
         if hit == (g, c) and c.casefold() != time_column.casefold():
             header.append(c)
@@ -504,6 +517,7 @@ def write_csv(
     time_column: str = "t",
     float_format: str | None = None,
     time_format: str | None = None,
+    mapping: ColumnMapping | None = None,
 ) -> Path:
     """Write a demonstration to a CSV file that :func:`read_csv` reads back.
 
@@ -524,6 +538,10 @@ def write_csv(
         %-format of the values, e.g. ``"%.10g"`` (ten significant digits).
     time_format : str, optional
         %-format of the time stamps.
+    mapping : ColumnMapping, optional
+        How the input was read: when it had Euler angles, the orientation is
+        written back as those columns, in that convention (see
+        :func:`~ndlfd.io._mapping.euler_columns`).
 
     Returns
     -------
@@ -546,8 +564,12 @@ def write_csv(
         raise ValidationError(
             f"demo must be a Demonstration; got {type(demo).__name__}"
         )
-    data = np.column_stack([demo.t, demo.X])
+    columns, groups, X = demo.columns, demo.groups, demo.X
+    if mapping is not None:
+        columns, groups, X = euler_columns(demo, mapping)
+    data = np.column_stack([demo.t, X])
     formats = None
     if float_format is not None or time_format is not None:
-        formats = [time_format] + [float_format] * demo.n_dims
-    return write_table(path, csv_header(demo, time_column), data, float_format=formats)
+        formats = [time_format] + [float_format] * X.shape[1]
+    header = _header(columns, groups, time_column)
+    return write_table(path, header, data, float_format=formats)

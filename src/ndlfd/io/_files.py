@@ -13,6 +13,13 @@ from ..demonstration import Demonstration
 from ._bag import BAG_OPTIONS, BAG_SUFFIXES, is_bag_folder, read_bag_mapped
 from ._csv import read_csv_mapped
 from ._hdf5 import HDF5_SUFFIXES, read_hdf5_mapped
+from ._lerobot import (
+    DATASET_DEFAULTS,
+    LeRobotEpisode,
+    is_lerobot_dataset,
+    lerobot_episodes,
+    read_episode_mapped,
+)
 from ._mapping import CLI_HINTS, LIBRARY_HINTS, MAPPING_DEFAULTS, ColumnMapping
 from ._npz import read_npz_mapped
 
@@ -32,7 +39,7 @@ __all__ = [
 DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".h5", ".hdf5", *BAG_SUFFIXES)
 
 
-def demo_files(source) -> list[Path]:
+def demo_files(source, **dataset) -> list[Path | LeRobotEpisode]:
     """The files :func:`read_demos` reads from ``source``, in that order.
 
     Parameters
@@ -40,24 +47,40 @@ def demo_files(source) -> list[Path]:
     source : str, path-like or list of them
         A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
         ``.mcap`` and ``.db3`` files, in any case, and its sub-folders that are
-        ROS 2 bags, sorted), a ROS 2 bag folder (one source), a glob pattern
-        (its matches, sorted), a file, or a list of these.
+        ROS 2 bags, sorted), a ROS 2 bag folder (one source), a LeRobot dataset
+        folder (one item per episode), a glob pattern (its matches, sorted), a
+        file, or a list of these.
+    **dataset
+        ``feature`` and ``episodes``: what a LeRobot dataset contributes (see
+        :func:`~ndlfd.io.read_lerobot`).
 
     Returns
     -------
-    paths : list of Path
+    paths : list of Path or LeRobotEpisode
 
     Examples
     --------
     >>> demo_files(["a.csv", "b.npz"])
     [PosixPath('a.csv'), PosixPath('b.npz')]
     """
-    return _expand(source)
+    return _expand(source, _checked_dataset("demo_files", dataset))
 
 
-def _expand(source) -> list[Path]:
+def _checked_dataset(who: str, dataset: dict) -> dict:
+    unknown = sorted(set(dataset) - set(DATASET_DEFAULTS))
+    if unknown:
+        raise ValidationError(
+            f"{who} got unexpected argument(s) {unknown}; expected"
+            f" {', '.join(DATASET_DEFAULTS)}"
+        )
+    return {**DATASET_DEFAULTS, **dataset}
+
+
+def _expand(source, dataset=DATASET_DEFAULTS) -> list:
     if isinstance(source, (str, os.PathLike)):
         p = Path(source)
+        if is_lerobot_dataset(p):
+            return lerobot_episodes(p, **dataset)
         if p.is_dir() and not is_bag_folder(p):
             found = sorted(
                 q
@@ -90,7 +113,7 @@ def _expand(source) -> list[Path]:
                 raise ValidationError(
                     f"paths must be str or path-like; got {type(item).__name__}"
                 )
-            out.extend(_expand(item))
+            out.extend(_expand(item, dataset))
         if not out:
             raise DataFileError("expected at least one file; got an empty list")
         return out
@@ -118,14 +141,14 @@ READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS}
 
 
 def read_file(
-    p: Path, how=LIBRARY_HINTS, **mapping
+    p: Path | LeRobotEpisode, how=LIBRARY_HINTS, **mapping
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """Every demonstration of one file with the mapping used, by its suffix.
 
     Parameters
     ----------
-    p : Path
-        The file.
+    p : Path or LeRobotEpisode
+        The file (or an episode of a LeRobot dataset).
     how : dict, default=LIBRARY_HINTS
         How error messages name the settings (``CLI_HINTS``: the flags).
     **mapping
@@ -136,7 +159,9 @@ def read_file(
     -------
     pairs : list of (Demonstration, ColumnMapping)
     """
-    if is_bag_folder(p):
+    if isinstance(p, LeRobotEpisode):
+        reader = read_episode_mapped
+    elif is_bag_folder(p):
         reader = read_bag_mapped
     else:
         reader = READERS.get(p.suffix.lower(), read_csv_mapped)
@@ -150,10 +175,12 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
 
     A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
     ``.mcap`` and ``.db3`` files (any case) and its ROS 2 bag folders in sorted
-    order; a glob pattern its matches, sorted. ``.npz`` files are read with
-    :func:`read_npz`, ``.h5``/``.hdf5`` with :func:`read_hdf5` (one
-    demonstration per episode), bags with :func:`~ndlfd.io.read_bag`, everything else
-    with :func:`read_csv`; each gets the same column mapping (``kwargs``).
+    order, a LeRobot dataset folder its episodes (``feature=``, ``episodes=``:
+    see :func:`read_lerobot`); a glob pattern its matches, sorted. ``.npz``
+    files are read with :func:`read_npz`, ``.h5``/``.hdf5`` with
+    :func:`read_hdf5` (one demonstration per episode), bags with
+    :func:`~ndlfd.io.read_bag`, everything else with :func:`read_csv`; each
+    gets the same column mapping (``kwargs``).
 
     Parameters
     ----------
@@ -162,9 +189,10 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     return_mappings : bool, default=False
         Also return the :class:`ColumnMapping` of each demonstration.
     **kwargs
-        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
-        :func:`read_csv`; for bags also ``topic``, ``frame``, ``split_gap``
-        (see :func:`~ndlfd.io.read_bag`).
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``,
+        ``euler``: see :func:`read_csv`; for bags also ``topic``, ``frame``,
+        ``split_gap`` (see :func:`~ndlfd.io.read_bag`); ``feature``,
+        ``episodes``: see :func:`read_lerobot`.
 
     Returns
     -------
@@ -190,8 +218,10 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     >>> print(maps[0])
     time=t; position=x,y
     """
+    dataset = {k: kwargs.pop(k) for k in DATASET_DEFAULTS if k in kwargs}
     mapping = _checked_mapping("read_demos", kwargs, "or return_mappings")
-    pairs = [pair for p in _expand(source) for pair in read_file(p, **mapping)]
+    items = _expand(source, _checked_dataset("read_demos", dataset))
+    pairs = [pair for p in items for pair in read_file(p, **mapping)]
     demos = [d for d, _ in pairs]
     if return_mappings:
         return demos, [m for _, m in pairs]
@@ -207,7 +237,7 @@ def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
     if unknown:
         raise ValidationError(
             f"{who} got unexpected argument(s) {unknown}; expected"
-            f" {', '.join(known)} {more}".rstrip()
+            f" {', '.join([*known, *DATASET_DEFAULTS])} {more}".rstrip()
         )
     return {**MAPPING_DEFAULTS, **kwargs}
 
@@ -221,13 +251,14 @@ class DemoFile:
 
     Attributes
     ----------
-    path : Path
+    path : Path or LeRobotEpisode
+        The file, or an episode of a LeRobot dataset.
     mapping : dict
         ``time_column``, ``groups``, ``quaternion_order`` and ``drop`` (see
         :func:`read_csv`).
     """
 
-    path: Path
+    path: Path | LeRobotEpisode
     mapping: dict = field(default_factory=lambda: dict(MAPPING_DEFAULTS))
     #: How error messages name the settings: ``"library"`` (parameters) or
     #: ``"cli"`` (the command line's flags).
@@ -254,10 +285,12 @@ class DemoFiles(Sequence):
     Parameters
     ----------
     source : str, path-like or list of them
-        As :func:`read_demos` takes it (a folder, a glob pattern, files).
+        As :func:`read_demos` takes it (a folder, a glob pattern, files, a
+        LeRobot dataset: one item per episode).
     **mapping
-        ``time_column``, ``groups``, ``quaternion_order``, ``drop``: see
-        :func:`read_csv`.
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``,
+        ``euler``: see :func:`read_csv`; ``feature``, ``episodes``: what a
+        LeRobot dataset contributes (see :func:`read_lerobot`).
 
     Examples
     --------
@@ -276,9 +309,10 @@ class DemoFiles(Sequence):
     """
 
     def __init__(self, source, **mapping) -> None:
+        dataset = {k: mapping.pop(k) for k in DATASET_DEFAULTS if k in mapping}
         self._mapping = _checked_mapping("DemoFiles", mapping)
         self.hints = "library"
-        self.paths = tuple(_expand(source))
+        self.paths = tuple(_expand(source, _checked_dataset("DemoFiles", dataset)))
 
     @classmethod
     def for_cli(cls, paths, **mapping) -> DemoFiles:

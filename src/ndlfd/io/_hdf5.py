@@ -90,6 +90,7 @@ def read_hdf5(
     groups: Mapping[str, Sequence[str] | str] | None = None,
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
+    euler: str = "xyz",
 ) -> list[Demonstration]:
     """Read demonstrations from an HDF5 file: one HDF5 group per episode.
 
@@ -103,7 +104,7 @@ def read_hdf5(
     ----------
     path : str or path-like
         The file.
-    time_column, groups, quaternion_order, drop
+    time_column, groups, quaternion_order, drop, euler
         As in :func:`read_csv`, applied to every episode.
 
     Returns
@@ -127,5 +128,6 @@ def read_hdf5(
             groups=groups,
             quaternion_order=quaternion_order,
             drop=drop,
+            euler=euler,
         )
     ]

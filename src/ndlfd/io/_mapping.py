@@ -4,6 +4,24 @@ Every reader maps the columns of a file (or the arrays of an ``.npz`` / HDF5
 file) to a time vector and physical groups with :func:`map_arrays`, and says how
 with a :class:`ColumnMapping`. Error messages name the settings through
 ``hints``: :data:`LIBRARY_HINTS` (parameters) or :data:`CLI_HINTS` (flags).
+
+**Euler angles.** Columns named ``roll``, ``pitch`` and ``yaw`` (any case) are
+the orientation as Euler angles in radians, about the x, y and z axes; so is
+an orientation group of three columns mapped by ``groups`` (its columns listed
+in the order of the convention's axes). They become unit quaternions
+``(w, x, y, z)`` with :func:`~ndlfd.orientation.euler_to_quaternions` in the
+convention ``euler`` (default ``"xyz"``: extrinsic, roll about the fixed x
+axis, then pitch about y, then yaw about z, as ROS's ``rpy``; ``"ZYX"`` is the
+intrinsic z-y'-x'' convention, the same rotation for the same roll, pitch and
+yaw). The :class:`ColumnMapping` records the convention and the names, and
+:func:`euler_columns` turns an orientation group (a generated path's) back
+into those columns. ``rx, ry, rz`` are not taken for Euler angles by their
+names: many robots (Universal Robots' TCP pose) log a rotation vector under
+them; map them with ``groups={"orientation": ["rx", "ry", "rz"]}`` when they
+are Euler angles.
+
+**Gripper.** A column named ``gripper`` (any case) is the group ``gripper``;
+map another with ``groups={"gripper": ["NAME"]}``.
 """
 
 from __future__ import annotations
@@ -16,16 +34,23 @@ import numpy as np
 
 from .._errors import DataFileError, ValidationError
 from ..demonstration import Demonstration, default_columns
-from ..orientation import QUATERNION_ORDERS
+from ..orientation import (
+    QUATERNION_ORDERS,
+    check_euler,
+    euler_to_quaternions,
+    quaternions_to_euler,
+)
 
 __all__ = [
     "ARRAY_NAMES",
     "CLI_HINTS",
+    "EULER_NAMES",
     "LIBRARY_HINTS",
     "MAPPING_DEFAULTS",
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
+    "euler_columns",
     "group_of_column",
     "map_arrays",
     "resolve_column",
@@ -74,19 +99,24 @@ NAMING_CONVENTION: tuple[tuple[str, str], ...] = (
     (r"vx|vy|vz|v\d+", "velocity"),
     (r"qw|qx|qy|qz", "orientation"),
     (r"fx|fy|fz|f\d+", "force"),
+    (r"roll|pitch|yaw", "orientation"),
+    (r"gripper", "gripper"),
 )
 _CONVENTION = tuple(
     (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
 )
 _QUAT_NAMES = ("qw", "qx", "qy", "qz")
+#: The Euler angle columns known by name, about the x, y and z axes.
+EULER_NAMES = ("roll", "pitch", "yaw")
 
 
 def group_of_column(name: str) -> tuple[str, str] | None:
     """Group and column name that the CSV naming convention gives a header name.
 
     ``x, y, z, p0, p1, ...`` → position; ``vx, vy, vz, v0, ...`` → velocity;
-    ``qw, qx, qy, qz`` → orientation; ``fx, fy, fz, f0, ...`` → force (in any
-    case); ``group.column`` → ``column`` in the user group ``group``; anything
+    ``qw, qx, qy, qz`` and the Euler angles ``roll, pitch, yaw`` → orientation;
+    ``fx, fy, fz, f0, ...`` → force; ``gripper`` → gripper (in any case);
+    ``group.column`` → ``column`` in the user group ``group``; anything
     else → ``None``.
 
     Parameters
@@ -106,6 +136,8 @@ def group_of_column(name: str) -> tuple[str, str] | None:
     ('position', 'X')
     >>> group_of_column("grip.width")
     ('grip', 'width')
+    >>> group_of_column("Yaw")
+    ('orientation', 'Yaw')
     >>> group_of_column("speed") is None
     True
     """
@@ -149,6 +181,10 @@ class ColumnMapping:
         ``"comma-separated"`` (or semicolon, tab, whitespace) for a CSV file,
         ``"arrays"`` for plain ``.npz`` / HDF5 arrays, ``"ndlfd"`` for an ndlfd
         demonstration file (self-described, no mapping).
+    euler : str or None
+        The Euler convention of the orientation when the file gave it as three
+        Euler angles (the group's names are then those three, in the
+        convention's order), else ``None``.
 
     Examples
     --------
@@ -163,13 +199,18 @@ class ColumnMapping:
     dropped: tuple[str, ...] = ()
     ignored: tuple[str, ...] = ()
     layout: str = "comma-separated"
+    euler: str | None = None
 
     def __str__(self) -> str:
         """The mapping in one line, as the command line reports it."""
         if self.layout == "ndlfd":
             return "ndlfd demonstration file"
         parts = [f"time={self.time if self.time is not None else '(row number)'}"]
-        parts += [f"{g}={','.join(cols)}" for g, cols in self.groups]
+        parts += [
+            f"{g}={','.join(cols)}"
+            + (f" (Euler {self.euler})" if g == "orientation" and self.euler else "")
+            for g, cols in self.groups
+        ]
         if self.dropped:
             parts.append("dropped " + ",".join(self.dropped))
         if self.ignored:
@@ -247,12 +288,14 @@ def map_arrays(
     drop,
     quaternion_order: str,
     how: Mapping[str, str],
+    euler: str = "xyz",
     lines: np.ndarray | None = None,
     layout: str = "arrays",
     source: str | None = None,
 ) -> tuple[Demonstration, ColumnMapping]:
     """Map named 1-D and 2-D arrays (CSV columns, npz keys) to a demonstration."""
     QUATERNION_ORDERS.get(quaternion_order)
+    check_euler(euler)
     keys = list(arrays)
     table = lines is not None
     noun = "column" if table else "array"
@@ -334,8 +377,9 @@ def map_arrays(
     if unassigned:
         raise DataFileError(
             f"{p}: cannot tell the group of {noun}(s) {unassigned} from their"
-            " names; name them x, y, z / vx, vy, vz / qw, qx, qy, qz / fx, fy, fz /"
-            f" group.column, or {how['group_hint']}, or leave them out with"
+            " names; name them x, y, z / vx, vy, vz / qw, qx, qy, qz / roll, pitch,"
+            f" yaw / fx, fy, fz / gripper / group.column, or {how['group_hint']},"
+            " or leave them out with"
             f" {how['drop_hint']}"
         )
     if conflicts:
@@ -351,6 +395,7 @@ def map_arrays(
         )
     # shapes
     blocks, names, gnames, mapped = [], [], [], []
+    from_euler = None
     for g, ks in layout_of.items():
         parts, cols = [], []
         for k in ks:
@@ -379,7 +424,17 @@ def map_arrays(
             else:
                 cols.append(by_name.get(k, k))
         block = np.hstack(parts)
-        if g == "orientation" and block.shape[1] == 4:
+        if g == "orientation" and block.shape[1] not in (3, 4):
+            raise DataFileError(
+                f"{p}: the orientation must be four quaternion {noun}s (qw, qx, qy,"
+                " qz) or three Euler angles (roll, pitch, yaw); got"
+                f" {block.shape[1]} columns from {ks}"
+            )
+        if g == "orientation" and block.shape[1] == 3:
+            ks, block = _euler_block(p, ks, block, euler, how)
+            cols = list(default_columns("orientation", 4))
+            from_euler = euler
+        elif g == "orientation" and block.shape[1] == 4:
             # four named columns qw, qx, qy, qz say their order; else the option
             low = [c.casefold() for c in ks]
             if len(ks) == 4 and sorted(low) == sorted(_QUAT_NAMES):
@@ -407,12 +462,93 @@ def map_arrays(
         tuple(dropped),
         tuple(ignored),
         layout,
+        from_euler,
     )
     try:
         demo = Demonstration(t, np.hstack(blocks), tuple(names), tuple(gnames))
     except ValidationError as exc:
         raise wrap_error(p, exc, lines) from None
     return demo, mapping
+
+
+def _euler_block(p, ks, block, seq, how):
+    """Three Euler angle columns as quaternions, the names in ``seq``'s order.
+
+    Columns named roll, pitch and yaw are the angles about x, y and z and are
+    put in the convention's order; other names are taken as listed.
+    """
+    low = [k.casefold() for k in ks]
+    if sorted(low) == sorted(EULER_NAMES):
+        axes = seq.lower()
+        if len(set(axes)) != 3:
+            raise DataFileError(
+                f"{p}: {ks} are the angles about x, y and z, but the Euler"
+                f" convention {seq!r} turns about {seq[0]} twice; list the angles in"
+                f" its order with {how['groups']} orientation=..."
+            )
+        order = [low.index(EULER_NAMES["xyz".index(a)]) for a in axes]
+        ks = [ks[i] for i in order]
+        block = block[:, order]
+    # rows with NaN or inf stay NaN: the demonstration's check names the row
+    ok = np.isfinite(block).all(axis=1)
+    Q = np.full((block.shape[0], 4), np.nan)
+    if ok.any():
+        Q[ok] = euler_to_quaternions(block[ok], seq)
+    return ks, Q
+
+
+def euler_columns(
+    demo: Demonstration, mapping: ColumnMapping
+) -> tuple[list[str], list[str], np.ndarray]:
+    """A demonstration's columns with its orientation back as recorded Euler angles.
+
+    The inverse of the Euler mapping of :func:`map_arrays`: the four
+    quaternion columns of ``demo``'s orientation group (a generated path, say)
+    become the three Euler angle columns ``mapping`` recorded, with their
+    names, in the recorded convention (see
+    :func:`~ndlfd.orientation.quaternions_to_euler` for the angles' ranges).
+    A mapping without Euler angles leaves the columns as they are.
+
+    Parameters
+    ----------
+    demo : Demonstration
+    mapping : ColumnMapping
+        How the input was read.
+
+    Returns
+    -------
+    columns, groups : list of str
+        The column names and their groups (orientation: the three names).
+    X : ndarray of shape (n_samples, n_columns)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> q = [[1.0, 0.0, 0.0, 0.0], [np.sqrt(0.5), 0.0, 0.0, np.sqrt(0.5)]]
+    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 1], [2, 3]],
+    ...                               orientation=q)
+    >>> m = ColumnMapping("a.csv", "t", (("position", ("x", "y")),
+    ...                   ("orientation", ("roll", "pitch", "yaw"))), euler="xyz")
+    >>> cols, groups, X = euler_columns(d, m)
+    >>> cols, X[:, 2:].round(4).tolist()
+    (['x', 'y', 'roll', 'pitch', 'yaw'], [[0.0, 0.0, 0.0], [0.0, 0.0, 1.5708]])
+    """
+    columns, groups = list(demo.columns), list(demo.groups)
+    if mapping.euler is None or not demo.has_group("orientation"):
+        return columns, groups, demo.X
+    names = dict(mapping.groups)["orientation"]
+    idx = [j for j, g in enumerate(groups) if g == "orientation"]
+    angles = quaternions_to_euler(demo.X[:, idx], mapping.euler)
+    first = idx[0]
+    keep = [j for j in range(len(columns)) if j not in idx]
+    before = [j for j in keep if j < first]
+    after = [j for j in keep if j > first]
+    X = np.hstack([demo.X[:, before], angles, demo.X[:, after]])
+    columns = [columns[j] for j in before] + list(names)
+    columns += [demo.columns[j] for j in after]
+    groups = [groups[j] for j in before] + ["orientation"] * 3
+    groups += [demo.groups[j] for j in after]
+    return columns, groups, X
 
 
 def wrap_error(p, exc: ValidationError, lines: np.ndarray | None = None):
@@ -429,4 +565,5 @@ MAPPING_DEFAULTS = {
     "groups": None,
     "quaternion_order": "wxyz",
     "drop": (),
+    "euler": "xyz",
 }

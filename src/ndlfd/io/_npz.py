@@ -101,6 +101,7 @@ def read_npz(
     groups: Mapping[str, Sequence[str] | str] | None = None,
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
+    euler: str = "xyz",
 ) -> Demonstration:
     """Read a demonstration from an ``.npz`` file: ndlfd's own or plain arrays.
 
@@ -117,7 +118,7 @@ def read_npz(
     ----------
     path : str or path-like
         The file.
-    time_column, groups, quaternion_order, drop
+    time_column, groups, quaternion_order, drop, euler
         As in :func:`read_csv`, for a plain file.
 
     Returns
@@ -151,4 +152,5 @@ def read_npz(
         groups=groups,
         quaternion_order=quaternion_order,
         drop=drop,
+        euler=euler,
     )[0][0]
