@@ -15,7 +15,7 @@ from ndlfd import (
     hmm,
 )
 from ndlfd.demonstration import Demonstration
-from ndlfd.learner import KeypointHMM
+from ndlfd.learner import KeypointHMM, minimum_jerk
 from ndlfd.learner._segments import segment_states
 from ndlfd.metrics import dtw_distance
 
@@ -261,3 +261,41 @@ def test_timing_keeps_every_bin_the_model_can_emit(pseudo_emission):
     # each observation at the first time stamp of its bin
     np.testing.assert_array_equal(key_t, [t[np.argmax(touched == b)] for b in expected])
     np.testing.assert_array_equal(all_t, t)
+
+
+def _picks(n_demos=8, seed=4):
+    """3-D pick-and-place: reach the grasp, stop there, carry over to the place."""
+    rng = np.random.default_rng(seed)
+    start, grasp, place = np.array([0, 0, 0.2]), np.array([0.4, 0, 0]), [0.4, 0.5, 0]
+    demos = []
+    for _ in range(n_demos):
+        tau = np.linspace(0.0, 1.0, 200)
+        a = minimum_jerk(np.clip(tau / 0.3, 0, 1))[:, None]
+        b = minimum_jerk(np.clip((tau - 0.4) / 0.6, 0, 1))[:, None]
+        P = start + a * (grasp - start) + b * (np.asarray(place) - grasp)
+        P[:, 2] += 0.15 * np.sin(np.pi * b[:, 0])  # lift while carrying
+        P += rng.normal(0, 0.003, 3)  # each demonstration a little apart
+        t = 4.0 * tau * rng.uniform(0.97, 1.03)
+        demos.append(Demonstration.from_arrays(t, position=P))
+    return demos, grasp
+
+
+def test_a_start_offset_is_gone_by_the_grasp():
+    demos, grasp = _picks()
+    model = KeypointHMM().fit(demos)
+    t = np.linspace(0.0, 4.0, 200)
+    here = {"position": [0.0, -0.10, 0.15]}  # 10 cm right and 5 cm low
+    path = model.generate(t, dense=True, start=here).get("position")
+    np.testing.assert_allclose(path[0], here["position"], atol=1e-12)
+    at_grasp = path[np.argmin(np.linalg.norm(path - grasp, axis=1))]
+    # at the grasp (the demonstrations stop there for 10 % of the motion) the
+    # hand is where they grasp, not shifted by the start's offset
+    assert np.linalg.norm(at_grasp - grasp) < 0.01
+    stay = path[(t >= 0.31 * 4.0) & (t <= 0.39 * 4.0)]
+    assert np.linalg.norm(stay - grasp, axis=1).max() < 0.01
+    # the same with a goal off the demonstrations' place: the grasp is kept
+    there = {"position": [0.45, 0.55, 0.02]}
+    path = model.generate(t, dense=True, start=here, goal=there).get("position")
+    np.testing.assert_allclose(path[-1], there["position"], atol=1e-12)
+    stay = path[(t >= 0.31 * 4.0) & (t <= 0.39 * 4.0)]
+    assert np.linalg.norm(stay - grasp, axis=1).max() < 0.01

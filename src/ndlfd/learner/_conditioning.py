@@ -22,6 +22,7 @@ __all__ = [
     "condition_bandwidth",
     "condition_log_weights",
     "condition_weights",
+    "contact_window",
     "group_columns",
     "log_weights_for",
     "minimum_jerk",
@@ -262,12 +263,71 @@ def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarr
     return condition_log_weights(pts, target, cache[ckey])
 
 
+#: A path is *slow* where its speed is below this fraction of its median
+#: speed: where the demonstrations slow down for a contact (a grasp, a
+#: placement) the offset to a requested start must be gone.
+SLOW_FRACTION = 0.2
+
+
+def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
+    """Normalized times of the path's first and last slow-down while moving.
+
+    The first: after the path first moves at its median speed or faster, the
+    first sample slower than :data:`SLOW_FRACTION` of it (a stop for a contact
+    event); the last: the same from the end backwards. A path that never slows
+    down between its ends gives ``(1, 0)``: the whole motion.
+
+    Parameters
+    ----------
+    P : ndarray of shape (n_samples, n_dims)
+        Positions along the path (any units).
+    tq : ndarray of shape (n_samples,)
+        Their normalized times, increasing.
+
+    Returns
+    -------
+    first, last : float
+
+    Examples
+    --------
+    Moving, a stop at tau = 0.5, moving again:
+
+    >>> tq = np.linspace(0.0, 1.0, 11)
+    >>> x = np.array([0, 1, 2, 3, 4, 4, 4, 5, 6, 7, 8], dtype=float)
+    >>> [round(v, 9) for v in contact_window(x[:, None], tq)]
+    [0.4, 0.6]
+    """
+    n = P.shape[0]
+    if n < 3:
+        return 1.0, 0.0
+    dt = np.diff(tq)
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.where(dt > 0, dt, np.inf)
+    typical = float(np.median(speed))
+    if not typical > 0:
+        return 1.0, 0.0
+    moving = speed >= typical
+    slow = speed < SLOW_FRACTION * typical
+    first, last = 1.0, 0.0
+    go = np.flatnonzero(moving)
+    after = np.flatnonzero(slow[go[0] :]) if go.size else np.zeros(0, int)
+    if after.size:
+        first = float(tq[go[0] + after[0]])  # the step into the stop
+    before = np.flatnonzero(slow[: go[-1] + 1]) if go.size else np.zeros(0, int)
+    if before.size:
+        last = float(tq[before[-1] + 1])  # the step out of the stop
+    return first, last
+
+
 def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
-    """Shift a path onto ``start`` and ``goal`` with a faded offset.
+    """Shift a path onto ``start`` and ``goal`` with an offset faded before contact.
 
     The offsets are measured on the first and last of the first ``n_dense``
     rows (the path at normalized times 0 and 1) and applied to every row at
-    its normalized time ``tq``, faded by :func:`minimum_jerk`.
+    its normalized time ``tq``, faded by :func:`minimum_jerk`: the start's
+    offset is gone by the path's first slow-down (:func:`contact_window`, on
+    the position columns; the whole motion if it has none), the goal's offset
+    comes in after the last one, so the path reaches a grasp or placement
+    where the demonstrations do, not shifted by a start elsewhere.
 
     Parameters
     ----------
@@ -280,8 +340,8 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     column_groups : sequence of str
         The group of each column.
     n_dense : int, optional
-        Rows that make the path proper (the rest are extra rows, e.g. key
-        points); all rows by default.
+        Rows that make the path proper, in time order (the rest are extra
+        rows, e.g. key points); all rows by default.
 
     Returns
     -------
@@ -299,9 +359,12 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     if start is None and goal is None:
         return X
     n = X.shape[0] if n_dense is None else n_dense
-    ramp = minimum_jerk(tq)
+    pos = group_columns(column_groups, "position")
+    first, last = contact_window(X[:n, pos], tq[:n]) if pos else (1.0, 0.0)
+    to_start = 1.0 - minimum_jerk(tq / first)
+    to_goal = minimum_jerk((tq - last) / (1.0 - last))
     X = X.copy()
-    for cond, fade, row in ((start, 1.0 - ramp, 0), (goal, ramp, n - 1)):
+    for cond, fade, row in ((start, to_start, 0), (goal, to_goal, n - 1)):
         for g, v in (cond or {}).items():
             pin_offset(X, fade, row, v, group_columns(column_groups, g))
     return X
