@@ -135,4 +135,4 @@ def test_readme_lerobot_examples_run(tmp_path):
     for args in examples:
         _run(args, tmp_path)
     pick = (tmp_path / "pick.csv").read_text().splitlines()[0]
-    assert pick.startswith("t,x,y,z,vx,vy,vz,roll,pitch,yaw")
+    assert pick == "t,x,y,z,vx,vy,vz,roll,pitch,yaw,gripper"

@@ -299,3 +299,33 @@ def test_a_start_offset_is_gone_by_the_grasp():
     np.testing.assert_allclose(path[-1], there["position"], atol=1e-12)
     stay = path[(t >= 0.31 * 4.0) & (t <= 0.39 * 4.0)]
     assert np.linalg.norm(stay - grasp, axis=1).max() < 0.01
+
+
+def test_a_two_valued_gripper_stays_two_valued_and_switches_on_time():
+    # the gripper closes at 35 % of each demonstration (+- 3 %): learned by
+    # default, generated as 0 or 1 only, closing at the demonstrations' median
+    rng = np.random.default_rng(5)
+    demos, switches = [], []
+    for _ in range(9):
+        tau = np.linspace(0.0, 1.0, 150)
+        at = 0.35 + rng.uniform(-0.03, 0.03)
+        P = np.column_stack([tau, np.sin(2 * tau)]) + rng.normal(0, 0.002, 2)
+        grip = (tau >= at).astype(float)
+        switches.append(tau[np.argmax(grip > 0)])
+        demos.append((tau, P, grip))
+    demos_of = lambda scale: [  # noqa: E731
+        Demonstration.from_arrays(3.0 * tau, position=P, gripper=scale * grip)
+        for tau, P, grip in demos
+    ]
+    model = KeypointHMM().fit(demos_of(1.0))
+    assert model.groups_ == ("position", "velocity", "gripper")
+    t = np.linspace(0.0, 3.0, 300)
+    g = model.generate(t, dense=True).get("gripper")[:, 0]
+    assert set(np.unique(g)) == {0.0, 1.0}
+    closes = t[np.argmax(g > 0.5)] / 3.0
+    assert np.all(g[t / 3.0 >= closes] == 1.0)  # one switch
+    assert abs(closes - np.median(switches)) <= 0.02
+    # a gripper of recorded positions (two values, not 0/1) keeps them
+    g = KeypointHMM().fit(demos_of(0.085)).generate(t, dense=True).get("gripper")
+    g = g[:, 0]
+    assert set(np.unique(g)) == {0.0, 0.085}

@@ -242,7 +242,7 @@ def add_fit(sub) -> None:
         "--groups",
         default=None,
         help="comma-separated groups to learn (default: position, velocity,"
-        " orientation and force, those the files have; a missing velocity is"
+        " orientation, force and gripper, those the files have; a missing velocity is"
         " derived from position). Name your own groups to learn them too",
     )
     budget = p.add_mutually_exclusive_group()

@@ -37,8 +37,8 @@ class KeypointHMM(ParamsMixin):
     ----------
     groups : "auto", sequence of str or None, default="auto"
         The physical groups to learn from, in this order. ``"auto"`` learns
-        those of :data:`AUTO_GROUPS` (position, velocity, orientation, force)
-        that the first demonstration has, so orientation is never dropped in
+        those of :data:`AUTO_GROUPS` (position, velocity, orientation, force,
+        gripper) that the first demonstration has, so none is dropped in
         silence; ``None`` every group of the first demonstration. A missing
         ``"velocity"`` is derived from position when ``derive_velocity``.
     levels : int or mapping of str to int, optional

@@ -31,6 +31,7 @@ from ..orientation import normalize_quaternions
 from ._blend import align_many, blend, skeleton_times
 from ._conditioning import group_columns, log_weights_for, pin
 from ._decoding import decode_states
+from ._discrete import snap_two_valued, two_valued_columns
 from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
@@ -317,6 +318,9 @@ def generate_blend(est, times_or_demo, *, dense, start, goal, return_std, cache)
         at,
         quat_cols=_quat_cols(groups),
     )
+    if "two-valued" not in cache:  # the training data's only: once per model
+        cache["two-valued"] = two_valued_columns(est.train_values_, groups)
+    U = snap_two_valued(U, cache["two-valued"])
     X = _renormalize(est.scaler_.inverse_transform(U), groups)
     X = pin(X, at, start, goal, groups, tq.size)
     X = _derive_velocity(X, tq, plan.key_tau, all_t, groups)

@@ -45,11 +45,17 @@ __all__ = [
 
 #: The groups ``groups="auto"`` learns when a demonstration has them, in this
 #: order (velocity also when it can be derived from position).
-AUTO_GROUPS = ("position", "velocity", "orientation", "force")
+AUTO_GROUPS = ("position", "velocity", "orientation", "force", "gripper")
 
 #: Codebook levels per physical group when ``levels`` does not name the group
 #: (the paper's 20 for position and 10 for velocity).
-DEFAULT_LEVELS = {"position": 20, "velocity": 10, "orientation": 10, "force": 10}
+DEFAULT_LEVELS = {
+    "position": 20,
+    "velocity": 10,
+    "orientation": 10,
+    "force": 10,
+    "gripper": 2,  # open or closed (a gripper of two recorded values stays so)
+}
 
 #: The scaler's range modes under the learner's parameter name (the errors
 #: then say "normalization").
