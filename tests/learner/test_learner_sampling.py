@@ -7,7 +7,7 @@ from test_learner_routes import obstacle
 
 from ndlfd import NotFittedError, ValidationError
 from ndlfd.learner import KeypointHMM
-from ndlfd.learner._sampling import route_probabilities
+from ndlfd.learner._sampling import _seen_only, route_probabilities
 
 T = np.linspace(0.0, 5.0, 400)
 XS = np.linspace(-9.5, -0.5, 50)  # the course, away from the shared ends
@@ -112,3 +112,17 @@ def test_errors(uneven):
         model.sample(T, random_state="seed")
     with pytest.raises(ValidationError, match="at least two"):
         model.sample([1.0])
+
+
+def test_unseen_states_of_a_drawn_skeleton_keep_the_state_before():
+    # with an emission pseudo-count the chain may pass through states never
+    # seen (no centroid): those bins keep the seen state before them
+    seen = np.array([2, 5, 9])
+    np.testing.assert_array_equal(
+        _seen_only(np.array([2, 0, 0, 5, 1, 9]), seen), [2, 2, 2, 5, 5, 9]
+    )
+    np.testing.assert_array_equal(_seen_only(np.array([0, 5, 0]), seen), [5, 5, 5])
+    demos = obstacle(9, 3)
+    model = KeypointHMM(pseudo_emission=0.5).fit(demos)
+    for p in model.sample(T, 40, random_state=0):
+        assert abs(curve(p.get("position"))[25]) > 5
