@@ -55,6 +55,7 @@ def test_public_names():
         "estimate",
         "merge",
         "posterior",
+        "sample_paths",
         "viterbi",
     ]
     for name in ndlfd.hmm.__all__:

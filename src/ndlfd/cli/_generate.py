@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import math
 from pathlib import Path
 
 import numpy as np
@@ -18,18 +17,19 @@ from ..io import (
 )
 from ..learner import KeypointHMM
 from ._options import (
+    MAX_SAMPLES,
     add_column_options,
+    add_timing_options,
     check_output,
-    check_range,
+    check_timing,
     parse_floats,
-    read_sources,
+    position_conditions,
+    read_timing,
     say,
 )
 
 __all__ = ["FLOAT_FORMAT", "FORMATS", "MAX_SAMPLES", "add_generate"]
 
-#: Most samples ``ndlfd generate --samples`` writes (80 MB per column).
-MAX_SAMPLES = 10_000_000
 #: Number format of computed values written by ``ndlfd generate``.
 FLOAT_FORMAT = "%.10g"
 
@@ -63,59 +63,22 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     fmt = _output_format(args, out)
     std_out = check_output(args.std, "--std") if args.std is not None else None
-    if args.like is not None:
-        if args.duration is not None or args.samples is not None:
-            raise ValidationError(
-                "pass either --like or --duration/--samples, not both"
-            )
-    else:
-        if args.duration is None:
-            raise ValidationError("pass --like FILE or --duration SECONDS")
-        if not (args.duration > 0 and math.isfinite(args.duration)):
-            raise ValidationError(
-                f"--duration must be a finite number > 0; got {args.duration}"
-            )
-        n = args.samples if args.samples is not None else 1000
-        check_range(n, "--samples", low=2, high=MAX_SAMPLES)
+    n = check_timing(args)
     start = parse_floats(args.start, "--start")
     goal = parse_floats(args.goal, "--goal")
     model = KeypointHMM.load(args.model)
-    n_pos = model.column_groups_.count("position")
-    for flag, values in (("--start", start), ("--goal", goal)):
-        if values is None:
-            continue
-        if n_pos == 0:
-            raise ValidationError(
-                f"{flag} needs a model that learned position; it learned"
-                f" {', '.join(model.groups_)}"
-            )
-        if len(values) != n_pos:
-            pairs = zip(model.columns_, model.column_groups_, strict=True)
-            names = ", ".join(c for c, g in pairs if g == "position")
-            raise ValidationError(
-                f"{flag} must give {n_pos} position values (one per column: {names});"
-                f" got {len(values)}"
-            )
+    start, goal = position_conditions(model, start, goal)
     if std_out is not None and model.generation != "blend":
         raise ValidationError(
             "--std needs a model fitted with --generation blend; this one uses"
             f" {model.generation}"
         )
-    if args.like is not None:
-        demos, maps = read_sources(args, args.like, flag="--like")
-        if len(demos) != 1:
-            raise ValidationError(
-                f"--like must name one demonstration; {args.like} holds"
-                f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
-            )
-        timing, like = demos[0], maps[0]
-    else:
-        timing, like = np.linspace(0.0, args.duration, n), None
+    timing, like = read_timing(args, n)
     result = model.generate(
         timing,
         dense=args.dense,
-        start=None if start is None else {"position": start},
-        goal=None if goal is None else {"position": goal},
+        start=start,
+        goal=goal,
         return_std=std_out is not None,
     )
     path, std = result if std_out is not None else (result, None)
@@ -170,32 +133,7 @@ def add_generate(sub) -> None:
         ),
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
-    p.add_argument(
-        "--like",
-        help="a test demonstration whose timing is used (one file, or one episode"
-        " of a LeRobot dataset with --episodes N); when it gives the orientation"
-        " as Euler angles, the output does too, under its names",
-    )
-    p.add_argument(
-        "--start",
-        metavar="X,Y[,Z]",
-        help="where the robot starts (position): the path begins there and"
-        " follows the demonstrations that start nearby",
-    )
-    p.add_argument(
-        "--goal",
-        metavar="X,Y[,Z]",
-        help="where the path must end (position)",
-    )
-    p.add_argument(
-        "--duration", type=float, help="duration (> 0) of a uniform time grid"
-    )
-    p.add_argument(
-        "--samples",
-        type=int,
-        help=f"samples of the uniform time grid, 2 <= N <= {MAX_SAMPLES:,}"
-        " (default 1000)",
-    )
+    add_timing_options(p)
     p.add_argument(
         "--dense",
         action="store_true",

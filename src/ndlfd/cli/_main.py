@@ -14,6 +14,7 @@ from ._generate import add_generate
 from ._jobs import add_evaluate, add_jobs
 from ._options import EXIT_USAGE, Parser
 from ._plot import add_plot
+from ._sample import add_sample
 from ._simplify import add_simplify
 
 __all__ = ["build_parser", "main"]
@@ -37,6 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_simplify(sub)
     add_fit(sub)
     add_generate(sub)
+    add_sample(sub)
     add_plot(sub)
     add_jobs(sub)
     add_evaluate(sub)

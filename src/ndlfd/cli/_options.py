@@ -6,7 +6,10 @@ every bounded setting), the output checks (:func:`check_output`), the column
 mapping flags (:func:`add_column_options`, :func:`column_options`), reading
 demonstrations with them (:func:`read_sources`) and the one-line reports
 (:func:`say` on stderr unless ``-q``; :func:`noting` and :func:`tell`: one warning
-line per kind of news). A command module uses these and adds its own flags.
+line per kind of news), and the timing and conditions of a path from a model
+(:func:`add_timing_options`, :func:`check_timing`, :func:`read_timing`,
+:func:`position_conditions`: ``ndlfd generate`` and ``ndlfd sample``). A command
+module uses these and adds its own flags.
 """
 
 from __future__ import annotations
@@ -21,6 +24,8 @@ import warnings
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
+
 from .._errors import NdlfdWarning, ValidationError
 from ..demonstration import with_velocity
 from ..io import CLI_HINTS, TIME_NAMES, LeRobotEpisode, demo_files, read_file
@@ -29,19 +34,24 @@ from ..orientation import QUATERNION_ORDERS, check_euler
 __all__ = [
     "EXIT_USAGE",
     "GROUP_NAME",
+    "MAX_SAMPLES",
     "Parser",
     "add_column_options",
+    "add_timing_options",
     "check_datasets",
     "check_output",
     "check_range",
+    "check_timing",
     "column_options",
     "dataset_options",
     "describe_mappings",
     "noting",
     "parse_floats",
     "parse_pairs",
+    "position_conditions",
     "prepare_groups",
     "read_sources",
+    "read_timing",
     "say",
     "split_names",
     "tell",
@@ -51,6 +61,8 @@ __all__ = [
 EXIT_USAGE = 2
 #: A name a group may have on the command line (``--group NAME=...``).
 GROUP_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
+#: Most samples of a generated path's uniform time grid (80 MB per column).
+MAX_SAMPLES = 10_000_000
 
 
 class Parser(argparse.ArgumentParser):
@@ -460,3 +472,112 @@ def prepare_groups(demos, maps, groups: list[str]):
                 f" {', '.join(d.columns)}"
             )
     return out, derived
+
+
+# ------------------------------------------------------- a path from a model
+
+
+def add_timing_options(p) -> None:
+    """``--like``, ``--start``, ``--goal``, ``--duration`` and ``--samples``."""
+    p.add_argument(
+        "--like",
+        help="a test demonstration whose timing is used (one file, or one episode"
+        " of a LeRobot dataset with --episodes N); when it gives the orientation"
+        " as Euler angles, the output does too, under its names",
+    )
+    p.add_argument(
+        "--start",
+        metavar="X,Y[,Z]",
+        help="where the robot starts (position): the path begins there and"
+        " follows the demonstrations that start nearby",
+    )
+    p.add_argument(
+        "--goal",
+        metavar="X,Y[,Z]",
+        help="where the path must end (position)",
+    )
+    p.add_argument(
+        "--duration", type=float, help="duration (> 0) of a uniform time grid"
+    )
+    p.add_argument(
+        "--samples",
+        type=int,
+        help=f"samples of the uniform time grid, 2 <= N <= {MAX_SAMPLES:,}"
+        " (default 1000)",
+    )
+
+
+def check_timing(args: argparse.Namespace) -> int | None:
+    """Check ``--like`` against ``--duration``/``--samples``.
+
+    Returns
+    -------
+    n : int or None
+        The samples of the uniform grid (``None`` with ``--like``).
+    """
+    if args.like is not None:
+        if args.duration is not None or args.samples is not None:
+            raise ValidationError(
+                "pass either --like or --duration/--samples, not both"
+            )
+        return None
+    if args.duration is None:
+        raise ValidationError("pass --like FILE or --duration SECONDS")
+    if not (args.duration > 0 and math.isfinite(args.duration)):
+        raise ValidationError(
+            f"--duration must be a finite number > 0; got {args.duration}"
+        )
+    n = args.samples if args.samples is not None else 1000
+    check_range(n, "--samples", low=2, high=MAX_SAMPLES)
+    return n
+
+
+def read_timing(args: argparse.Namespace, n: int | None):
+    """The timing and its column mapping (``None`` for a uniform grid).
+
+    The ``--like`` demonstration (its mapping says how to write the output:
+    Euler angles under its names), or ``n`` uniform time stamps.
+    """
+    if args.like is None:
+        return np.linspace(0.0, args.duration, n), None
+    demos, maps = read_sources(args, args.like, flag="--like")
+    if len(demos) != 1:
+        raise ValidationError(
+            f"--like must name one demonstration; {args.like} holds"
+            f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
+        )
+    return demos[0], maps[0]
+
+
+def position_conditions(model, start, goal) -> tuple:
+    """``--start`` and ``--goal`` as ``{"position": values}`` (or ``None``).
+
+    Parameters
+    ----------
+    model : KeypointHMM
+        Fitted: the values must be one per position column.
+    start, goal : list of float or None
+        ``parse_floats(args.start, "--start")`` and the goal's (parsed before
+        the model is read, so a typo is reported first).
+
+    Returns
+    -------
+    start, goal : dict or None
+    """
+    n_pos = model.column_groups_.count("position")
+    for flag, values in (("--start", start), ("--goal", goal)):
+        if values is None:
+            continue
+        if n_pos == 0:
+            raise ValidationError(
+                f"{flag} needs a model that learned position; it learned"
+                f" {', '.join(model.groups_)}"
+            )
+        if len(values) != n_pos:
+            pairs = zip(model.columns_, model.column_groups_, strict=True)
+            names = ", ".join(c for c, g in pairs if g == "position")
+            raise ValidationError(
+                f"{flag} must give {n_pos} position values (one per column: {names});"
+                f" got {len(values)}"
+            )
+    return tuple(None if v is None else {"position": v} for v in (start, goal))

@@ -29,8 +29,9 @@ identical scores, represented by its lowest id.
 
 The package, in the order data flows: ``_counts`` (the counts as plain arrays:
 counting labelled sequences, merging counts, the ratio of one counted table),
-``_kernels`` (the compiled Viterbi), ``_decode`` (Viterbi and the posterior over
-plain arrays, never the model class; the start modes :data:`STARTS`),
+``_kernels`` (the compiled Viterbi and backward sampling), ``_decode``
+(Viterbi, the posterior and sampling (FFBS) over plain arrays, never the model
+class; the start modes :data:`STARTS`),
 ``_format`` (the file format, one reader per version) and ``_model``
 (:class:`DiscreteHMM` and the public functions, which pass a model's arrays to
 the decoders). A new decoder is a function over the counts or log tables in
@@ -39,7 +40,15 @@ the decoders). A new decoder is a function over the counts or log tables in
 
 from ._decode import STARTS, Posterior
 from ._format import FORMAT_KIND, FORMAT_VERSION
-from ._model import DENSE_LIMIT_BYTES, DiscreteHMM, estimate, merge, posterior, viterbi
+from ._model import (
+    DENSE_LIMIT_BYTES,
+    DiscreteHMM,
+    estimate,
+    merge,
+    posterior,
+    sample_paths,
+    viterbi,
+)
 
 __all__ = [
     "DENSE_LIMIT_BYTES",
@@ -51,5 +60,6 @@ __all__ = [
     "estimate",
     "merge",
     "posterior",
+    "sample_paths",
     "viterbi",
 ]

@@ -26,13 +26,14 @@ from .._errors import DecodeError, ValidationError
 from .._registry import Registry
 from .._validation import check_int_sequence
 from ._counts import Counts, Table
-from ._kernels import viterbi_sparse
+from ._kernels import sample_backward, viterbi_sparse
 
 __all__ = [
     "STARTS",
     "LogTables",
     "Posterior",
     "check_symbols",
+    "ffbs",
     "forward_backward",
     "log_tables",
     "viterbi_path",
@@ -325,6 +326,50 @@ def _emissions(em, symbol: int) -> tuple[np.ndarray, float]:
     return e, emis_unseen
 
 
+class _Forward(NamedTuple):
+    """The scaled forward pass and the probability pieces it used."""
+
+    obs: np.ndarray
+    alpha: np.ndarray  # (n_steps, n_seen), each row with alpha_u sums to 1
+    alpha_u: np.ndarray  # (n_steps,), the unseen class
+    scale: np.ndarray  # (n_steps,)
+    base: np.ndarray  # (n_seen,), the transition rows' baseline
+    delta: object  # csr (n_seen, n_seen), the counted part of A
+    unseen_row: float  # A[u, j] of an unseen row u
+    n_unseen: float
+    emis: list  # per step: B[:, o_t] over the seen states, and an unseen one's
+
+
+def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
+    """Scaled forward pass over the seen states and the unseen class."""
+    base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
+    delta_t = delta.T.tocsr()
+    n_steps, n_seen = obs.size, pi.size
+    alpha = np.empty((n_steps, n_seen))
+    alpha_u = np.empty(n_steps)  # total over the unseen class
+    scale = np.empty(n_steps)
+    emis = [_emissions(em, int(o)) for o in obs]
+    a, au = pi, pi_u
+    for t in range(n_steps):
+        if t:
+            prev, prev_u = alpha[t - 1], alpha_u[t - 1]
+            flow = float(base @ prev) + prev_u * unseen_row
+            a = flow + delta_t @ prev
+            au = n_unseen * flow
+        e, eu = emis[t]
+        a = a * e
+        au = au * eu
+        c = float(a.sum() + au)
+        if not c > 0:
+            raise DecodeError(
+                f"the symbols have probability zero: no state can emit symbol"
+                f" {int(obs[t])} at step {t} after the steps before it"
+                f" (start={mode!r})"
+            )
+        alpha[t], alpha_u[t], scale[t] = a / c, au / c, c
+    return _Forward(obs, alpha, alpha_u, scale, base, delta, unseen_row, n_unseen, emis)
+
+
 def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posterior:
     """Posterior state probabilities at every step, from the counts.
 
@@ -359,31 +404,10 @@ def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posteri
            [0. , 0.5, 0.5]])
     """
     mode, obs = check_symbols(symbols, counts.n_symbols, start)
-    base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
-    delta_t = delta.T.tocsr()
-    n_steps, n_seen = obs.size, pi.size
-    alpha = np.empty((n_steps, n_seen))
-    alpha_u = np.empty(n_steps)  # total over the unseen class
-    scale = np.empty(n_steps)
-    emis = [_emissions(em, int(o)) for o in obs]
-    a, au = pi, pi_u
-    for t in range(n_steps):
-        if t:
-            prev, prev_u = alpha[t - 1], alpha_u[t - 1]
-            flow = float(base @ prev) + prev_u * unseen_row
-            a = flow + delta_t @ prev
-            au = n_unseen * flow
-        e, eu = emis[t]
-        a = a * e
-        au = au * eu
-        c = float(a.sum() + au)
-        if not c > 0:
-            raise DecodeError(
-                f"the symbols have probability zero: no state can emit symbol"
-                f" {int(obs[t])} at step {t} after the steps before it"
-                f" (start={mode!r})"
-            )
-        alpha[t], alpha_u[t], scale[t] = a / c, au / c, c
+    fw = _forward(counts, obs, mode)
+    alpha, alpha_u, scale, base, delta = fw[1:6]
+    unseen_row, n_unseen, emis = fw.unseen_row, fw.n_unseen, fw.emis
+    n_steps, n_seen = alpha.shape
     beta = np.ones(n_seen)
     beta_u = 1.0 if n_unseen else 0.0  # per unseen state
     gamma = np.empty_like(alpha)
@@ -399,3 +423,78 @@ def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posteri
         gamma[t] = alpha[t] * beta
         gamma_u[t] = alpha_u[t] * beta_u
     return Posterior(counts.states.copy(), gamma, gamma_u, float(np.log(scale).sum()))
+
+
+# ---------------------------------------------------------------- sampling (FFBS)
+
+
+def ffbs(counts: Counts, symbols, n_samples: int, start: str, rng) -> np.ndarray:
+    """State paths drawn from their exact posterior given the symbols (FFBS).
+
+    Forward filtering (the forward pass of :func:`forward_backward`), then
+    backward sampling: the last state from the filtered distribution, each
+    earlier state ``i`` given the next ``j`` with probability proportional to
+    ``alpha_t(i) A[i, j]``. That weight is the row baseline ``alpha_t(i) b_i``
+    (the same for every ``j``, and the unseen class's ``alpha_t(u) / m``) plus
+    the counted part ``alpha_t(i) K[i, j]`` over the counted transitions into
+    ``j``, so a step costs ``O(n_seen)`` once and ``O(log n_seen + counted
+    transitions into j)`` per sample (:func:`~._kernels.sample_backward`),
+    never ``O(m)``.
+
+    Parameters
+    ----------
+    counts : Counts
+        The model's arrays.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    n_samples : int
+        Number of paths (at least 0).
+    start : {"learned", "state1"}
+        The start distribution (:data:`STARTS`).
+    rng : numpy.random.Generator
+        The source of the uniforms (``n_samples * n_steps`` of them, drawn at
+        once).
+
+    Returns
+    -------
+    paths : ndarray of shape (n_samples, n_steps), dtype int64
+        State ids; a state never seen in training appears as the lowest
+        unseen id (as in :func:`viterbi_path`).
+
+    Raises
+    ------
+    DecodeError
+        If the symbols have probability zero under the model.
+
+    Examples
+    --------
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1], [0, 2]], [[0, 1], [0, 1]], 3, 2, 0.0, 0.0)
+    >>> paths = ffbs(counts, [0, 1], 1000, "learned", np.random.default_rng(0))
+    >>> paths.shape, bool(np.all(paths[:, 0] == 0))
+    ((1000, 2), True)
+    >>> bool(400 < np.sum(paths[:, 1] == 1) < 600)
+    True
+    """
+    mode, obs = check_symbols(symbols, counts.n_symbols, start)
+    fw = _forward(counts, obs, mode)
+    n_steps, n_seen = fw.alpha.shape
+    # per step the baseline weights of every predecessor, the unseen class last
+    W = np.empty((n_steps, n_seen + 1))
+    W[:, :n_seen] = fw.alpha * fw.base
+    W[:, n_seen] = fw.alpha_u * fw.unseen_row
+    np.cumsum(W, axis=1, out=W)
+    # the last step: the filtered distribution itself
+    last = np.cumsum(np.r_[fw.alpha[-1], fw.alpha_u[-1]])
+    col = fw.delta.tocsc()
+    col.sort_indices()
+    u = rng.random((int(n_samples), n_steps))
+    idx = sample_backward(
+        fw.alpha, W, last, col.indptr.astype(np.int64),
+        col.indices.astype(np.int64), col.data.astype(np.float64), u,
+    )  # fmt: skip
+    gid = np.empty(n_seen + 1, dtype=np.int64)
+    gid[:n_seen] = counts.states
+    lowest = counts.lowest_unseen_state()
+    gid[n_seen] = counts.n_states if lowest is None else lowest
+    return gid[idx]

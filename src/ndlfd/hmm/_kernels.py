@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["viterbi_sparse"]
+__all__ = ["sample_backward", "viterbi_sparse"]
 
 
 @njit(cache=True, nogil=True)
@@ -258,3 +258,85 @@ def viterbi_sparse(
                     hi = mid
             k = lo - em_indptr[o_prev]
     return path, best, -1
+
+
+@njit(cache=True, nogil=True)
+def _first_above(cum, x):
+    """First index whose cumulative weight exceeds ``x``.
+
+    Past the end (rounding), the last index with a positive weight.
+    """
+    lo, hi = 0, cum.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if cum[mid] > x:
+            hi = mid
+        else:
+            lo = mid + 1
+    if lo < cum.shape[0]:
+        return lo
+    k = cum.shape[0] - 1
+    while k > 0 and cum[k] <= cum[k - 1]:
+        k -= 1
+    return k
+
+
+@njit(cache=True, nogil=True)
+def sample_backward(alpha, W, last, col_indptr, col_rows, col_vals, u):
+    """Backward sampling of FFBS over the seen states and the unseen class.
+
+    Slot ``S`` (``alpha.shape[1]``) is the unseen class, as in
+    :func:`viterbi_sparse`.
+
+    Parameters
+    ----------
+    alpha : ndarray of shape (T, S)
+        Filtered probabilities of the seen states.
+    W : ndarray of shape (T, S + 1)
+        Per step the cumulative baseline weights ``alpha_t(i) b_i`` of the
+        seen states, then the unseen class's ``alpha_t(u) / m``.
+    last : ndarray of shape (S + 1,)
+        Cumulative filtered probabilities at the last step (unseen class last).
+    col_indptr, col_rows, col_vals : ndarray
+        The counted part ``K`` of the transitions by column (CSC over the seen
+        states): the rows with a counted transition into each state and
+        ``K[i, j]``.
+    u : ndarray of shape (n_samples, T)
+        Uniforms in ``[0, 1)``, one per drawn state.
+
+    Returns
+    -------
+    idx : ndarray of shape (n_samples, T), int64
+        Slots ``0..S``.
+    """
+    n, T = u.shape
+    S = alpha.shape[1]
+    out = np.empty((n, T), dtype=np.int64)
+    for s in range(n):
+        j = _first_above(last, u[s, T - 1] * last[S])
+        out[s, T - 1] = j
+        for t in range(T - 2, -1, -1):
+            c = 0.0
+            lo, hi = 0, 0
+            if j < S:
+                lo, hi = col_indptr[j], col_indptr[j + 1]
+                for k in range(lo, hi):
+                    c += alpha[t, col_rows[k]] * col_vals[k]
+            flow = W[t, S]
+            x = u[s, t] * (c + flow)
+            if c > 0.0 and (x < c or not flow > 0.0):
+                # a counted transition into j: scan its predecessors
+                acc = 0.0
+                j_new = -1
+                for k in range(lo, hi):
+                    w = alpha[t, col_rows[k]] * col_vals[k]
+                    if w > 0.0:
+                        acc += w
+                        j_new = col_rows[k]
+                        if acc > x:
+                            break
+                j = j_new
+            else:
+                j = _first_above(W[t], x - c)
+            out[s, t] = j
+    return out

@@ -15,9 +15,16 @@ import numpy as np
 import scipy.sparse as sp
 
 from .._errors import NotFittedError, ValidationError
-from .._validation import check_int_sequence
+from .._validation import check_int_sequence, check_positive_int, check_random_state
 from ._counts import Counts, Table, count, merge_counts
-from ._decode import LogTables, Posterior, forward_backward, log_tables, viterbi_path
+from ._decode import (
+    LogTables,
+    Posterior,
+    ffbs,
+    forward_backward,
+    log_tables,
+    viterbi_path,
+)
 from ._format import counts_from_arrays, counts_to_arrays, load_counts, save_counts
 
 __all__ = [
@@ -26,6 +33,7 @@ __all__ = [
     "estimate",
     "merge",
     "posterior",
+    "sample_paths",
     "viterbi",
 ]
 
@@ -678,3 +686,63 @@ def viterbi(
     array([0, 1, 2])
     """
     return viterbi_path(_fitted(model)._log_tables(), symbols, start)
+
+
+def sample_paths(
+    model: DiscreteHMM,
+    symbols,
+    n_samples: int = 1,
+    *,
+    start: str = "learned",
+    random_state=None,
+) -> np.ndarray:
+    """State paths drawn from the posterior given the symbols (FFBS).
+
+    Exact forward-filtering backward-sampling: each path is drawn with its
+    probability ``P(path | symbols)``. Sparse, as :func:`posterior`: the
+    forward pass costs ``O(n_seen + counted transitions)`` per step, and a
+    drawn state ``O(log n_seen + counted transitions into the next state)``;
+    nothing of size ``n_states`` is allocated.
+
+    Parameters
+    ----------
+    model : DiscreteHMM
+        A fitted model.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    n_samples : int, default=1
+        Number of paths to draw.
+    start : {"learned", "state1"}, default="learned"
+        Start distribution, as in :func:`viterbi`.
+    random_state : None, int or numpy.random.Generator, default=None
+        The same seed and input give the same paths.
+
+    Returns
+    -------
+    paths : ndarray of shape (n_samples, n_steps), dtype int64
+        State ids. A state never seen in training appears as the lowest unseen
+        id (all unseen states are indistinguishable), as in :func:`viterbi`.
+
+    Raises
+    ------
+    DecodeError
+        If the symbols have probability zero under the model.
+
+    Examples
+    --------
+    Two demonstrations go 0 → 1 and 0 → 2 under the same symbols: each path
+    is drawn about half the time.
+
+    >>> from ndlfd import hmm
+    >>> model = hmm.estimate([[0, 1], [0, 2]], [[0, 1], [0, 1]], 3, 2,
+    ...                      pseudo_transition=0)
+    >>> paths = hmm.sample_paths(model, [0, 1], 4, random_state=0)
+    >>> paths.shape
+    (4, 2)
+    >>> sorted({tuple(map(int, p)) for p in
+    ...         hmm.sample_paths(model, [0, 1], 100, random_state=0)})
+    [(0, 1), (0, 2)]
+    """
+    n = check_positive_int(n_samples, "n_samples")
+    rng = check_random_state(random_state)
+    return ffbs(_fitted(model)._counts, symbols, n, start, rng)

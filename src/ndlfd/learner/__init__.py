@@ -4,7 +4,7 @@
 module                 what it holds
 =====================  ==========================================================
 ``_estimator``         :class:`KeypointHMM`: parameters, ``fit``, ``generate``,
-                       ``decode``/``timing``, ``save``/``load``
+                       ``sample``, ``decode``/``timing``, ``save``/``load``
 ``_params``            the parameters' names and checks
 ``_spec``              the demonstration spec: groups, levels, the scaler from
                        range statistics, preparing and reducing one
@@ -16,6 +16,7 @@ module                 what it holds
 ``_segments``          the key-point HMM and the segment model
 ``_decoding``          decoders (:data:`DECODERS`)
 ``_generation``        the plan, the band and the generations (:data:`GENERATIONS`)
+``_sampling``          drawing paths (``sample``): route, skeleton (FFBS), weights
 ``_blend``             alignment to the skeleton and blending
 ``_conditioning``      start/goal weights and pinning
 ``_persist``           saving and loading, one reader per format version

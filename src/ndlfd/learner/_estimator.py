@@ -23,6 +23,7 @@ from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_params
 from ._passes import collect_statistics, scan_ranges
 from ._persist import load_model, model_file_errors, save_model
+from ._sampling import sample_paths
 from ._segments import learned_from_stats
 from ._spec import DemoSpec
 from ._stats import FitStats
@@ -66,22 +67,19 @@ class KeypointHMM(ParamsMixin):
         Start distribution of the decoder (``"state1"`` reproduces MATLAB
         ``hmmviterbi``).
     generation : {"blend", "paper"}, default="blend"
-        ``"blend"`` decodes the key points and their times jointly, aligns the
-        demonstrations to them and blends them: the demonstrations' shape,
-        conditioning and a band. ``"paper"`` is the paper's procedure (cell
-        centres, straight lines). See :mod:`ndlfd.learner._generation`.
+        ``"blend"`` aligns the demonstrations to the decoded key points and
+        blends them (their shape, conditioning, a band); ``"paper"`` is the
+        paper's procedure, cell centres and straight lines (both in
+        :mod:`ndlfd.learner._generation`).
     decoder : {"viterbi", "map"}, default="viterbi"
         ``"viterbi"``: the most likely state sequence; ``"map"``: the most
         likely state at each step (posterior argmax, :func:`ndlfd.hmm.posterior`).
     derive_velocity : bool, default=True
         Derive a missing velocity group from position and time.
     n_jobs : int, optional
-        Workers of :meth:`fit` (threads for long demonstrations, processes
-        for short ones, ended when fit returns; a ``spawn``\ ed worker imports
-        your script: guard it with ``if __name__ == "__main__":``) and
-        threads aligning templates in generation. ``None``: one per CPU (the
-        calling thread for fewer than 256 short demonstrations). The model
-        does not depend on it (:mod:`ndlfd.learner._passes`).
+        Workers of :meth:`fit` (threads or processes, ended when it returns:
+        :mod:`ndlfd.learner._passes`) and threads aligning templates in
+        generation. ``None``: one per CPU. The model does not depend on it.
     max_templates : int or None, default=200
         How many demonstrations are kept whole as templates of the blend
         (``None``: all). Everything else of the model uses every
@@ -93,10 +91,8 @@ class KeypointHMM(ParamsMixin):
         :mod:`ndlfd.learner._blend`). Between 0 and 0.5.
     random_state : None, int or Generator, default=None
         Chooses the templates when there are more than ``max_templates``
-        demonstrations, by index (:mod:`ndlfd.learner._templates`), so serial,
-        parallel and Dask fits agree. ``None`` is seed 0: the same
-        demonstrations always give the same model and path. Nothing else of
-        a fit is random.
+        demonstrations (:mod:`ndlfd.learner._templates`); ``None`` is seed 0.
+        Nothing else of a fit is random.
 
     Attributes
     ----------
@@ -116,17 +112,14 @@ class KeypointHMM(ParamsMixin):
         Key-point indices of each training demonstration.
     n_keypoints_ : ndarray of shape (n_demos,)
         Number of key points per demonstration.
-    n_states_used_ : int
-        Number of distinct codebook states seen in training.
-    n_demos_ : int
-        Number of training demonstrations.
+    n_states_used_, n_demos_ : int
+        Distinct codebook states seen in training; training demonstrations.
     template_indices_ : ndarray of int
         Indices of the demonstrations kept as blend templates (sorted).
     first_values_, last_values_ : ndarray of shape (n_demos, n_columns)
         Each demonstration's first and last normalized sample (conditioning).
     fit_stats_ : FitStats
-        The statistics the model was built from (the attributes above are
-        views of its arrays).
+        The statistics the model was built from (the attributes above view it).
     n_clipped_ : int
         Values clipped by the codebook while fitting.
 
@@ -193,23 +186,16 @@ class KeypointHMM(ParamsMixin):
     ) -> KeypointHMM:
         """Learn the key points, codebook states and HMM from demonstrations.
 
-        The fit is a map over the demonstrations and an exact reduce, in two
-        passes (see :mod:`ndlfd.learner._stats`): their per-column ranges (the
-        scaler), then per demonstration its key points, codebook states, time
-        bins, centroid sums and first/last samples, and its full values only
-        if it is a blend template (see ``max_templates``). Only these
-        statistics are kept, never all demonstrations at once (unless the
-        caller's list holds them), and the model is the same bit for bit
-        serially, on threads or processes (``n_jobs``) or on Dask
-        (``client``).
+        Two passes, each a map over the demonstrations and an exact reduce:
+        the model is the same bit for bit however they run
+        (:mod:`ndlfd.learner._passes`).
 
         Parameters
         ----------
         demos : Demonstration, iterable of Demonstration, or sequence of paths
-            The training demonstrations (lengths may differ): a list, or a
-            *re-iterable* (``__iter__`` starts over; a generator is refused),
-            iterated exactly twice. Paths are read on the workers in each
-            pass (:class:`ndlfd.io.DemoFiles` with a column mapping).
+            The training demonstrations (lengths may differ): a list or a
+            *re-iterable* (a generator is refused), iterated exactly twice;
+            paths are read on the workers (:class:`ndlfd.io.DemoFiles`).
         y : None
             Ignored.
         client : distributed.Client or True, optional
@@ -220,11 +206,9 @@ class KeypointHMM(ParamsMixin):
             always, ``False`` never, ``None`` on a terminal when a pass takes
             over a second.
         after_scan : callable, optional
-            ``after_scan(ranges) -> dict or None``, called between the passes
-            with the first one's :class:`~ndlfd.learner.RangeStats`; a dict it
-            returns sets parameters the first pass does not use
-            (``n_time_bins``, ``epsilon``, ``n_points``) before the second
-            (``ndlfd fit`` bounds the time bins this way).
+            ``after_scan(ranges) -> dict or None`` between the passes, given a
+            :class:`~ndlfd.learner.RangeStats`; a dict sets ``n_time_bins``,
+            ``epsilon`` or ``n_points`` for the second (as ``ndlfd fit`` does).
 
         Returns
         -------
@@ -240,21 +224,6 @@ class KeypointHMM(ParamsMixin):
             ``client`` without Dask installed.
         ParallelError
             A worker process died (killed, or an unguarded ``spawn`` script).
-
-        Examples
-        --------
-        A re-iterable that makes its demonstrations on demand:
-
-        >>> from ndlfd import synth
-        >>> class Lazy:
-        ...     def __iter__(self):
-        ...         for seed in range(12):
-        ...             yield synth.make_dataset("square", n_demos=1,
-        ...                                      random_state=seed)[0][0]
-        >>> model = KeypointHMM(epsilon=0.1, n_time_bins=20, max_templates=5,
-        ...                     random_state=0).fit(Lazy())
-        >>> model.n_demos_, model.template_indices_.size
-        (12, 5)
         """
         check_params(self.get_params())
         with keep_workers():  # one pool for both passes, ended after them
@@ -303,10 +272,8 @@ class KeypointHMM(ParamsMixin):
 
         Returns
         -------
-        key_times : ndarray of shape (n_obs,)
-            Time of each observation.
-        symbols : ndarray of shape (n_obs,), dtype int64
-            Time symbol of each observation.
+        key_times, symbols : ndarray of shape (n_obs,)
+            Time and time symbol (int64) of each observation.
         all_times : ndarray of shape (n_samples,)
             Every time stamp of the new execution (for dense generation).
         """
@@ -359,8 +326,7 @@ class KeypointHMM(ParamsMixin):
             are followed, and the path begins (ends) exactly there
             (:mod:`ndlfd.learner._conditioning`; ``"paper"``: the offset only).
         return_std : bool, default=False
-            Also return the band: the spread of the state centroids under the
-            segment model's posterior at each time, in physical units (blend).
+            Also return the band (blend): :func:`~ndlfd.learner._generation.band`.
 
         Returns
         -------
@@ -388,6 +354,39 @@ class KeypointHMM(ParamsMixin):
         how = GENERATIONS.get(self.generation)
         return how(self, times_or_demo, dense=dense, start=start, goal=goal,
                    return_std=return_std, cache=self._widths)  # fmt: skip
+
+    def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None,
+               goal=None, random_state=None) -> list:  # fmt: skip
+        """Paths drawn from the model, each on one route (always blended).
+
+        Routes in proportion to their weight, varying within a route about as
+        the demonstrations do (:mod:`ndlfd.learner._sampling`).
+
+        Parameters
+        ----------
+        times_or_demo, dense, start, goal
+            As in :meth:`generate` (``dense`` true by default).
+        n_samples : int, default=1
+        random_state : None, int or Generator, default=None
+            The same seed and input give the same paths.
+
+        Returns
+        -------
+        paths : list of Demonstration
+
+        Examples
+        --------
+        >>> from ndlfd import synth
+        >>> train, test = synth.make_dataset("square", n_demos=10, random_state=0)
+        >>> model = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(train)
+        >>> paths = model.sample(test.t, 3, random_state=0)
+        >>> len(paths), bool(np.all(paths[0].t == test.t))
+        (3, True)
+        """
+        self._check_fitted()
+        return sample_paths(self, times_or_demo, n_samples, dense=dense,
+                            start=start, goal=goal, random_state=random_state,
+                            cache=self._widths)  # fmt: skip
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:

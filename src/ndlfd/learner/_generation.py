@@ -9,6 +9,10 @@ Two generations, registered in :data:`GENERATIONS`:
   templates are blended (:mod:`ndlfd.learner._blend`); the path is pinned to
   the start and goal, velocity is the derivative of the positions, and
   :func:`band` gives the uncertainty band;
+  the steps are written once and shared with sampling
+  (:mod:`ndlfd.learner._sampling`): :func:`demo_log_weights`,
+  :func:`route_model`, :func:`plan_from_states` (the plan of given bin
+  states) and :func:`render` (the path of a plan);
 * ``"paper"`` (:func:`generate_paper`): the paper's procedure, the timing's
   symbols decoded with the key-point HMM, codebook centres and straight lines.
 
@@ -42,10 +46,16 @@ __all__ = [
     "band",
     "decode_key_points",
     "decode_paper",
+    "demo_log_weights",
     "generate_blend",
     "generate_paper",
     "make_plan",
     "observations",
+    "plan_from_states",
+    "render",
+    "route_model",
+    "template_weights",
+    "times_of",
 ]
 
 #: Demonstrations whose start/goal weight falls below this fraction of the
@@ -126,6 +136,44 @@ def _renormalize(X: np.ndarray, column_groups) -> np.ndarray:
     return X
 
 
+def demo_log_weights(est, start, goal, cache: dict):
+    """Every demonstration's log weight for a start and goal, and the routes.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted, with training values (format 2 or later).
+    start, goal : dict of str to ndarray, or None
+        Checked conditions.
+    cache : dict
+        What depends on the training data only, computed on first use: the
+        conditioning kernel widths (see
+        :func:`~ndlfd.learner._conditioning.log_weights_for`) and the routes
+        (:func:`~ndlfd.learner._routes.route_labels`, under ``"routes"``).
+
+    Returns
+    -------
+    log_weights : ndarray of shape (n_demos,)
+        0 for every demonstration without a start or goal.
+    routes : ndarray of shape (n_demos,), dtype int64
+        Each demonstration's route.
+    """
+    if not hasattr(est, "train_values_"):
+        raise ValidationError(
+            "this model has no training values (a format-1 file); use"
+            " generation='paper' or fit it again"
+        )
+    groups = est.column_groups_
+    logw = log_weights_for(start, est.first_values_, est.scaler_, groups, cache, 0)
+    logw = logw + log_weights_for(
+        goal, est.last_values_, est.scaler_, groups, cache, -1
+    )
+    if "routes" not in cache:  # the training data's only: once per model
+        paths = segment_paths(est.fit_stats_, est.centroid_states_, est.n_time_bins)
+        cache["routes"] = route_labels(paths, est.template_indices_, est.centroids_)
+    return logw, cache["routes"]
+
+
 def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     """Decode the skeleton and align the templates to it.
 
@@ -138,38 +186,71 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     start, goal : dict of str to ndarray, or None
         Checked conditions.
     cache : dict
-        What depends on the training data only, computed on first use: the
-        conditioning kernel widths (see
-        :func:`~ndlfd.learner._conditioning.log_weights_for`) and the routes
-        (:func:`~ndlfd.learner._routes.route_labels`).
+        See :func:`demo_log_weights`.
 
     Returns
     -------
     plan : Plan
     """
-    if not hasattr(est, "train_values_"):
-        raise ValidationError(
-            "this model has no training values (a format-1 file); use"
-            " generation='paper' or fit it again"
-        )
     # the demonstrations that carry weight for the start and goal, then the
     # route the skeleton decoded from them follows (ndlfd.learner._routes)
-    groups = est.column_groups_
-    logw = log_weights_for(start, est.first_values_, est.scaler_, groups, cache, 0)
-    logw = logw + log_weights_for(
-        goal, est.last_values_, est.scaler_, groups, cache, -1
-    )
-    if "routes" not in cache:  # the training data's only: once per model
-        paths = segment_paths(est.fit_stats_, est.centroid_states_, est.n_time_bins)
-        cache["routes"] = route_labels(paths, est.template_indices_, est.centroids_)
-    routes = cache["routes"]
+    logw, routes = demo_log_weights(est, start, goal, cache)
     logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
-    model, states, logp = _decode_skeleton(est, logw)
+    model = route_model(est, logw)
+    states, logp = decode_states(
+        est.decoder, model, np.arange(est.n_time_bins), est.start
+    )
+    return plan_from_states(est, states, logp, model, logw)
+
+
+def template_weights(est, logw: np.ndarray):
+    """The templates that carry weight, and their weights (the largest 1).
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    logw : ndarray of shape (n_demos,)
+        The demonstrations' log weights (``-inf`` off the route followed).
+
+    Returns
+    -------
+    templates : ndarray of shape (n_kept,), dtype int64
+        Indices into ``est.template_indices_``.
+    weights : ndarray of shape (n_kept,)
+    """
     # normalized in log space over the templates: however far the start, the
     # nearest template weighs 1
     tlogw = logw[est.template_indices_]
     tw = np.exp(tlogw - tlogw.max())
     templates = np.flatnonzero(tw >= _KEEP_WEIGHT)
+    return templates, tw[templates]
+
+
+def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
+    """Align the templates to the skeleton of decoded (or drawn) bin states.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    states : ndarray of shape (n_time_bins,), dtype int64
+        The segment state of every time bin; a key point where it changes.
+    logp : float
+        Their log-probability (kept in the plan).
+    model : ndlfd.hmm.DiscreteHMM
+        The segment model they come from.
+    logw : ndarray of shape (n_demos,)
+        The demonstrations' log weights (:func:`template_weights`).
+    weights : ndarray of shape (n_kept,), optional
+        Blend weights of the kept templates instead of theirs (a sample's).
+
+    Returns
+    -------
+    plan : Plan
+    """
+    templates, tw = template_weights(est, logw)
+    weights = tw if weights is None else weights
     change = np.flatnonzero(np.r_[True, states[1:] != states[:-1]])
     skel = states[change]
     if skel.size == 1:
@@ -179,7 +260,6 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     taus = [est.train_tau_[j] for j in templates]
     window = float(est.match_window)
     index = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
-    weights = tw[templates]
     key_tau = skeleton_times(taus, index, weights)
     # every alignment pins the ends to samples at tau 0 and 1: exact ends
     key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -188,24 +268,34 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     return Plan(skel, logp, model, values, taus, weights, index, key_tau, knots)
 
 
-def _decode_skeleton(est, logw):
-    """Segment model of the demonstrations that weigh, and its decoded bins."""
+def route_model(est, logw: np.ndarray):
+    """The segment model of the demonstrations that weigh.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    logw : ndarray of shape (n_demos,)
+        The demonstrations' log weights; those below :data:`_KEEP_WEIGHT` of
+        the largest are left out.
+
+    Returns
+    -------
+    model : ndlfd.hmm.DiscreteHMM
+        ``est.segment_model_`` when every demonstration weighs.
+    """
     w = np.exp(logw - logw.max())
     demos = np.flatnonzero(w >= _KEEP_WEIGHT)
-    model = est.segment_model_
-    if demos.size != w.size:
-        model = segment_model(
-            est.fit_stats_,
-            demos,
-            est.codebook_.n_states,
-            est.n_time_bins,
-            pseudo_transition=est.pseudo_transition,
-            pseudo_emission=est.pseudo_emission,
-        )
-    states, logp = decode_states(
-        est.decoder, model, np.arange(est.n_time_bins), est.start
+    if demos.size == w.size:
+        return est.segment_model_
+    return segment_model(
+        est.fit_stats_,
+        demos,
+        est.codebook_.n_states,
+        est.n_time_bins,
+        pseudo_transition=est.pseudo_transition,
+        pseudo_emission=est.pseudo_emission,
     )
-    return model, states, logp
 
 
 def observations(est, times_or_demo):
@@ -302,10 +392,29 @@ def band(est, model, tq) -> np.ndarray:
     return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
 
 
-def generate_blend(est, times_or_demo, *, dense, start, goal, return_std, cache):
-    """The blended generation (see :meth:`KeypointHMM.generate`)."""
-    all_t = times_of(times_or_demo)
-    plan = make_plan(est, all_t, start, goal, cache)
+def render(est, plan: Plan, all_t, start, goal, *, dense: bool, cache: dict):
+    """The path of a plan: blended, in physical units, pinned, with velocity.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    plan : Plan
+    all_t : ndarray of shape (n_samples,)
+        The timing.
+    start, goal : dict of str to ndarray, or None
+        Checked conditions (the path begins and ends there).
+    dense : bool
+        Every time stamp, or the key points only.
+    cache : dict
+        The model's cache (which columns are two-valued, once per model).
+
+    Returns
+    -------
+    path : Demonstration
+    band_tau : ndarray
+        The normalized times of the path's rows.
+    """
     tq = est.time_bins_.normalize(all_t)
     groups = est.column_groups_
     at = np.concatenate([tq, plan.key_tau])  # the dense rows, then the key rows
@@ -325,12 +434,17 @@ def generate_blend(est, times_or_demo, *, dense, start, goal, return_std, cache)
     X = pin(X, at, start, goal, groups, tq.size)
     X = _derive_velocity(X, tq, plan.key_tau, all_t, groups)
     if dense:
-        path = Demonstration(all_t, X[: tq.size], est.columns_, groups)
-        band_tau = tq
-    else:
-        key_t = key_times(all_t, plan.key_tau)
-        path = Demonstration(key_t, X[tq.size :], est.columns_, groups)
-        band_tau = plan.key_tau
+        return Demonstration(all_t, X[: tq.size], est.columns_, groups), tq
+    key_t = key_times(all_t, plan.key_tau)
+    path = Demonstration(key_t, X[tq.size :], est.columns_, groups)
+    return path, plan.key_tau
+
+
+def generate_blend(est, times_or_demo, *, dense, start, goal, return_std, cache):
+    """The blended generation (see :meth:`KeypointHMM.generate`)."""
+    all_t = times_of(times_or_demo)
+    plan = make_plan(est, all_t, start, goal, cache)
+    path, band_tau = render(est, plan, all_t, start, goal, dense=dense, cache=cache)
     if not return_std:
         return path
     return path, band(est, plan.model, band_tau)

@@ -16,6 +16,26 @@ Each pass is :func:`ndlfd._parallel.map_reduce` of a map step over chunks of
 *items* (a :class:`~ndlfd.Demonstration`, a file path, or a
 :class:`~ndlfd.io.DemoFile`), in this thread, on threads, in processes or on
 Dask. Errors name the item (``demos[i]``, with its file) they come from.
+Only the statistics are kept, never all demonstrations at once (unless the
+caller's list holds them), and the model is the same bit for bit serially, on
+threads or processes (``n_jobs``: threads for long demonstrations, processes
+for short ones, the calling thread for fewer than 256 short ones) or on Dask
+(``client``). A worker process started with ``spawn`` imports your script:
+guard it with ``if __name__ == "__main__":``.
+
+The demonstrations may be any *re-iterable* (``__iter__`` starts over), for
+example one that makes them on demand:
+
+>>> from ndlfd import KeypointHMM, synth
+>>> class Lazy:
+...     def __iter__(self):
+...         for seed in range(12):
+...             yield synth.make_dataset("square", n_demos=1,
+...                                      random_state=seed)[0][0]
+>>> model = KeypointHMM(epsilon=0.1, n_time_bins=20, max_templates=5,
+...                     random_state=0).fit(Lazy())
+>>> model.n_demos_, model.template_indices_.size
+(12, 5)
 """
 
 from __future__ import annotations
