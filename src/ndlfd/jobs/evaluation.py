@@ -15,6 +15,9 @@ Each generated path is compared with the held-out demonstration's positions:
 ``dtw``                :func:`~ndlfd.metrics.dtw_distance` with
                        ``normalize=True`` (divided by the number of points
                        of both paths), divided by the shape's range
+``on_route``           the DTW (as above) to the *nearest training*
+                       demonstration: whether the path lies on a route
+                       someone showed, whichever the held-out one took
 ``frechet``            :func:`~ndlfd.metrics.discrete_frechet` / range
 ``rmse``               :func:`~ndlfd.metrics.time_aligned_rmse` / range
 ``endpoint``           :func:`~ndlfd.metrics.endpoint_error` / range
@@ -101,6 +104,7 @@ PROTOCOLS.add("time+start", True)
 #: Recorded metrics, with the labels used in tables.
 METRICS = {
     "dtw": "DTW/range",
+    "on_route": "on-route/range",
     "frechet": "Fréchet/range",
     "rmse": "RMSE/range",
     "endpoint": "endpoint/range",
@@ -148,7 +152,7 @@ def _message(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
 
 
-def _metrics(test, times, path: np.ndarray, scale: float) -> dict:
+def _metrics(test, times, path: np.ndarray, scale: float, train) -> dict:
     A = test.get("position")
     B = np.asarray(path, dtype=float)
     if B.shape != A.shape:
@@ -158,6 +162,11 @@ def _metrics(test, times, path: np.ndarray, scale: float) -> dict:
         )
     return {
         "dtw": dtw_distance(A, B, normalize=True) / scale,
+        # on a route someone showed: the nearest training demonstration
+        "on_route": min(
+            dtw_distance(d.get("position"), B, normalize=True) for d in train
+        )
+        / scale,
         "frechet": discrete_frechet(A, B) / scale,
         "rmse": time_aligned_rmse(test.t, A, times, B) / scale,
         "endpoint": endpoint_error(A, B) / scale,
@@ -225,7 +234,7 @@ def _run_fold_inner(shape, fold, protocols, factories, keep_paths):
                         times, start=start if PROTOCOLS.get(protocol) else None
                     )
                     seconds = fit_seconds + time.perf_counter() - t0
-                    row.update(_metrics(test, times, path, scale))
+                    row.update(_metrics(test, times, path, scale, train))
                     row.update(ok=True, seconds=seconds)
                 except Exception as exc:
                     row["error"] = _message(exc)
