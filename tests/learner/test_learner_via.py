@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from test_learner_routes import obstacle
 
 from ndlfd import synth
@@ -90,6 +92,30 @@ def test_apply_via_against_a_hand_worked_offset():
     off = np.where(at <= 0.25, minimum_jerk(at / 0.25),
                    1.0 - minimum_jerk((at - 0.25) / 0.75))  # fmt: skip
     np.testing.assert_allclose(Y, X + 2.0 * off[:, None] * [1, 0], atol=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.integers(1, 39), min_size=1, max_size=4, unique=True),
+    st.lists(st.floats(-5, 5), min_size=8, max_size=8),
+    st.integers(0, 2**31),
+)
+def test_apply_via_hits_every_via_point_and_keeps_the_ends(rows, values, seed):
+    at = np.linspace(0.0, 1.0, 41)
+    X = np.random.default_rng(seed).normal(size=(41, 2)).cumsum(axis=0)
+    via = [(at[r], {"p": np.array(values[2 * k : 2 * k + 2])})
+           for k, r in enumerate(sorted(rows))]  # fmt: skip
+    Y = apply_via(X.copy(), at, via, ("p", "p"), 41)
+    for r, (_, cond) in zip(sorted(rows), via, strict=True):
+        np.testing.assert_allclose(Y[r], cond["p"], atol=1e-9)
+    np.testing.assert_allclose(Y[[0, -1]], X[[0, -1]], atol=1e-12)
+
+
+def test_a_via_point_on_a_derived_velocity_is_refused():
+    demos = _smooth(4)
+    model = KeypointHMM(groups=["position", "velocity"]).fit(demos)
+    with pytest.raises(ValidationError, match="velocity is the derivative"):
+        model.generate(demos[0].t, via=[(1.0, {"velocity": [0.0, 0.0]})])
 
 
 def test_sampled_paths_pass_through_the_via_points_on_the_minor_route(two_routes):

@@ -122,6 +122,12 @@ def check_via(via, all_t: np.ndarray, column_groups, groups) -> list | None:
                 f" got {time:g}"
             )
         cond = check_condition(values, f"via[{i}]", column_groups, groups)
+        n_pos = len(group_columns(column_groups, "position"))
+        if "velocity" in cond and n_pos == len(cond["velocity"]):
+            raise ValidationError(
+                f"via[{i}] gives a velocity, but the path's velocity is the"
+                " derivative of its positions; give a position instead"
+            )
         out.append(((time - t0) / (t1 - t0), cond))
     out.sort(key=lambda p: p[0])
     for (ta, a), (tb, b) in itertools.pairwise(out):
