@@ -56,6 +56,7 @@ def test_readme_shell_examples_run(tmp_path):
         "fit",
         "generate",
         "generate",
+        "generate",
         "evaluate",
         "reproduce",
         "fit",
@@ -90,6 +91,9 @@ def test_readme_shell_examples_run(tmp_path):
     assert path.n_samples == 400 and path.t[-1] == 8.0
     here = read_csv(tmp_path / "from-here.csv").get("position")[0]
     np.testing.assert_array_equal(here, [0.5, 0.0])
+    via = read_csv(tmp_path / "via.csv")  # through the via point at t = 4
+    at = [np.interp(4.0, via.t, c) for c in via.get("position").T]
+    np.testing.assert_allclose(at, [10.0, 10.5], atol=0.01)
     assert (tmp_path / "evaluation" / "summary.md").exists()
     assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
     reach = read_csv(tmp_path / "reach.csv")

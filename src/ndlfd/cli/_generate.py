@@ -20,9 +20,11 @@ from ._options import (
     MAX_SAMPLES,
     add_column_options,
     add_timing_options,
+    add_via_option,
     check_output,
     check_timing,
     parse_floats,
+    parse_via,
     position_conditions,
     read_timing,
     say,
@@ -66,6 +68,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     n = check_timing(args)
     start = parse_floats(args.start, "--start")
     goal = parse_floats(args.goal, "--goal")
+    via = parse_via(args.via)
     model = KeypointHMM.load(args.model)
     start, goal = position_conditions(model, start, goal)
     if std_out is not None and model.generation != "blend":
@@ -79,6 +82,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         dense=args.dense,
         start=start,
         goal=goal,
+        via=via,
         return_std=std_out is not None,
     )
     path, std = result if std_out is not None else (result, None)
@@ -134,6 +138,7 @@ def add_generate(sub) -> None:
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     add_timing_options(p)
+    add_via_option(p)
     p.add_argument(
         "--dense",
         action="store_true",

@@ -581,3 +581,47 @@ def position_conditions(model, start, goal) -> tuple:
                 f" got {len(values)}"
             )
     return tuple(None if v is None else {"position": v} for v in (start, goal))
+
+
+# ---------------------------------------------------------------- via points
+
+
+def add_via_option(p) -> None:
+    """``--via TIME:GROUP=values``, repeatable (``generate`` and ``sample``)."""
+    p.add_argument(
+        "--via",
+        action="append",
+        metavar="TIME:GROUP=V1,V2,...",
+        help="a via point: the path passes through these values of GROUP at"
+        " TIME (on the timing's clock) and follows the route through them;"
+        " repeatable, e.g. --via 2.5:position=0.6,0.1,0.3",
+    )
+
+
+def parse_via(texts: list[str] | None) -> list | None:
+    """``--via`` flags as ``[(time, {group: values})]`` (or ``None``).
+
+    Examples
+    --------
+    >>> parse_via(["2.5:position=0.6,0.1"])
+    [(2.5, {'position': [0.6, 0.1]})]
+    """
+    if not texts:
+        return None
+    out = []
+    example = "TIME:GROUP=V1,V2,... (e.g. 2.5:position=0.6,0.1,0.3)"
+    for text in texts:
+        time, colon, rest = text.partition(":")
+        group, eq, values = rest.partition("=")
+        if not (colon and eq and group.strip()):
+            raise ValidationError(f"--via must look like {example}; got {text!r}")
+        try:
+            t = float(time)
+        except ValueError:
+            raise ValidationError(
+                f"--via: the time {time!r} is not a number in {text!r}"
+            ) from None
+        if not math.isfinite(t):
+            raise ValidationError(f"--via: the time must be finite; got {text!r}")
+        out.append((t, {group.strip(): parse_floats(values, f"--via {text}")}))
+    return out

@@ -12,9 +12,11 @@ from ._generate import FLOAT_FORMAT
 from ._options import (
     add_column_options,
     add_timing_options,
+    add_via_option,
     check_range,
     check_timing,
     parse_floats,
+    parse_via,
     position_conditions,
     read_timing,
     say,
@@ -38,6 +40,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
     n = check_timing(args)
     start = parse_floats(args.start, "--start")
     goal = parse_floats(args.goal, "--goal")
+    via = parse_via(args.via)
     model = KeypointHMM.load(args.model)
     start, goal = position_conditions(model, start, goal)
     timing, _ = read_timing(args, n)
@@ -47,6 +50,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         dense=not args.key_points,
         start=start,
         goal=goal,
+        via=via,
         random_state=args.random_state,
     )
     folder.mkdir(exist_ok=True)
@@ -81,6 +85,7 @@ def add_sample(sub) -> None:
         "-n", type=int, default=1, help=f"paths to draw, 1 <= N <= {MAX_DRAWS:,}"
     )
     add_timing_options(p)
+    add_via_option(p)
     p.add_argument(
         "--key-points",
         action="store_true",

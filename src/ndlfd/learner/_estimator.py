@@ -216,14 +216,9 @@ class KeypointHMM(ParamsMixin):
 
         Raises
         ------
-        ValidationError
-            Bad parameters or demonstrations (named), or a one-shot iterator.
-        DataFileError
-            A file that cannot be read.
-        MissingExtraError
-            ``client`` without Dask installed.
-        ParallelError
-            A worker process died (killed, or an unguarded ``spawn`` script).
+        ValidationError, DataFileError, MissingExtraError, ParallelError
+            Bad parameters or demonstrations (or a one-shot iterator), a file
+            that cannot be read, ``client`` without Dask, a dead worker.
         """
         check_params(self.get_params())
         with keep_workers():  # one pool for both passes, ended after them
@@ -260,10 +255,8 @@ class KeypointHMM(ParamsMixin):
     def timing(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Observation times and symbols for a new execution.
 
-        A :class:`Demonstration` gives its key points' times (reduced like the
-        training demonstrations: the paper's procedure); a time vector one
-        observation per time bin it touches, among those that can be emitted
-        (seen in training, or all if ``pseudo_emission > 0``).
+        A :class:`Demonstration` gives its key points' times (the paper's
+        procedure); a time vector one per emittable time bin it touches.
 
         Parameters
         ----------
@@ -308,6 +301,8 @@ class KeypointHMM(ParamsMixin):
         start=None,
         goal=None,
         return_std: bool = False,
+        via=None,
+        observed=None,
     ):
         """Generate a path for a new timing, optionally from a start to a goal.
 
@@ -327,6 +322,9 @@ class KeypointHMM(ParamsMixin):
             (:mod:`ndlfd.learner._conditioning`; ``"paper"``: the offset only).
         return_std : bool, default=False
             Also return the band (blend): :func:`~ndlfd.learner._generation.band`.
+        via, observed : list of (time, mapping) / Demonstration, optional
+            Via points ``[(time, {group: values})]`` the path passes through;
+            the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`).
 
         Returns
         -------
@@ -353,10 +351,11 @@ class KeypointHMM(ParamsMixin):
         goal = check_condition(goal, "goal", self.column_groups_, self.groups_)
         how = GENERATIONS.get(self.generation)
         return how(self, times_or_demo, dense=dense, start=start, goal=goal,
-                   return_std=return_std, cache=self._widths)  # fmt: skip
+                   return_std=return_std, cache=self._widths, via=via,
+                   observed=observed)  # fmt: skip
 
     def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None,
-               goal=None, random_state=None) -> list:  # fmt: skip
+               goal=None, via=None, random_state=None) -> list:  # fmt: skip
         """Paths drawn from the model, each on one route (always blended).
 
         Routes in proportion to their weight, varying within a route about as
@@ -364,7 +363,7 @@ class KeypointHMM(ParamsMixin):
 
         Parameters
         ----------
-        times_or_demo, dense, start, goal
+        times_or_demo, dense, start, goal, via
             As in :meth:`generate` (``dense`` true by default).
         n_samples : int, default=1
         random_state : None, int or Generator, default=None
@@ -385,8 +384,8 @@ class KeypointHMM(ParamsMixin):
         """
         self._check_fitted()
         return sample_paths(self, times_or_demo, n_samples, dense=dense,
-                            start=start, goal=goal, random_state=random_state,
-                            cache=self._widths)  # fmt: skip
+                            start=start, goal=goal, via=via,
+                            random_state=random_state, cache=self._widths)  # fmt: skip
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:

@@ -39,6 +39,14 @@ from ._discrete import snap_two_valued, two_valued_columns
 from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
+from ._via import (
+    apply_via,
+    check_observed,
+    check_via,
+    continue_from,
+    observed_log_weights,
+    via_log_weights,
+)
 
 __all__ = [
     "GENERATIONS",
@@ -174,7 +182,7 @@ def demo_log_weights(est, start, goal, cache: dict):
     return logw, cache["routes"]
 
 
-def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
+def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
     """Decode the skeleton and align the templates to it.
 
     Parameters
@@ -187,6 +195,9 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
         Checked conditions.
     cache : dict
         See :func:`demo_log_weights`.
+    extra : ndarray of shape (n_demos,), optional
+        Log weights added to the start's and goal's (via points, a prefix:
+        :mod:`ndlfd.learner._via`).
 
     Returns
     -------
@@ -195,6 +206,8 @@ def make_plan(est, all_t, start, goal, cache: dict) -> Plan:
     # the demonstrations that carry weight for the start and goal, then the
     # route the skeleton decoded from them follows (ndlfd.learner._routes)
     logw, routes = demo_log_weights(est, start, goal, cache)
+    if extra is not None:
+        logw = logw + extra
     logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
     model = route_model(est, logw)
     states, logp = decode_states(
@@ -392,7 +405,18 @@ def band(est, model, tq) -> np.ndarray:
     return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
 
 
-def render(est, plan: Plan, all_t, start, goal, *, dense: bool, cache: dict):
+def render(
+    est,
+    plan: Plan,
+    all_t,
+    start,
+    goal,
+    *,
+    dense: bool,
+    cache: dict,
+    via=None,
+    prefix=None,
+):
     """The path of a plan: blended, in physical units, pinned, with velocity.
 
     Parameters
@@ -408,6 +432,12 @@ def render(est, plan: Plan, all_t, start, goal, *, dense: bool, cache: dict):
         Every time stamp, or the key points only.
     cache : dict
         The model's cache (which columns are two-valued, once per model).
+    via : list of (float, dict), optional
+        Checked via points the path passes through
+        (:func:`~ndlfd.learner._via.apply_via`).
+    prefix : Demonstration, optional
+        Checked executed samples: the path is them, then continues from the
+        last one (:func:`~ndlfd.learner._via.continue_from`; dense).
 
     Returns
     -------
@@ -432,26 +462,76 @@ def render(est, plan: Plan, all_t, start, goal, *, dense: bool, cache: dict):
     U = snap_two_valued(U, cache["two-valued"])
     X = _renormalize(est.scaler_.inverse_transform(U), groups)
     X = pin(X, at, start, goal, groups, tq.size)
-    X = _derive_velocity(X, tq, plan.key_tau, all_t, groups)
-    if dense:
+    if via is not None:
+        X = _renormalize(apply_via(X, at, via, groups, tq.size), groups)
+    if prefix is not None:
+        X = X[: tq.size]
+        X = _renormalize(continue_from(X, tq, prefix, groups), groups)
+    key_tau = plan.key_tau if prefix is None else plan.key_tau[:0]  # no key rows
+    X = _derive_velocity(X, tq, key_tau, all_t, groups)
+    if prefix is not None:
+        X[: prefix.t.size] = prefix.X  # the observed samples, velocity too
+    if dense or prefix is not None:
         return Demonstration(all_t, X[: tq.size], est.columns_, groups), tq
     key_t = key_times(all_t, plan.key_tau)
     path = Demonstration(key_t, X[tq.size :], est.columns_, groups)
     return path, plan.key_tau
 
 
-def generate_blend(est, times_or_demo, *, dense, start, goal, return_std, cache):
+def generate_blend(
+    est,
+    times_or_demo,
+    *,
+    dense,
+    start,
+    goal,
+    return_std,
+    cache,
+    via=None,
+    observed=None,
+):
     """The blended generation (see :meth:`KeypointHMM.generate`)."""
     all_t = times_of(times_or_demo)
-    plan = make_plan(est, all_t, start, goal, cache)
-    path, band_tau = render(est, plan, all_t, start, goal, dense=dense, cache=cache)
+    cols, groups = est.column_groups_, est.groups_
+    via = check_via(via, all_t, cols, groups)
+    prefix = check_observed(est, observed, all_t)
+    if prefix is not None and (start is not None or via is not None):
+        raise ValidationError(
+            "observed continues an execution from its last sample; it cannot"
+            " be combined with start or via (a goal is fine)"
+        )
+    extra = None
+    if via is not None:
+        extra = via_log_weights(est, via, cache)
+    elif prefix is not None:
+        tq = est.time_bins_.normalize(all_t)
+        extra = observed_log_weights(est, prefix, tq, cache)
+    plan = make_plan(est, all_t, start, goal, cache, extra)
+    path, band_tau = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
+                            via=via, prefix=prefix)  # fmt: skip
     if not return_std:
         return path
     return path, band(est, plan.model, band_tau)
 
 
-def generate_paper(est, times_or_demo, *, dense, start, goal, return_std, cache):
+def generate_paper(
+    est,
+    times_or_demo,
+    *,
+    dense,
+    start,
+    goal,
+    return_std,
+    cache,
+    via=None,
+    observed=None,
+):
     """The paper's generation (see :meth:`KeypointHMM.generate`)."""
+    if via is not None or observed is not None:
+        raise ValidationError(
+            "via and observed need generation='blend'; the paper's generation"
+            " has neither"
+        )
     if return_std:
         raise ValidationError(
             "return_std needs generation='blend'; the paper's generation has"
@@ -474,7 +554,7 @@ def generate_paper(est, times_or_demo, *, dense, start, goal, return_std, cache)
 
 
 #: Generations: functions ``(est, times_or_demo, *, dense, start, goal,
-#: return_std, cache) -> path or (path, std)``.
+#: return_std, cache, via, observed) -> path or (path, std)``.
 GENERATIONS = Registry("generation")
 GENERATIONS.add("blend", generate_blend)
 GENERATIONS.add("paper", generate_paper)

@@ -45,6 +45,7 @@ from ._generation import (
     template_weights,
     times_of,
 )
+from ._via import check_via, via_log_weights
 
 __all__ = ["CONCENTRATION", "route_probabilities", "sample_paths"]
 
@@ -100,7 +101,16 @@ def _seen_only(states: np.ndarray, seen: np.ndarray) -> np.ndarray:
 
 
 def sample_paths(
-    est, times_or_demo, n_samples, *, dense, start, goal, random_state, cache
+    est,
+    times_or_demo,
+    n_samples,
+    *,
+    dense,
+    start,
+    goal,
+    random_state,
+    cache,
+    via=None,
 ):
     """Paths drawn from a fitted model (see :meth:`KeypointHMM.sample`).
 
@@ -118,6 +128,9 @@ def sample_paths(
         Where the paths start and end (as in :meth:`KeypointHMM.generate`).
     random_state : None, int or numpy.random.Generator
         The source of every draw.
+    via : sequence of (float, mapping), optional
+        Via points (:mod:`ndlfd.learner._via`): the routes weighted by them,
+        every path through them.
     cache : dict
         The model's cache (:func:`~ndlfd.learner._generation.demo_log_weights`).
 
@@ -132,7 +145,9 @@ def sample_paths(
     n_samples = check_positive_int(n_samples, "n_samples")
     rng = check_random_state(random_state)
     all_t = times_of(times_or_demo)
+    via = check_via(via, all_t, cols, groups)
     logw, routes = demo_log_weights(est, start, goal, cache)
+    logw = logw + via_log_weights(est, via, cache)
     p = route_probabilities(routes, logw)
     drawn = rng.choice(p.size, size=n_samples, p=p)
     bins = np.arange(est.n_time_bins)
@@ -150,5 +165,6 @@ def sample_paths(
             g = rng.dirichlet(alpha) if tw.size > 1 else np.ones(1)
             states = _seen_only(states, est.centroid_states_)
             plan = plan_from_states(est, states, np.nan, model, lw, g / g.max())
-            out[k] = render(est, plan, all_t, start, goal, dense=dense, cache=cache)[0]
+            out[k] = render(est, plan, all_t, start, goal, dense=dense,
+                            cache=cache, via=via)[0]  # fmt: skip
     return out

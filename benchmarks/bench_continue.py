@@ -1,0 +1,67 @@
+"""Continuing an execution and via points: time per call at LASA size.
+
+Every LASA shape of :func:`ndlfd.datasets.lasa_names` (7 demonstrations of
+1,000 samples; the default model fitted on the first 6, the 7th held out):
+after one warm-up call, the time of ``generate(t, observed=prefix)`` with the
+first 30 % of the held-out demonstration observed (best of 7), of
+``generate(t, dense=True, via=...)`` through the held-out position at its
+middle sample, and the jump at the junction (largest of |step after the
+prefix| - |largest step of the prefix|, over the range). Target (issue 17):
+``observed`` <= 5 ms, jump <= 0.5 % of the range.
+
+Run: ``PYTHONPATH=src .venv/bin/python benchmarks/bench_continue.py`` (about a
+minute). Prints the medians over the shapes.
+"""
+
+from __future__ import annotations
+
+import functools
+import time
+
+import numpy as np
+
+from ndlfd import Demonstration, KeypointHMM
+from ndlfd.datasets import lasa_names, load_lasa
+
+
+def best_of(f, repeat=7):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main():
+    obs_ms, via_ms, jumps, via_err = [], [], [], []
+    for name in lasa_names():
+        demos = load_lasa(name)
+        train, test = demos[:-1], demos[-1]
+        model = KeypointHMM().fit(train)
+        t, P = test.t, test.get("position")
+        n = int(0.3 * t.size)
+        prefix = Demonstration(t[:n], test.X[:n], test.columns, test.groups)
+        model.generate(t, observed=prefix)  # warm-up: routes, segment paths
+        call = functools.partial(model.generate, t, observed=prefix)
+        obs_ms.append(best_of(call) * 1e3)
+        path = model.generate(t, observed=prefix).get("position")
+        rng = np.ptp(np.vstack([d.get("position") for d in train]), axis=0)
+        step = np.abs(np.diff(P[:n], axis=0)).max(axis=0)
+        jumps.append(float(np.max((np.abs(path[n] - path[n - 1]) - step) / rng)))
+        via = [(t[t.size // 2], {"position": P[t.size // 2]})]
+        model.generate(t, dense=True, via=via)
+        call = functools.partial(model.generate, t, dense=True, via=via)
+        via_ms.append(best_of(call) * 1e3)
+        got = model.generate(t, dense=True, via=via).get("position")[t.size // 2]
+        via_err.append(float(np.max(np.abs(got - P[t.size // 2]) / rng)))
+    print(f"{len(obs_ms)} LASA shapes, 1,000 samples, 6 training demonstrations")
+    print(f"generate(observed=30 % prefix): median {np.median(obs_ms):.2f} ms,"
+          f" max {np.max(obs_ms):.2f} ms")  # fmt: skip
+    print(f"jump after the prefix: max {max(jumps) * 100:.3f} % of the range")
+    print(f"generate(via=middle sample): median {np.median(via_ms):.2f} ms;"
+          f" via error max {max(via_err) * 100:.2e} % of the range")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,360 @@
+"""Via points and continuing an execution: route weights and exact offsets.
+
+**Via points.** ``generate(..., via=[(time, {group: values}), ...])`` asks
+the path to pass through ``values`` at ``time``. Two steps:
+
+* *the route*: every demonstration is weighted by a Gaussian kernel on the
+  distance of its normalized value at the via point's normalized time to the
+  requested one (the kernel width as for a start:
+  :func:`~ndlfd.learner._conditioning.condition_bandwidth` of the
+  demonstrations' values at that time). A template's value is interpolated
+  from its samples; a demonstration that is not a template (only its
+  statistics are kept) takes the centroid of its segment state at that time's
+  bin (:func:`~ndlfd.learner._routes.segment_paths`), the curve its route was
+  found from (:func:`demo_values_at`). The route followed is the one with the
+  largest total weight, as for a start (:mod:`ndlfd.learner._routes`);
+* *the offsets* (:func:`apply_via`): the blended path, already pinned to a
+  start and goal, is shifted, per group, by an offset that equals the
+  remaining difference at every via time and fades by a minimum-jerk ramp to
+  the neighbouring via points and to zero at the ends. Each piece has zero
+  slope and curvature at its ends, so the shift is twice continuously
+  differentiable and the path stays as smooth as the blend; the ends stay
+  where they were pinned.
+
+**Continuing an execution.** ``generate(times, observed=prefix)`` takes what
+the robot executed so far, at the first time stamps of ``times``:
+
+* *the route and phase*: the prefix's time stamps are on the same normalized
+  clock as ``times``; every demonstration is weighted by the mean, over up to
+  :data:`PREFIX_POINTS` prefix samples spread evenly, of the same log kernel
+  as for a via point (the prefix is a series of via points:
+  :func:`observed_log_weights`). Template matching, not forward filtering on
+  the segment model: the templates hold the demonstrations' full values,
+  where the segment model sees the codebook's cells;
+* *the junction* (:func:`continue_from`): the path is the observed samples
+  where observed; after them, the generated path shifted by the offset at the
+  last observed sample, faded out by a minimum-jerk ramp that ends at the
+  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`),
+  as :func:`~ndlfd.learner._conditioning.pin` does for a start.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+
+import numpy as np
+
+from .._errors import ValidationError
+from ..demonstration import Demonstration
+from ._conditioning import (
+    check_condition,
+    condition_bandwidth,
+    condition_log_weights,
+    contact_window,
+    group_columns,
+    minimum_jerk,
+)
+from ._routes import segment_paths
+from ._spec import prepare
+
+__all__ = [
+    "PREFIX_POINTS",
+    "apply_via",
+    "check_observed",
+    "check_via",
+    "continue_from",
+    "demo_values_at",
+    "observed_log_weights",
+    "via_log_weights",
+]
+
+#: Prefix samples (spread evenly, the last included) the route is inferred from.
+PREFIX_POINTS = 10
+
+
+def check_via(via, all_t: np.ndarray, column_groups, groups) -> list | None:
+    """Check via points; return them as ``[(tau, {group: values})]`` by time.
+
+    Parameters
+    ----------
+    via : sequence of (float, mapping of str to array-like), or None
+        Time (on the timing's clock) and values per group, physical units.
+    all_t : ndarray of shape (n_samples,)
+        The timing.
+    column_groups, groups : sequence of str
+        The group of each learned column; the learned groups.
+
+    Returns
+    -------
+    via : list of (float, dict of str to ndarray), or None
+        Normalized times, increasing.
+
+    Examples
+    --------
+    >>> check_via([(1.0, {"p": [2.0]})], np.array([0.0, 4.0]), ("p",), ("p",))
+    [(0.25, {'p': array([2.])})]
+    """
+    if via is None:
+        return None
+    if isinstance(via, (str, bytes)) or not isinstance(via, Sequence) or not via:
+        raise ValidationError(
+            "via must be a list of (time, {group: values}) pairs, e.g."
+            f" [(2.5, {{'position': [x, y]}})]; got {via!r}"
+        )
+    t0, t1 = float(all_t[0]), float(all_t[-1])
+    out = []
+    for i, item in enumerate(via):
+        if not (isinstance(item, Sequence) and len(item) == 2):
+            raise ValidationError(
+                f"via[{i}] must be a (time, {{group: values}}) pair; got {item!r}"
+            )
+        time, values = item
+        try:
+            time = float(time)
+        except (TypeError, ValueError):
+            raise ValidationError(
+                f"via[{i}]'s time must be a number; got {time!r}"
+            ) from None
+        if not t0 <= time <= t1:
+            raise ValidationError(
+                f"via[{i}]'s time must lie within the timing, {t0:g} to {t1:g};"
+                f" got {time:g}"
+            )
+        cond = check_condition(values, f"via[{i}]", column_groups, groups)
+        n_pos = len(group_columns(column_groups, "position"))
+        if "velocity" in cond and n_pos == len(cond["velocity"]):
+            raise ValidationError(
+                f"via[{i}] gives a velocity, but the path's velocity is the"
+                " derivative of its positions; give a position instead"
+            )
+        out.append(((time - t0) / (t1 - t0), cond))
+    out.sort(key=lambda p: p[0])
+    for (ta, a), (tb, b) in itertools.pairwise(out):
+        if ta == tb and set(a) & set(b):
+            raise ValidationError(
+                f"two via points give {sorted(set(a) & set(b))[0]!r} at the same"
+                f" time {t0 + ta * (t1 - t0):g}; give one"
+            )
+    return out
+
+
+def demo_values_at(est, taus: np.ndarray, cache: dict) -> np.ndarray:
+    """Every demonstration's normalized values at normalized times.
+
+    Templates are interpolated from their samples; the other demonstrations
+    take the centroid of their segment state at each time's bin.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted, with training values.
+    taus : ndarray of shape (n_times,)
+        Normalized times in ``[0, 1]``.
+    cache : dict
+        The model's cache (the segment paths, under ``"segment paths"``).
+
+    Returns
+    -------
+    values : ndarray of shape (n_demos, n_times, n_columns)
+    """
+    nt = est.n_time_bins
+    if "segment paths" not in cache:  # the training data's only: once per model
+        cache["segment paths"] = segment_paths(est.fit_stats_, est.centroid_states_, nt)
+    taus = np.asarray(taus, dtype=np.float64)
+    bins = np.clip(np.floor(taus * nt).astype(np.int64), 0, nt - 1)
+    V = est.centroids_[cache["segment paths"][:, bins]]
+    for k, j in enumerate(est.template_indices_):
+        U, tau = est.train_values_[k], est.train_tau_[k]
+        V[j] = np.column_stack([np.interp(taus, tau, c) for c in U.T])
+    return V
+
+
+def _target(est, cond) -> tuple[list[int], np.ndarray]:
+    """The columns a condition names and its values there, normalized."""
+    cols = [c for g in cond for c in group_columns(est.column_groups_, g)]
+    row = est.scaler_.data_min_.copy()
+    for g, v in cond.items():
+        row[group_columns(est.column_groups_, g)] = v
+    return cols, est.scaler_.transform(row[None, :], weighted=False)[0, cols]
+
+
+def via_log_weights(est, via, cache: dict) -> np.ndarray:
+    """Every demonstration's log weight for checked via points.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    via : list of (float, dict), or None
+        From :func:`check_via`; ``None`` gives zeros.
+    cache : dict
+        See :func:`demo_values_at`.
+
+    Returns
+    -------
+    log_weights : ndarray of shape (n_demos,)
+        The sum over the via points of their kernels' logarithms.
+    """
+    logw = np.zeros(est.n_demos_)
+    if via is None:
+        return logw
+    V = demo_values_at(est, np.array([tau for tau, _ in via]), cache)
+    for k, (_, cond) in enumerate(via):
+        cols, target = _target(est, cond)
+        pts = V[:, k, cols]
+        logw += condition_log_weights(pts, target, condition_bandwidth(pts))
+    return logw
+
+
+def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
+    """Shift a path through the via points, offsets faded by minimum-jerk ramps.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_rows, n_columns)
+        The path, physical units (changed in place).
+    at : ndarray of shape (n_rows,)
+        Normalized time of each row; the first ``n_dense`` are the path in
+        time order (the offsets are measured on them, interpolated).
+    via : list of (float, dict), or None
+        From :func:`check_via`.
+    column_groups : sequence of str
+    n_dense : int
+
+    Returns
+    -------
+    X : ndarray of shape (n_rows, n_columns)
+
+    Examples
+    --------
+    >>> X = np.zeros((5, 1)); at = np.linspace(0.0, 1.0, 5)
+    >>> apply_via(X, at, [(0.5, {"p": np.array([1.0])})], ("p",), 5)[:, 0]
+    array([0. , 0.5, 1. , 0.5, 0. ])
+    """
+    if via is None:
+        return X
+    tq = at[:n_dense]
+    for g in dict.fromkeys(g for _, cond in via for g in cond):
+        cols = group_columns(column_groups, g)
+        taus, offsets = [0.0], [np.zeros(len(cols))]
+        for tau, cond in via:
+            if g in cond:
+                now = [np.interp(tau, tq, X[:n_dense, c]) for c in cols]
+                if tau == 0.0:
+                    taus, offsets = [], []
+                taus.append(tau)
+                offsets.append(cond[g] - np.array(now))
+        if taus[-1] < 1.0:
+            taus.append(1.0)
+            offsets.append(np.zeros(len(cols)))
+        taus, offsets = np.array(taus), np.array(offsets)
+        # the piece each row is in, and how far along it
+        i = np.clip(np.searchsorted(taus, at, side="right") - 1, 0, taus.size - 2)
+        s = minimum_jerk((at - taus[i]) / (taus[i + 1] - taus[i]))
+        X[:, cols] += offsets[i] + (offsets[i + 1] - offsets[i]) * s[:, None]
+    return X
+
+
+def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
+    """Check an executed prefix against the model and the timing.
+
+    Returns
+    -------
+    prefix : Demonstration or None
+        With the learned columns (velocity derived if learned so).
+    """
+    if observed is None:
+        return None
+    if not isinstance(observed, Demonstration):
+        raise ValidationError(
+            "observed must be a Demonstration of the samples executed so far;"
+            f" got {type(observed).__name__}"
+        )
+    d = prepare(observed, est.groups_, derive_velocity=est.derive_velocity)
+    if d.columns != est.columns_:
+        raise ValidationError(
+            f"observed must have the learned columns {est.columns_}; got {d.columns}"
+        )
+    n = d.t.size
+    if n >= all_t.size:
+        raise ValidationError(
+            f"observed must be shorter than the timing ({all_t.size} time"
+            f" stamps); got {n} samples"
+        )
+    tol = 1e-9 * (all_t[-1] - all_t[0])
+    if not np.allclose(d.t, all_t[:n], rtol=0.0, atol=tol):
+        bad = int(np.flatnonzero(~np.isclose(d.t, all_t[:n], rtol=0.0, atol=tol))[0])
+        raise ValidationError(
+            "observed must be sampled at the first time stamps of the timing;"
+            f" its sample {bad} is at {d.t[bad]:g}, the timing's at {all_t[bad]:g}"
+        )
+    return d
+
+
+def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray:
+    """Every demonstration's log weight for an executed prefix.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    prefix : Demonstration
+        From :func:`check_observed`.
+    tq : ndarray of shape (n_samples,)
+        Normalized times of the whole timing.
+    cache : dict
+        See :func:`demo_values_at`.
+
+    Returns
+    -------
+    log_weights : ndarray of shape (n_demos,)
+        The mean, over up to :data:`PREFIX_POINTS` prefix samples, of the
+        kernels' logarithms.
+    """
+    n = prefix.t.size
+    rows = np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
+    U = est.scaler_.transform(prefix.X[rows], weighted=False)
+    V = demo_values_at(est, tq[rows], cache)
+    logw = np.zeros(V.shape[0])
+    for k in range(rows.size):
+        pts = V[:, k]
+        logw += condition_log_weights(pts, U[k], condition_bandwidth(pts))
+    return logw / rows.size
+
+
+def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
+    """The observed samples, then the path shifted onto the last one, faded.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_columns)
+        The generated path at every time stamp (changed in place).
+    tq : ndarray of shape (n_samples,)
+        Their normalized times.
+    prefix : Demonstration
+        From :func:`check_observed` (its ``n`` samples are the first rows).
+    column_groups : sequence of str
+
+    Returns
+    -------
+    X : ndarray of shape (n_samples, n_columns)
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> X = np.zeros((5, 1)); tq = np.linspace(0.0, 1.0, 5)
+    >>> prefix = Demonstration(tq[:2], np.array([[0.0], [1.0]]), ("p",), ("p",))
+    >>> np.round(continue_from(X, tq, prefix, ("p",))[:, 0], 3)
+    array([0.  , 1.  , 0.79, 0.21, 0.  ])
+    """
+    n = prefix.t.size
+    last = tq[n - 1]
+    pos = group_columns(column_groups, "position")
+    first = contact_window(X[n - 1 :, pos], tq[n - 1 :])[0] if pos else 1.0
+    if not first > last:
+        first = 1.0
+    fade = 1.0 - minimum_jerk((tq - last) / (first - last))
+    X += (prefix.X[n - 1] - X[n - 1]) * fade[:, None]
+    X[:n] = prefix.X
+    return X
