@@ -5,10 +5,12 @@ from __future__ import annotations
 import argparse
 import re
 import time
+import warnings
 
 import numpy as np
 
-from .._errors import MissingExtraError, ValidationError
+from .._errors import MissingExtraError, NdlfdWarning, ValidationError
+from .._repairs import collecting_repairs
 from .._simplify import DISTANCES
 from ..io import CLI_HINTS, DemoFiles, demo_files, read_file
 from ..learner import (
@@ -132,7 +134,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     paths = demo_files(args.demos, **dataset_options(args))
     check_datasets(args, paths)
     news: list = []
-    with noting(paths[0], news):
+    # the repairs of the data: one summary per kind at the end of the fit
+    with noting(paths[0], news), collecting_repairs():
         pairs = read_file(paths[0], CLI_HINTS, **options)
     tell(news)
     if not pairs:
@@ -157,7 +160,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f"--levels must give the codebook levels of group {lacking[0]!r},"
                 f" which has no default (e.g. --levels {lacking[0]}=10)"
             )
-    _, derived = prepare_groups([first], [first_map], groups)
+    with collecting_repairs():
+        _, derived = prepare_groups([first], [first_map], groups)
     defaults = KeypointHMM()
     model = KeypointHMM(
         groups=groups,
@@ -190,7 +194,10 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        model.fit(files, client=client, after_scan=after_scan)
+        with warnings.catch_warnings():
+            if args.quiet:  # the summary warnings of the data's repairs
+                warnings.simplefilter("ignore", NdlfdWarning)
+            model.fit(files, client=client, after_scan=after_scan)
     finally:
         if client is not None:
             client.close()
@@ -327,6 +334,11 @@ def add_fit(sub) -> None:
         choices=DECODERS.names,
         help="viterbi (most likely sequence) or map (most likely state per step)",
     )
-    p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    p.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="print no summary and no warnings of repaired data (errors still print)",
+    )
     add_column_options(p)
     p.set_defaults(func=_cmd_fit)

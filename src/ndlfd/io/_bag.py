@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
+from .._repairs import repaired
 from ..demonstration import Demonstration
 from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
 
@@ -283,10 +284,11 @@ def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
         keep = np.concatenate([[True], np.diff(stamps) > 0])
         label = topic if len(sets) == 1 else f"{topic} ({', '.join(columns)})"
         if not keep.all():
-            warnings.warn(
+            repaired(
+                "stamps",
+                int((~keep).sum()),
                 f"dropped {int((~keep).sum())} message(s) on {label} whose time"
                 " stamp repeats an earlier one (kept the first of each)",
-                NdlfdWarning,
                 stacklevel=4,
             )
             stamps, values = stamps[keep], values[keep]

@@ -53,11 +53,12 @@ import numpy as np
 
 from .._errors import DataFileError, NdlfdError, ValidationError
 from .._parallel import check_client, map_reduce
+from .._repairs import collecting_repairs, summary_warnings
 from ..demonstration import Demonstration
 from ..io import DemoFile
 from ._exact import scale_exponents
 from ._spec import DemoSpec, prepare, resolve_groups
-from ._stats import FitStats, RangeStats
+from ._stats import FitStats, RangeStats, merge_repairs
 from ._templates import template_mask
 
 __all__ = ["Scan", "collect_statistics", "scan_ranges"]
@@ -217,6 +218,12 @@ class _PassSpec:
 def _probe(spec: _PassSpec, unit):
     """Groups and learned columns, from the first demonstration of the first item."""
     i, item = unit
+    with collecting_repairs() as log:
+        groups, columns, col_groups, n = _probe_item(spec, i, item)
+    return groups, columns, col_groups, n, _records(log, i, item)
+
+
+def _probe_item(spec: _PassSpec, i: int, item):
     demos = _read_item(item, i)
     p = spec.params
     groups = resolve_groups(p["groups"], demos[0], derive_velocity=p["derive_velocity"])
@@ -236,21 +243,39 @@ def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
     for i, item in chunk:
-        if isinstance(item, Demonstration) and spec.cache is not None:
-            d = spec.cache.get(i)  # the first one, from the probe
-            if d is None:
-                d = _located(f"demos[{i}]", spec.demo.prepared, item)
-                spec.cache.put(i, d)
-            parts.append(RangeStats.of(i, d.X))
-            continue
         notes: list[str] = []
-        demos = _read_item(item, i, notes)
-        arrays = [
-            _located(partial(_where, i, item, k, len(demos)), spec.demo.prepared, d).X
-            for k, d in enumerate(demos)
-        ]
-        parts.append(RangeStats.of(i, *arrays, notes=notes))
+        with collecting_repairs() as log:
+            arrays = _ranges_of(spec, i, item, notes)
+        repairs = _records(log, i, item)
+        parts.append(RangeStats.of(i, *arrays, notes=notes, repairs=repairs))
     return parts[0].merge(*parts[1:])
+
+
+def _ranges_of(spec: _PassSpec, i: int, item, notes: list) -> list[np.ndarray]:
+    """The prepared value arrays of item ``i`` (cached or read)."""
+    if isinstance(item, Demonstration) and spec.cache is not None:
+        d = spec.cache.get(i)  # the first one, from the probe
+        if d is None:
+            d = _located(f"demos[{i}]", spec.demo.prepared, item)
+            spec.cache.put(i, d)
+        return [d.X]
+    demos = _read_item(item, i, notes)
+    return [
+        _located(partial(_where, i, item, k, len(demos)), spec.demo.prepared, d).X
+        for k, d in enumerate(demos)
+    ]
+
+
+def _records(log: list, i: int, item) -> tuple:
+    """An item's repairs (kind, item, label, count), one per kind."""
+    if not log:
+        return ()
+    f = _file(item)
+    label = f"demos[{i}]" if f is None else str(f.path)
+    counts: dict[str, int] = {}
+    for kind, n in log:
+        counts[kind] = counts.get(kind, 0) + n
+    return tuple((kind, i, label, n) for kind, n in counts.items())
 
 
 def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitStats:
@@ -272,7 +297,15 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitSt
 
 
 def _map_statistics(spec: _PassSpec, chunk) -> FitStats:
-    """Pass 2: key points, states, bins, centroid sums and templates of some items."""
+    """Pass 2: key points, states, bins, centroid sums and templates of some items.
+
+    The repairs of the data are those of pass 1, which reported them.
+    """
+    with collecting_repairs():
+        return _statistics_of(spec, chunk)
+
+
+def _statistics_of(spec: _PassSpec, chunk) -> FitStats:
     parts = []
     for i, start, expected, item in chunk:
         if spec.cache is not None and isinstance(item, Demonstration):
@@ -395,7 +428,7 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
         probe = client.submit(_probe, spec, (0, first), pure=False).result()
     else:
         probe = _probe(spec, (0, first))
-    groups, columns, col_groups, first_length = probe
+    groups, columns, col_groups, first_length, probed = probe
     workers, backend = _workers(params["n_jobs"], first_length, total)
     spec = replace(
         spec,
@@ -420,6 +453,7 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
         backend=backend,
         **run,
     )
+    ranges = replace(ranges, repairs=merge_repairs(probed, ranges.repairs))
     return Scan(source, spec, ranges, total, run)
 
 
@@ -492,4 +526,6 @@ def collect_statistics(params: dict, done: Scan) -> tuple[DemoSpec, FitStats]:
             f" in the first, {stats.n_demos} of {int(stats.n_samples.sum())} in"
             " the second"
         )
+    # one warning per kind of repair of the data, at the end of the fit
+    summary_warnings([(k, label, n) for k, _, label, n in ranges.repairs])
     return spec, stats
