@@ -15,7 +15,7 @@ Examples
 >>> with collecting_repairs() as log:
 ...     repaired("rows", 3, "dropped 3 rows")
 >>> log
-[('rows', 3)]
+[('rows', 3, None)]
 >>> with warnings.catch_warnings(record=True) as caught:
 ...     warnings.simplefilter("always")
 ...     summary_warnings([("rows", "a.csv", 3), ("rows", "b.csv", 1)])
@@ -54,8 +54,11 @@ REPAIRS = {
         " the first of each)"
     ),
     "rows": "dropped {count} row(s) with NaN or inf (bad_rows='drop')",
-    "files": "skipped {count} file(s) that cannot be read (bad_files='skip')",
+    "files": "skipped {count} file(s) that cannot be read (bad_files='skip'),",
 }
+
+#: The kinds whose summary names the sources without a count.
+_NAMES_ONLY = ("jitter", "files")
 
 #: How many files a summary names before "and N more".
 SHOWN_FILES = 5
@@ -69,11 +72,11 @@ def collecting_repairs():
 
     Yields
     ------
-    log : list of (str, int)
-        Each repair's kind (a key of :data:`REPAIRS`) and count.
+    log : list of (str, int, str or None)
+        Each repair's kind (a key of :data:`REPAIRS`), count and detail.
     """
     outer = getattr(_local, "log", None)
-    log: list[tuple[str, int]] = []
+    log: list[tuple[str, int, str | None]] = []
     _local.log = log
     try:
         yield log
@@ -81,7 +84,9 @@ def collecting_repairs():
         _local.log = outer
 
 
-def repaired(kind: str, count: int, message: str, *, stacklevel: int = 2) -> None:
+def repaired(
+    kind: str, count: int, message: str, *, detail=None, stacklevel: int = 2
+) -> None:
     """Report a repair: recorded inside :func:`collecting_repairs`, else a warning.
 
     Parameters
@@ -92,6 +97,9 @@ def repaired(kind: str, count: int, message: str, *, stacklevel: int = 2) -> Non
         How many things were repaired (quaternions, rows, ...).
     message : str
         The warning given outside :func:`collecting_repairs`.
+    detail : str, optional
+        What the summary says of this source instead of its name and count
+        (a skipped file: why).
     stacklevel : int, default=2
         As for :func:`warnings.warn`, from the caller of this function.
     """
@@ -99,7 +107,7 @@ def repaired(kind: str, count: int, message: str, *, stacklevel: int = 2) -> Non
     if log is None:
         warnings.warn(message, NdlfdWarning, stacklevel=stacklevel + 1)
     else:
-        log.append((kind, int(count)))
+        log.append((kind, int(count), detail))
 
 
 def summary_warnings(records, *, stacklevel: int = 2) -> None:
@@ -120,9 +128,10 @@ def summary_warnings(records, *, stacklevel: int = 2) -> None:
         if kind not in kinds:
             continue
         items = kinds[kind]
-        shown = [s if kind == "jitter" else f"{s} ({n})" for s, n in items]
+        shown = [s if kind in _NAMES_ONLY else f"{s} ({n})" for s, n in items]
         more = len(shown) - SHOWN_FILES
-        named = ", ".join(shown[:SHOWN_FILES]) + (
+        sep = "; " if kind == "files" else ", "
+        named = sep.join(shown[:SHOWN_FILES]) + (
             f" and {more} more" if more > 0 else ""
         )
         head = REPAIRS[kind].format(count=sum(n for _, n in items))

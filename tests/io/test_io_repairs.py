@@ -119,8 +119,8 @@ def test_repaired_warns_alone_and_records_inside():
         with collecting_repairs() as inner:
             repaired("jitter", 1, "y")
         repaired("quaternions", 5, "z")
-    assert outer == [("rows", 1), ("quaternions", 5)]
-    assert inner == [("jitter", 1)]
+    assert outer == [("rows", 1, None), ("quaternions", 5, None)]
+    assert inner == [("jitter", 1, None)]
 
 
 def test_summary_names_the_first_files_then_how_many_more():
@@ -134,3 +134,153 @@ def test_summary_names_the_first_files_then_how_many_more():
         f"dropped {total} row(s) with NaN or inf (bad_rows='drop') in"
         f" {SHOWN_FILES + 3} files: {shown} and 3 more"
     )
+
+
+# ------------------------------------------------------- bad rows, bad files
+GOOD = "t,x,y\n0,0,0\n1,1,0.5\n2,2,0\n3,3,0.5\n"
+
+
+@pytest.fixture()
+def bad_folder(tmp_path):
+    """good.csv; header.csv (header only); nan.csv (one NaN); text.csv (words)."""
+    (tmp_path / "a_good.csv").write_text(GOOD)
+    (tmp_path / "b_header.csv").write_text("t,x,y\n")
+    (tmp_path / "c_nan.csv").write_text(GOOD.replace("1,1,0.5", "1,nan,0.5"))
+    (tmp_path / "d_text.csv").write_text("t,x,y\n0,a,b\n1,c,d\n")
+    (tmp_path / "e_good.csv").write_text(GOOD.replace("0.5", "0.25"))
+    return tmp_path
+
+
+@pytest.mark.parametrize(
+    ("name", "match"),
+    [
+        ("b_header.csv", r"b_header.csv: expected data rows .* \(header only\)"),
+        ("c_nan.csv", r"c_nan.csv, line 3, column 'x': expected a finite number"),
+        ("d_text.csv", r"d_text.csv, line 2, column 'x': expected a number; got 'a'"),
+    ],
+)
+def test_bad_files_are_errors_by_default(bad_folder, name, match):
+    from ndlfd import DataFileError
+    from ndlfd.io import read_csv, read_demos
+
+    with pytest.raises(DataFileError, match=match):
+        read_csv(bad_folder / name)
+    with pytest.raises(DataFileError, match=match):
+        read_demos([bad_folder / "a_good.csv", bad_folder / name])
+
+
+def test_bad_rows_drop_keeps_the_other_rows(bad_folder):
+    from ndlfd.io import read_csv
+
+    with pytest.warns(NdlfdWarning, match=r"c_nan.csv: dropped 1 of 4 row"):
+        d = read_csv(bad_folder / "c_nan.csv", bad_rows="drop")
+    ref = np.array([[0, 0, 0], [2, 2, 0], [3, 3, 0.5]], dtype=float)  # by hand
+    assert np.array_equal(np.column_stack([d.t, d.X]), ref)
+    # a file without bad rows is read the same either way, without a warning
+    a = read_csv(bad_folder / "a_good.csv", bad_rows="drop")
+    assert a == read_csv(bad_folder / "a_good.csv")
+
+
+def test_bad_rows_drop_leaving_fewer_than_two_rows_is_a_bad_file(tmp_path):
+    from ndlfd import DataFileError
+    from ndlfd.io import read_csv
+
+    p = tmp_path / "mostly_nan.csv"
+    p.write_text("t,x\n0,nan\n1,2\n2,inf\n")
+    with pytest.raises(
+        DataFileError, match=r"at least 2 rows .* got 1 after dropping 2 of 3"
+    ):
+        read_csv(p, bad_rows="drop")
+
+
+def test_bad_options_are_checked(bad_folder):
+    from ndlfd import ValidationError
+    from ndlfd.io import read_csv, read_demos
+
+    with pytest.raises(
+        ValidationError, match=r"bad_rows must be one of 'error', 'drop'; got 'keep'"
+    ):
+        read_csv(bad_folder / "a_good.csv", bad_rows="keep")
+    with pytest.raises(
+        ValidationError, match=r"bad_files must be one of 'error', 'skip'; got 'drop'"
+    ):
+        DemoFiles(bad_folder, bad_files="drop")
+    with pytest.raises(ValidationError, match=r"bad_files must be one of"):
+        read_demos(bad_folder, bad_files=None)
+
+
+def test_read_demos_skip_and_drop_report_once(bad_folder):
+    from ndlfd.io import read_demos
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        demos = read_demos(bad_folder, bad_rows="drop", bad_files="skip")
+    assert [d.n_samples for d in demos] == [4, 3, 4]
+    texts = [str(w.message) for w in caught]
+    assert len(texts) == 2, texts
+    rows = next(m for m in texts if m.startswith("dropped"))
+    assert rows.endswith(f"in 1 file: {bad_folder / 'c_nan.csv'} (1)")
+    files = next(m for m in texts if m.startswith("skipped"))
+    assert files.startswith("skipped 2 file(s) that cannot be read")
+    assert f"{bad_folder / 'b_header.csv'}: expected data rows" in files
+    assert f"{bad_folder / 'd_text.csv'}, line 2, column 'x'" in files
+    # skipping without dropping: the NaN file is skipped too, with its reason
+    with pytest.warns(NdlfdWarning, match=r"skipped 3 file\(s\).*finite number"):
+        assert len(read_demos(bad_folder, bad_files="skip")) == 2
+
+
+@pytest.mark.parametrize("n_jobs", [1, 2])
+def test_fit_skips_and_drops_with_one_summary_each(bad_folder, n_jobs):
+    texts = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = KeypointHMM(epsilon=0.1, n_time_bins=3, n_jobs=n_jobs).fit(
+            DemoFiles(bad_folder, bad_rows="drop", bad_files="skip")
+        )
+    texts = [str(w.message) for w in caught]
+    assert model.n_demos_ == 3
+    assert model.n_keypoints_.max() <= 4
+    assert len(texts) == 2, texts
+    assert sum(m.startswith("skipped 2 file(s)") for m in texts) == 1
+    assert sum(m.startswith("dropped 1 row(s)") for m in texts) == 1
+
+
+def test_fit_skips_a_bad_first_file(bad_folder):
+    (bad_folder / "0_bad.csv").write_text("t,x,y\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = KeypointHMM(epsilon=0.1, n_time_bins=3).fit(
+            DemoFiles(bad_folder, bad_rows="drop", bad_files="skip")
+        )
+    assert model.n_demos_ == 3
+    texts = [str(w.message) for w in caught]
+    assert len(texts) == 2, texts
+    files = next(m for m in texts if m.startswith("skipped 3 file(s)"))
+    assert f": {bad_folder / '0_bad.csv'}: expected data rows" in files
+
+
+def test_fit_every_file_skipped_is_an_error(tmp_path):
+    from ndlfd import DataFileError
+
+    (tmp_path / "a.csv").write_text("t,x\n")
+    (tmp_path / "b.csv").write_text("t,x\n0,z\n")
+    with pytest.raises(
+        DataFileError, match=r"every one of the 2 file\(s\) was skipped"
+    ):
+        KeypointHMM().fit(DemoFiles(tmp_path, bad_files="skip"))
+
+
+def test_cli_fit_bad_rows_and_files(bad_folder, tmp_path, capsys):
+    out = tmp_path / "m.ndlfd"
+    assert main(["fit", str(bad_folder), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "b_header.csv: expected data rows" in err[0]
+    args = ["fit", str(bad_folder), "-o", str(out), "--bad-rows", "drop"]
+    assert main([*args, "--bad-files", "skip", "--time-bins", "3"]) == 0
+    err = capsys.readouterr().err.splitlines()
+    warned = [line for line in err if ": warning: " in line]
+    assert len(warned) == 2, err
+    assert any("skipped 2 file(s)" in line for line in warned)
+    assert any("fitted 3 demonstration(s)" in line for line in err)
+    assert main([*args, "--bad-files", "skip", "--time-bins", "3", "-q"]) == 0
+    assert capsys.readouterr().err == ""

@@ -12,7 +12,7 @@ import numpy as np
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
 from .._repairs import collecting_repairs
 from .._simplify import DISTANCES
-from ..io import CLI_HINTS, DemoFiles, demo_files, read_file
+from ..io import CLI_HINTS, DemoFiles, demo_files, read_or_skip
 from ..learner import (
     DECODERS,
     DEFAULT_LEVELS,
@@ -24,6 +24,7 @@ from ..learner import (
     resolve_groups,
 )
 from ._options import (
+    add_bad_data_options,
     add_column_options,
     check_datasets,
     check_output,
@@ -135,11 +136,21 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     check_datasets(args, paths)
     news: list = []
     # the repairs of the data: one summary per kind at the end of the fit
-    with noting(paths[0], news), collecting_repairs():
-        pairs = read_file(paths[0], CLI_HINTS, **options)
+    pairs = []
+    with collecting_repairs():
+        for path in paths:  # the first that is not skipped (--bad-files skip)
+            with noting(path, news):
+                pairs = read_or_skip(path, CLI_HINTS, **options)
+            if pairs or options["bad_files"] != "skip":
+                break
     tell(news)
     if not pairs:
-        raise ValidationError(f"demos: {paths[0]} holds no demonstration")
+        raise ValidationError(
+            f"demos: {paths[0]} holds no demonstration"
+            if options["bad_files"] != "skip"
+            else "demos: every file was skipped (--bad-files skip); expected at"
+            " least one readable file"
+        )
     first, first_map = pairs[0]
     if groups is None:  # the library's groups="auto", resolved here to report it
         groups = list(resolve_groups("auto", first))
@@ -341,4 +352,5 @@ def add_fit(sub) -> None:
         help="print no summary and no warnings of repaired data (errors still print)",
     )
     add_column_options(p)
+    add_bad_data_options(p)
     p.set_defaults(func=_cmd_fit)

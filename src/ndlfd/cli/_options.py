@@ -28,7 +28,15 @@ import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
 from ..demonstration import with_velocity
-from ..io import CLI_HINTS, TIME_NAMES, LeRobotEpisode, demo_files, read_file
+from ..io import (
+    BAD_FILES,
+    BAD_ROWS,
+    CLI_HINTS,
+    TIME_NAMES,
+    LeRobotEpisode,
+    demo_files,
+    read_file,
+)
 from ..orientation import QUATERNION_ORDERS, check_euler
 
 __all__ = [
@@ -36,8 +44,10 @@ __all__ = [
     "GROUP_NAME",
     "MAX_SAMPLES",
     "Parser",
+    "add_bad_data_options",
     "add_column_options",
     "add_timing_options",
+    "bad_data_options",
     "check_datasets",
     "check_output",
     "check_range",
@@ -363,7 +373,40 @@ def column_options(args: argparse.Namespace) -> dict:
         "split_gap": split_gap,
     }
     options.update({k: v for k, v in bag.items() if v is not None})
+    options.update(bad_data_options(args))
     return options
+
+
+# ------------------------------------------------- bad rows and files (fit)
+def add_bad_data_options(p) -> None:
+    """Add ``--bad-rows`` and ``--bad-files`` to the parser ``p``."""
+    g = p.add_argument_group(
+        "bad data",
+        "what to do with rows of NaN or inf and files that cannot be read;"
+        " what is dropped or skipped is reported in one warning per fit",
+    )
+    g.add_argument(
+        "--bad-rows",
+        choices=BAD_ROWS,
+        default="error",
+        help="a row with NaN or inf: an error naming it (default), or dropped"
+        " (a file must keep at least 2 rows)",
+    )
+    g.add_argument(
+        "--bad-files",
+        choices=BAD_FILES,
+        default="error",
+        help="a file that cannot be read: an error (default), or skipped with"
+        " the reason",
+    )
+
+
+def bad_data_options(args) -> dict:
+    """``bad_rows`` and ``bad_files`` of the flags (the defaults without them)."""
+    return {
+        "bad_rows": getattr(args, "bad_rows", "error"),
+        "bad_files": getattr(args, "bad_files", "error"),
+    }
 
 
 def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:

@@ -402,6 +402,7 @@ def read_bag_mapped(
     quaternion_order="wxyz",
     time_column=None,
     euler="xyz",
+    bad_rows="error",
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """Every demonstration of the bag ``p`` (one, or one per segment) with its mapping.
 
@@ -467,6 +468,7 @@ def read_bag_mapped(
             how=how,
             euler=euler,
             source=source,
+            bad_rows=bad_rows,
         )
         out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))
     return out

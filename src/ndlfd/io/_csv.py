@@ -87,13 +87,15 @@ class Table:
     delimiter: str | None
 
 
-def parse_table(path) -> Table:
+def parse_table(path, *, finite: bool = True) -> Table:
     """Parse a CSV table; also give the 1-based file line of each data row.
 
     Parameters
     ----------
     path : str or path-like
         The CSV file (dialect: see :func:`read_table`).
+    finite : bool, default=True
+        Refuse NaN and inf (``False``: keep them, for ``bad_rows="drop"``).
 
     Returns
     -------
@@ -153,7 +155,7 @@ def parse_table(path) -> Table:
                     ) from None
             raise  # pragma: no cover - one of the fields must have failed
         for name, f, v in zip(header, fields, values, strict=True):
-            if not np.isfinite(v):
+            if finite and not np.isfinite(v):
                 raise DataFileError(
                     f"{p}, line {lineno}, column {name!r}: expected a finite number;"
                     f" got {f!r}"
@@ -380,7 +382,7 @@ def read_csv_mapped(
     :data:`~ndlfd.io._mapping.LIBRARY_HINTS` or ``CLI_HINTS``, ``mapping`` the
     options of :func:`read_csv`.
     """
-    table = parse_table(p)
+    table = parse_table(p, finite=mapping.get("bad_rows", "error") == "error")
     columns = {name: table.data[:, j] for j, name in enumerate(table.columns)}
     pair = map_arrays(
         p,
@@ -401,6 +403,7 @@ def read_csv(
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
     euler: str = "xyz",
+    bad_rows: str = "error",
 ) -> Demonstration:
     r"""Read one demonstration from a CSV file.
 
@@ -439,6 +442,10 @@ def read_csv(
         columns of ``groups["orientation"]``, in radians), which become unit
         quaternions: ``"xyz"`` extrinsic (ROS's roll-pitch-yaw), ``"ZYX"``
         intrinsic, ... (see :mod:`ndlfd.io._mapping`).
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning` (one summary per fit); at least
+        2 rows must remain.
 
     Returns
     -------
@@ -470,6 +477,7 @@ def read_csv(
         quaternion_order=quaternion_order,
         drop=drop,
         euler=euler,
+        bad_rows=bad_rows,
     )[0][0]
 
 
