@@ -507,9 +507,30 @@ def csv_header(demo: Demonstration, time_column: str) -> list[str]:
     return _header(demo.columns, demo.groups, time_column)
 
 
-def _header(columns, groups, time_column: str) -> list[str]:
+def _input_names(columns, groups, mapping: ColumnMapping | None) -> list:
+    """The CSV file's own name of each column that ``mapping`` read (else None).
+
+    A group whose columns the mapping names one for one keeps those names;
+    a group it lacks (a derived velocity) keeps the demonstration's.
+    """
+    names: list = [None] * len(columns)
+    if mapping is None or not mapping.layout.endswith("-separated"):
+        return names
+    for g, ks in mapping.groups:
+        idx = [j for j, h in enumerate(groups) if h == g]
+        if len(idx) == len(ks):
+            for j, k in zip(idx, ks, strict=True):
+                names[j] = k
+    return names
+
+
+def _header(columns, groups, time_column: str, own=None) -> list[str]:
     header = [time_column]
-    for c, g in zip(columns, groups, strict=True):
+    own = own or [None] * len(columns)
+    for c, g, mine in zip(columns, groups, own, strict=True):
+        if mine is not None:
+            header.append(mine)
+            continue
         hit = group_of_column(c)
         if hit == (g, c) and c.casefold() != time_column.casefold():
             header.append(c)
@@ -549,7 +570,10 @@ def write_csv(
     mapping : ColumnMapping, optional
         How the input was read: when it had Euler angles, the orientation is
         written back as those columns, in that convention (see
-        :func:`~ndlfd.io._mapping.euler_columns`).
+        :func:`~ndlfd.io._mapping.euler_columns`); when it was a CSV file,
+        its time column and the columns of its groups keep its names (a
+        group it did not have, such as a derived velocity, keeps the
+        demonstration's).
 
     Returns
     -------
@@ -579,5 +603,8 @@ def write_csv(
     formats = None
     if float_format is not None or time_format is not None:
         formats = [time_format] + [float_format] * X.shape[1]
-    header = _header(columns, groups, time_column)
+    own = _input_names(columns, groups, mapping)
+    if any(n is not None for n in own) and mapping.time is not None:
+        time_column = mapping.time
+    header = _header(columns, groups, time_column, own)
     return write_table(path, header, data, float_format=formats)
