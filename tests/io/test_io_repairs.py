@@ -284,3 +284,20 @@ def test_cli_fit_bad_rows_and_files(bad_folder, tmp_path, capsys):
     assert any("fitted 3 demonstration(s)" in line for line in err)
     assert main([*args, "--bad-files", "skip", "--time-bins", "3", "-q"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_one_warning_per_kind_on_threads(tmp_path):
+    # demonstrations of 5,000 samples and more are mapped on threads
+    n = {
+        name: _write(tmp_path / f"{name}.csv", jitter=name != "b", rounded=True, n=5000)
+        for name in ("a", "b", "c")
+    }
+    texts = _fit_warnings(tmp_path, n_jobs=2)
+    assert len(texts) == 2, texts
+    quats = next(m for m in texts if "quaternion" in m)
+    assert quats.endswith(
+        f"in 3 files: {tmp_path / 'a.csv'} ({n['a']}), {tmp_path / 'b.csv'}"
+        f" ({n['b']}), {tmp_path / 'c.csv'} ({n['c']})"
+    )
+    jitter = next(m for m in texts if "jittery" in m)
+    assert jitter.endswith(f"in 2 files: {tmp_path / 'a.csv'}, {tmp_path / 'c.csv'}")
