@@ -14,15 +14,15 @@ sign-aligned on construction (see :mod:`ndlfd.orientation`).
 from __future__ import annotations
 
 import re
-import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from ._errors import NdlfdWarning, ValidationError
+from ._errors import ValidationError
 from ._registry import Registry
+from ._repairs import repaired
 from ._validation import (
     as_float_array,
     check_int_sequence,
@@ -766,13 +766,14 @@ def with_velocity(
         if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
             mode = "window"
         if mode == "window":
-            warnings.warn(
+            repaired(
+                "jitter",
+                1,
                 f"time stamps are jittery (consecutive steps differ by up to"
                 f" {100 * jitter:.0f} % of the median step in 90 % of cases, more"
                 f" than {100 * JITTER_TOL:.0f} %): velocity is derived by a local"
                 " straight-line fit over a time window, not from neighbouring"
                 " samples",
-                NdlfdWarning,
                 stacklevel=2,
             )
     if mode == "window":

@@ -17,8 +17,9 @@ import warnings
 
 import numpy as np
 
-from ._errors import NdlfdWarning, ValidationError
+from ._errors import ValidationError
 from ._registry import Registry
+from ._repairs import repaired
 from ._validation import check_points
 
 __all__ = [
@@ -133,12 +134,12 @@ def check_quaternions(
     if np.any(fix):
         A = A.copy()
         A[fix] /= norms[fix, None]
-        warnings.warn(
+        repaired(
+            "quaternions",
+            int(fix.sum()),
             f"{name}: renormalized {int(fix.sum())} of {A.shape[0]} quaternions"
             f" whose norm was off by more than {atol:g} (at most"
             f" {float(dev.max()):.2g}; up to {renormalize_tol:g} is repaired)",
-            NdlfdWarning,
-            stacklevel=2,
         )
     return np.ascontiguousarray(A[:, list(perm)])
 

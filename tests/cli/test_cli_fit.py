@@ -307,7 +307,6 @@ def test_fit_on_a_dask_scheduler_gives_the_local_model(tmp_path, capsys):
 def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
     tmp_path, capsys, monkeypatch, n_jobs
 ):
-    import ndlfd.cli._fit
     import ndlfd.io
     import ndlfd.io._files
 
@@ -319,8 +318,8 @@ def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
         reads.append(Path(p).name)
         return real(p, *args, **kw)
 
-    # every place that reads a file: the command and the DemoFile items
-    monkeypatch.setattr(ndlfd.cli._fit, "read_file", counting)
+    # every place that reads a file: the command and the DemoFile items (both
+    # through ndlfd.io.read_or_skip)
     monkeypatch.setattr(ndlfd.io._files, "read_file", counting)
     args = ("fit", folder, "-o", tmp_path / "m.ndlfd", "--n-jobs", "1")
     rc, err = cli(capsys, *args)

@@ -75,3 +75,24 @@ def test_plot_draws_demos_keypoints_path_and_band(tmp_path, capsys, monkeypatch)
         rc, err = cli(capsys, "plot", folder, "-q", *args, *out)
         assert rc == 2 and len(err) == 1, err
         assert err[0].startswith(f"ndlfd plot: error: {message}")
+
+
+def test_plot_uses_the_groups_of_fit_by_default(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    from cli_helpers import fit_model
+
+    # 3-D reaches with orientation: fit learns position, velocity, orientation
+    folder = write_reach(tmp_path / "d")
+    model = fit_model(folder, tmp_path / "m.ndlfd")
+    assert model.groups_ == ("position", "velocity", "orientation")
+    counts = [len(k) for k in model.keypoints_]
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png")
+    assert rc == 0, err
+    assert f"key points ({min(counts)}-{max(counts)} at --epsilon 0.05)" in err[-1]
+    # --groups still chooses (fewer groups: other key points)
+    rc, err = cli(capsys, "plot", folder, "--groups", "position", "-o",
+                  tmp_path / "q.png")  # fmt: skip
+    assert rc == 0, err
+    only = fit_model(folder, tmp_path / "p.ndlfd", "--groups", "position")
+    k = [len(x) for x in only.keypoints_]
+    assert f"key points ({min(k)}-{max(k)} at --epsilon 0.05)" in err[-1]

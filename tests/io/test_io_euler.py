@@ -118,7 +118,7 @@ def test_csv_roll_pitch_yaw_read_and_written_back(tmp_path, seq, order):
     # back: the file's names, the recorded angles
     out = write_csv(d, tmp_path / "out.csv", mapping=m)
     header = out.read_text().splitlines()[0].split(",")
-    assert header == ["t", "x", "y", *names, "gripper"]
+    assert header == ["time", "x", "y", *names, "gripper"]  # its time column too
     again = read_csv(out, euler=seq)
     np.testing.assert_allclose(again.X, d.X, atol=1e-12)
     cols, groups, X = euler_columns(d, m)

@@ -5,12 +5,14 @@ from __future__ import annotations
 import argparse
 import re
 import time
+import warnings
 
 import numpy as np
 
-from .._errors import MissingExtraError, ValidationError
+from .._errors import MissingExtraError, NdlfdWarning, ValidationError
+from .._repairs import collecting_repairs
 from .._simplify import DISTANCES
-from ..io import CLI_HINTS, DemoFiles, demo_files, read_file
+from ..io import CLI_HINTS, DemoFiles, demo_files, read_or_skip
 from ..learner import (
     DECODERS,
     DEFAULT_LEVELS,
@@ -22,6 +24,7 @@ from ..learner import (
     resolve_groups,
 )
 from ._options import (
+    add_bad_data_options,
     add_column_options,
     check_datasets,
     check_output,
@@ -132,11 +135,22 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     paths = demo_files(args.demos, **dataset_options(args))
     check_datasets(args, paths)
     news: list = []
-    with noting(paths[0], news):
-        pairs = read_file(paths[0], CLI_HINTS, **options)
+    # the repairs of the data: one summary per kind at the end of the fit
+    pairs = []
+    with collecting_repairs():
+        for path in paths:  # the first that is not skipped (--bad-files skip)
+            with noting(path, news):
+                pairs = read_or_skip(path, CLI_HINTS, **options)
+            if pairs or options["bad_files"] != "skip":
+                break
     tell(news)
     if not pairs:
-        raise ValidationError(f"demos: {paths[0]} holds no demonstration")
+        raise ValidationError(
+            f"demos: {paths[0]} holds no demonstration"
+            if options["bad_files"] != "skip"
+            else "demos: every file was skipped (--bad-files skip); expected at"
+            " least one readable file"
+        )
     first, first_map = pairs[0]
     if groups is None:  # the library's groups="auto", resolved here to report it
         groups = list(resolve_groups("auto", first))
@@ -157,7 +171,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                 f"--levels must give the codebook levels of group {lacking[0]!r},"
                 f" which has no default (e.g. --levels {lacking[0]}=10)"
             )
-    _, derived = prepare_groups([first], [first_map], groups)
+    with collecting_repairs():
+        _, derived = prepare_groups([first], [first_map], groups)
     defaults = KeypointHMM()
     model = KeypointHMM(
         groups=groups,
@@ -190,7 +205,10 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     client = _connect(args.scheduler)
     try:
-        model.fit(files, client=client, after_scan=after_scan)
+        with warnings.catch_warnings():
+            if args.quiet:  # the summary warnings of the data's repairs
+                warnings.simplefilter("ignore", NdlfdWarning)
+            model.fit(files, client=client, after_scan=after_scan)
     finally:
         if client is not None:
             client.close()
@@ -327,6 +345,12 @@ def add_fit(sub) -> None:
         choices=DECODERS.names,
         help="viterbi (most likely sequence) or map (most likely state per step)",
     )
-    p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
+    p.add_argument(
+        "-q",
+        "--quiet",
+        action="store_true",
+        help="print no summary and no warnings of repaired data (errors still print)",
+    )
     add_column_options(p)
+    add_bad_data_options(p)
     p.set_defaults(func=_cmd_fit)

@@ -76,7 +76,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
             "--std needs a model fitted with --generation blend; this one uses"
             f" {model.generation}"
         )
-    timing, like = read_timing(args, n)
+    timing, like = read_timing(args, n, times_only=model.generation != "paper")
     result = model.generate(
         timing,
         dense=args.dense,

@@ -26,9 +26,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .._errors import NdlfdWarning, ValidationError
+from .._errors import DataFileError, NdlfdWarning, ValidationError
+from .._validation import check_times
 from ..demonstration import with_velocity
-from ..io import CLI_HINTS, TIME_NAMES, LeRobotEpisode, demo_files, read_file
+from ..io import (
+    BAD_FILES,
+    BAD_ROWS,
+    CLI_HINTS,
+    TIME_NAMES,
+    LeRobotEpisode,
+    demo_files,
+    parse_table,
+    read_file,
+)
 from ..orientation import QUATERNION_ORDERS, check_euler
 
 __all__ = [
@@ -36,8 +46,10 @@ __all__ = [
     "GROUP_NAME",
     "MAX_SAMPLES",
     "Parser",
+    "add_bad_data_options",
     "add_column_options",
     "add_timing_options",
+    "bad_data_options",
     "check_datasets",
     "check_output",
     "check_range",
@@ -45,6 +57,7 @@ __all__ = [
     "column_options",
     "dataset_options",
     "describe_mappings",
+    "like_times",
     "noting",
     "parse_floats",
     "parse_pairs",
@@ -363,7 +376,40 @@ def column_options(args: argparse.Namespace) -> dict:
         "split_gap": split_gap,
     }
     options.update({k: v for k, v in bag.items() if v is not None})
+    options.update(bad_data_options(args))
     return options
+
+
+# ------------------------------------------------- bad rows and files (fit)
+def add_bad_data_options(p) -> None:
+    """Add ``--bad-rows`` and ``--bad-files`` to the parser ``p``."""
+    g = p.add_argument_group(
+        "bad data",
+        "what to do with rows of NaN or inf and files that cannot be read;"
+        " what is dropped or skipped is reported in one warning per fit",
+    )
+    g.add_argument(
+        "--bad-rows",
+        choices=BAD_ROWS,
+        default="error",
+        help="a row with NaN or inf: an error naming it (default), or dropped"
+        " (a file must keep at least 2 rows)",
+    )
+    g.add_argument(
+        "--bad-files",
+        choices=BAD_FILES,
+        default="error",
+        help="a file that cannot be read: an error (default), or skipped with"
+        " the reason",
+    )
+
+
+def bad_data_options(args) -> dict:
+    """``bad_rows`` and ``bad_files`` of the flags (the defaults without them)."""
+    return {
+        "bad_rows": getattr(args, "bad_rows", "error"),
+        "bad_files": getattr(args, "bad_files", "error"),
+    }
 
 
 def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:
@@ -532,14 +578,21 @@ def check_timing(args: argparse.Namespace) -> int | None:
     return n
 
 
-def read_timing(args: argparse.Namespace, n: int | None):
+def read_timing(args: argparse.Namespace, n: int | None, *, times_only=False):
     """The timing and its column mapping (``None`` for a uniform grid).
 
     The ``--like`` demonstration (its mapping says how to write the output:
-    Euler angles under its names), or ``n`` uniform time stamps.
+    Euler angles, the file's names), or ``n`` uniform time stamps. With
+    ``times_only`` (a model that uses only the timing), a CSV file whose
+    columns the flags do not map gives its time column alone, without a
+    mapping (:func:`like_times`).
     """
     if args.like is None:
         return np.linspace(0.0, args.duration, n), None
+    if times_only:
+        got = like_times(args)
+        if got is not None:
+            return got
     demos, maps = read_sources(args, args.like, flag="--like")
     if len(demos) != 1:
         raise ValidationError(
@@ -547,6 +600,53 @@ def read_timing(args: argparse.Namespace, n: int | None):
             f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
         )
     return demos[0], maps[0]
+
+
+def like_times(args: argparse.Namespace):
+    """The time stamps of a ``--like`` CSV file, and its mapping when it maps.
+
+    Only the time column is needed for the timing: when the file's other
+    columns cannot be mapped by the flags (names that need ``--group``), its
+    time column alone is read, and the mapping is ``None`` (the output keeps
+    the model's names). ``None`` for anything but one CSV file.
+    """
+    paths = demo_files(args.like, **dataset_options(args))
+    p = paths[0]
+    if len(paths) != 1 or not isinstance(p, Path) or not p.is_file():
+        return None
+    if p.suffix.lower() in (".npz", ".h5", ".hdf5", ".mcap", ".db3"):
+        return None
+    options = column_options(args)
+    news: list = []
+    try:
+        with noting(p, news):
+            pairs = read_file(p, CLI_HINTS, **options)
+    except DataFileError:
+        pairs = None
+    if pairs:
+        tell(news)
+        demo, mapping = pairs[0]
+        if len(pairs) != 1:
+            return None  # several demonstrations: read_timing says so
+        say(args, describe_mappings(Counter([str(mapping)]), 1, paths))
+        return demo, mapping
+    table = parse_table(p, finite=False)
+    tc = options["time_column"]
+    if tc is None:
+        return np.arange(table.data.shape[0], dtype=np.float64), None
+    for name in [tc] if isinstance(tc, str) else list(tc):
+        hits = [c for c in table.columns if c == name] or [
+            c for c in table.columns if c.casefold() == name.casefold()
+        ]
+        if len(hits) == 1:
+            t = table.data[:, table.columns.index(hits[0])]
+            t = check_times(t, name=f"--like {p}: time column {hits[0]!r}")
+            say(args, f"--like {p}: time={hits[0]} (its time stamps only)")
+            return t, None
+    raise DataFileError(
+        f"--like {p}: expected a time column named {tc!r} (any case); got columns"
+        f" {table.columns}; {CLI_HINTS['time_hint']}"
+    )
 
 
 def position_conditions(model, start, goal) -> tuple:

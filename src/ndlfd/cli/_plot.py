@@ -12,7 +12,7 @@ from .._errors import ValidationError
 from .._simplify import simplify_many
 from ..demonstration import Demonstration
 from ..io import CLI_HINTS, MAPPING_DEFAULTS, parse_table, read_file
-from ..learner import NORMALIZATIONS, KeypointHMM
+from ..learner import NORMALIZATIONS, KeypointHMM, resolve_groups
 from ..normalize import GroupScaler
 from ._options import (
     add_column_options,
@@ -47,7 +47,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         )
     if args.std is not None and args.path is None:
         raise ValidationError("--std draws the band of --path FILE.csv; pass --path")
-    groups = split_names(args.groups, "--groups")
+    groups = split_names(args.groups, "--groups")  # None: those of fit
     epsilon = args.epsilon if args.epsilon is not None else KeypointHMM().epsilon
     check_range(epsilon, "--epsilon", low=0)
     if args.n_points is not None:
@@ -60,6 +60,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             f"--n-points must be between 2 and {fewest} (the number of samples of"
             f" the shortest demonstration, {fewest_src}); got {args.n_points}"
         )
+    if groups is None:  # the library's groups="auto", as ndlfd fit resolves it
+        groups = list(resolve_groups("auto", demos[0]))
     prepared, _ = prepare_groups(demos, maps, groups)
     # the key points 'ndlfd fit' finds with the same settings
     scaler = GroupScaler(mode=args.normalization).fit(prepared)
@@ -187,8 +189,10 @@ def add_plot(sub) -> None:
     )
     p.add_argument(
         "--groups",
-        default="position,velocity",
-        help="groups the key points are found on, as in fit (position,velocity)",
+        default=None,
+        help="groups the key points are found on (default: those fit learns:"
+        " position, velocity, orientation, force and gripper, those the files"
+        " have; a missing velocity is derived from position)",
     )
     p.add_argument("--normalization", default="group", choices=NORMALIZATIONS.names)
     p.add_argument("--path", metavar="FILE.csv", help="a generated path to draw")

@@ -64,17 +64,20 @@ from ._csv import (
     write_table,
 )
 from ._files import (
+    BAD_FILES,
     DEMO_SUFFIXES,
     DemoFile,
     DemoFiles,
     demo_files,
     read_demos,
     read_file,
+    read_or_skip,
 )
 from ._hdf5 import read_hdf5
 from ._lerobot import LeRobotEpisode, read_lerobot
 from ._mapping import (
     ARRAY_NAMES,
+    BAD_ROWS,
     CLI_HINTS,
     EULER_NAMES,
     MAPPING_DEFAULTS,
@@ -88,6 +91,8 @@ from ._npz import read_npz, write_npz
 
 __all__ = [
     "ARRAY_NAMES",
+    "BAD_FILES",
+    "BAD_ROWS",
     "BAG_TYPES",
     "CLI_HINTS",
     "DEMO_SUFFIXES",
@@ -111,6 +116,7 @@ __all__ = [
     "read_hdf5",
     "read_lerobot",
     "read_npz",
+    "read_or_skip",
     "read_table",
     "write_bag",
     "write_csv",

@@ -53,6 +53,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
+from .._repairs import repaired
 from ..demonstration import Demonstration
 from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
 
@@ -283,10 +284,11 @@ def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
         keep = np.concatenate([[True], np.diff(stamps) > 0])
         label = topic if len(sets) == 1 else f"{topic} ({', '.join(columns)})"
         if not keep.all():
-            warnings.warn(
+            repaired(
+                "stamps",
+                int((~keep).sum()),
                 f"dropped {int((~keep).sum())} message(s) on {label} whose time"
                 " stamp repeats an earlier one (kept the first of each)",
-                NdlfdWarning,
                 stacklevel=4,
             )
             stamps, values = stamps[keep], values[keep]
@@ -400,6 +402,7 @@ def read_bag_mapped(
     quaternion_order="wxyz",
     time_column=None,
     euler="xyz",
+    bad_rows="error",
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """Every demonstration of the bag ``p`` (one, or one per segment) with its mapping.
 
@@ -465,6 +468,7 @@ def read_bag_mapped(
             how=how,
             euler=euler,
             source=source,
+            bad_rows=bad_rows,
         )
         out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))
     return out

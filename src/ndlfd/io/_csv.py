@@ -87,13 +87,15 @@ class Table:
     delimiter: str | None
 
 
-def parse_table(path) -> Table:
+def parse_table(path, *, finite: bool = True) -> Table:
     """Parse a CSV table; also give the 1-based file line of each data row.
 
     Parameters
     ----------
     path : str or path-like
         The CSV file (dialect: see :func:`read_table`).
+    finite : bool, default=True
+        Refuse NaN and inf (``False``: keep them, for ``bad_rows="drop"``).
 
     Returns
     -------
@@ -153,7 +155,7 @@ def parse_table(path) -> Table:
                     ) from None
             raise  # pragma: no cover - one of the fields must have failed
         for name, f, v in zip(header, fields, values, strict=True):
-            if not np.isfinite(v):
+            if finite and not np.isfinite(v):
                 raise DataFileError(
                     f"{p}, line {lineno}, column {name!r}: expected a finite number;"
                     f" got {f!r}"
@@ -380,7 +382,7 @@ def read_csv_mapped(
     :data:`~ndlfd.io._mapping.LIBRARY_HINTS` or ``CLI_HINTS``, ``mapping`` the
     options of :func:`read_csv`.
     """
-    table = parse_table(p)
+    table = parse_table(p, finite=mapping.get("bad_rows", "error") == "error")
     columns = {name: table.data[:, j] for j, name in enumerate(table.columns)}
     pair = map_arrays(
         p,
@@ -401,6 +403,7 @@ def read_csv(
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
     euler: str = "xyz",
+    bad_rows: str = "error",
 ) -> Demonstration:
     r"""Read one demonstration from a CSV file.
 
@@ -439,6 +442,10 @@ def read_csv(
         columns of ``groups["orientation"]``, in radians), which become unit
         quaternions: ``"xyz"`` extrinsic (ROS's roll-pitch-yaw), ``"ZYX"``
         intrinsic, ... (see :mod:`ndlfd.io._mapping`).
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning` (one summary per fit); at least
+        2 rows must remain.
 
     Returns
     -------
@@ -470,6 +477,7 @@ def read_csv(
         quaternion_order=quaternion_order,
         drop=drop,
         euler=euler,
+        bad_rows=bad_rows,
     )[0][0]
 
 
@@ -499,9 +507,30 @@ def csv_header(demo: Demonstration, time_column: str) -> list[str]:
     return _header(demo.columns, demo.groups, time_column)
 
 
-def _header(columns, groups, time_column: str) -> list[str]:
+def _input_names(columns, groups, mapping: ColumnMapping | None) -> list:
+    """The CSV file's own name of each column that ``mapping`` read (else None).
+
+    A group whose columns the mapping names one for one keeps those names;
+    a group it lacks (a derived velocity) keeps the demonstration's.
+    """
+    names: list = [None] * len(columns)
+    if mapping is None or not mapping.layout.endswith("-separated"):
+        return names
+    for g, ks in mapping.groups:
+        idx = [j for j, h in enumerate(groups) if h == g]
+        if len(idx) == len(ks):
+            for j, k in zip(idx, ks, strict=True):
+                names[j] = k
+    return names
+
+
+def _header(columns, groups, time_column: str, own=None) -> list[str]:
     header = [time_column]
-    for c, g in zip(columns, groups, strict=True):
+    own = own or [None] * len(columns)
+    for c, g, mine in zip(columns, groups, own, strict=True):
+        if mine is not None:
+            header.append(mine)
+            continue
         hit = group_of_column(c)
         if hit == (g, c) and c.casefold() != time_column.casefold():
             header.append(c)
@@ -541,7 +570,10 @@ def write_csv(
     mapping : ColumnMapping, optional
         How the input was read: when it had Euler angles, the orientation is
         written back as those columns, in that convention (see
-        :func:`~ndlfd.io._mapping.euler_columns`).
+        :func:`~ndlfd.io._mapping.euler_columns`); when it was a CSV file,
+        its time column and the columns of its groups keep its names (a
+        group it did not have, such as a derived velocity, keeps the
+        demonstration's).
 
     Returns
     -------
@@ -571,5 +603,8 @@ def write_csv(
     formats = None
     if float_format is not None or time_format is not None:
         formats = [time_format] + [float_format] * X.shape[1]
-    header = _header(columns, groups, time_column)
+    own = _input_names(columns, groups, mapping)
+    if any(n is not None for n in own) and mapping.time is not None:
+        time_column = mapping.time
+    header = _header(columns, groups, time_column, own)
     return write_table(path, header, data, float_format=formats)

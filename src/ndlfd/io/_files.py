@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .._errors import DataFileError, ValidationError
+from .._repairs import collecting_repairs, repaired, summary_warnings
 from ..demonstration import Demonstration
 from ._bag import BAG_OPTIONS, BAG_SUFFIXES, is_bag_folder, read_bag_mapped
 from ._csv import read_csv_mapped
@@ -20,18 +21,27 @@ from ._lerobot import (
     lerobot_episodes,
     read_episode_mapped,
 )
-from ._mapping import CLI_HINTS, LIBRARY_HINTS, MAPPING_DEFAULTS, ColumnMapping
+from ._mapping import (
+    CLI_HINTS,
+    LIBRARY_HINTS,
+    MAPPING_DEFAULTS,
+    ColumnMapping,
+    check_bad_rows,
+)
 from ._npz import read_npz_mapped
 
 __all__ = [
+    "BAD_FILES",
     "DEMO_SUFFIXES",
     "READERS",
     "READER_OPTIONS",
+    "READ_DEFAULTS",
     "DemoFile",
     "DemoFiles",
     "demo_files",
     "read_demos",
     "read_file",
+    "read_or_skip",
 ]
 
 #: The file suffixes (any case) that a folder given to :func:`read_demos`
@@ -140,6 +150,43 @@ READERS = {
 READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS}
 
 
+#: What ``bad_files`` may be: ``"error"`` (a file that cannot be read stops
+#: the reading with its error) or ``"skip"`` (it is left out, with a warning
+#: saying which and why: one summary per fit).
+BAD_FILES = ("error", "skip")
+
+#: The options of reading many files (not given to the readers).
+READ_DEFAULTS = {"bad_files": "error"}
+
+
+def read_or_skip(
+    p: Path | LeRobotEpisode, how=LIBRARY_HINTS, **mapping
+) -> list[tuple[Demonstration, ColumnMapping]]:
+    """:func:`read_file`, or nothing for a bad file with ``bad_files="skip"``.
+
+    A skipped file is reported as a repair (:mod:`ndlfd._repairs`): which file
+    and why.
+    """
+    if mapping.get("bad_files", "error") != "skip":
+        return read_file(p, how, **mapping)
+    try:
+        pairs = read_file(p, how, **mapping)
+    except (DataFileError, ValidationError, OSError, ValueError) as exc:
+        why = str(exc)
+        text = why if why.startswith(str(p)) else f"{p}: {why}"
+        repaired("files", 1, f"skipped {text}", detail=text, stacklevel=3)
+        return []
+    if not pairs:
+        repaired(
+            "files",
+            1,
+            f"skipped {p}: holds no demonstration",
+            detail=f"{p}: holds no demonstration",
+            stacklevel=3,
+        )
+    return pairs
+
+
 def read_file(
     p: Path | LeRobotEpisode, how=LIBRARY_HINTS, **mapping
 ) -> list[tuple[Demonstration, ColumnMapping]]:
@@ -221,16 +268,34 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     dataset = {k: kwargs.pop(k) for k in DATASET_DEFAULTS if k in kwargs}
     mapping = _checked_mapping("read_demos", kwargs, "or return_mappings")
     items = _expand(source, _checked_dataset("read_demos", dataset))
-    pairs = [pair for p in items for pair in read_file(p, **mapping)]
+    pairs, records = [], []
+    for p in items:
+        with collecting_repairs() as log:
+            pairs.extend(read_or_skip(p, **mapping))
+        records.extend(_summed(log, p))
+    summary_warnings(records)
+    if not pairs:
+        raise DataFileError(
+            f"{source}: expected at least one readable demonstration; every file"
+            " was skipped (bad_files='skip')"
+        )
     demos = [d for d, _ in pairs]
     if return_mappings:
         return demos, [m for _, m in pairs]
     return demos
 
 
+def _summed(log, p) -> list[tuple[str, str, int]]:
+    """The repairs made reading file ``p``: one summary record per kind."""
+    counts: dict[str, list] = {}
+    for kind, n, detail in log:
+        counts.setdefault(kind, [0, detail or str(p)])[0] += n
+    return [(kind, text, n) for kind, (n, text) in counts.items()]
+
+
 def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
     """The column mapping options with their defaults; unknown names refused."""
-    known = dict(MAPPING_DEFAULTS)
+    known = {**MAPPING_DEFAULTS, **READ_DEFAULTS}
     for options in READER_OPTIONS.values():
         known.update(options)
     unknown = sorted(set(kwargs) - set(known))
@@ -239,7 +304,13 @@ def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
             f"{who} got unexpected argument(s) {unknown}; expected"
             f" {', '.join([*known, *DATASET_DEFAULTS])} {more}".rstrip()
         )
-    return {**MAPPING_DEFAULTS, **kwargs}
+    if kwargs.get("bad_files", "error") not in BAD_FILES:
+        raise ValidationError(
+            f"bad_files must be one of {', '.join(map(repr, BAD_FILES))}; got"
+            f" {kwargs['bad_files']!r}"
+        )
+    check_bad_rows(kwargs.get("bad_rows", "error"))
+    return {**MAPPING_DEFAULTS, **READ_DEFAULTS, **kwargs}
 
 
 @dataclass(frozen=True)
@@ -271,7 +342,7 @@ class DemoFile:
     def read_with_mappings(self) -> list[tuple[Demonstration, ColumnMapping]]:
         """The file's demonstrations, each with the :class:`ColumnMapping` used."""
         how = CLI_HINTS if self.hints == "cli" else LIBRARY_HINTS
-        return read_file(self.path, how, **self.mapping)
+        return read_or_skip(self.path, how, **self.mapping)
 
 
 class DemoFiles(Sequence):

@@ -33,6 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
+from .._repairs import repaired
 from ..demonstration import Demonstration, default_columns
 from ..orientation import (
     QUATERNION_ORDERS,
@@ -43,6 +44,7 @@ from ..orientation import (
 
 __all__ = [
     "ARRAY_NAMES",
+    "BAD_ROWS",
     "CLI_HINTS",
     "EULER_NAMES",
     "LIBRARY_HINTS",
@@ -50,6 +52,7 @@ __all__ = [
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
+    "check_bad_rows",
     "euler_columns",
     "group_of_column",
     "map_arrays",
@@ -292,8 +295,14 @@ def map_arrays(
     lines: np.ndarray | None = None,
     layout: str = "arrays",
     source: str | None = None,
+    bad_rows: str = "error",
 ) -> tuple[Demonstration, ColumnMapping]:
-    """Map named 1-D and 2-D arrays (CSV columns, npz keys) to a demonstration."""
+    """Map named 1-D and 2-D arrays (CSV columns, npz keys) to a demonstration.
+
+    ``bad_rows="drop"`` drops the rows with NaN or inf in the time or a mapped
+    column (a repair: see :mod:`ndlfd._repairs`); at least 2 rows must remain.
+    """
+    check_bad_rows(bad_rows)
     QUATERNION_ORDERS.get(quaternion_order)
     check_euler(euler)
     keys = list(arrays)
@@ -449,6 +458,9 @@ def map_arrays(
         names.extend(cols)
         gnames.extend([g] * block.shape[1])
         mapped.append((g, tuple(ks)))
+    if bad_rows == "drop":
+        t, blocks, lines = _drop_bad_rows(p, t, blocks, lines)
+        n = blocks[0].shape[0]
     if t is None:
         t = np.arange(n, dtype=np.float64)
     else:
@@ -469,6 +481,40 @@ def map_arrays(
     except ValidationError as exc:
         raise wrap_error(p, exc, lines) from None
     return demo, mapping
+
+
+def check_bad_rows(bad_rows) -> str:
+    """``bad_rows`` if it is ``"error"`` or ``"drop"``, else a clear error."""
+    if bad_rows not in BAD_ROWS:
+        raise ValidationError(
+            f"bad_rows must be one of {', '.join(map(repr, BAD_ROWS))}; got"
+            f" {bad_rows!r}"
+        )
+    return bad_rows
+
+
+def _drop_bad_rows(p, t, blocks, lines):
+    """Rows with NaN or inf dropped from ``t``, ``blocks`` and ``lines``."""
+    ok = np.all([np.isfinite(b).all(axis=1) for b in blocks], axis=0)
+    if t is not None:
+        ok &= np.isfinite(t)
+    n_bad = int(ok.size - ok.sum())
+    if n_bad == 0:
+        return t, blocks, lines
+    if ok.sum() < 2:
+        raise DataFileError(
+            f"{p}: expected at least 2 rows without NaN or inf; got"
+            f" {int(ok.sum())} after dropping {n_bad} of {ok.size}"
+        )
+    repaired(
+        "rows",
+        n_bad,
+        f"{p}: dropped {n_bad} of {ok.size} row(s) with NaN or inf",
+        stacklevel=3,
+    )
+    t = None if t is None else t[ok]
+    lines = None if lines is None else lines[ok]
+    return t, [b[ok] for b in blocks], lines
 
 
 def _euler_block(p, ks, block, seq, how):
@@ -559,6 +605,10 @@ def wrap_error(p, exc: ValidationError, lines: np.ndarray | None = None):
     return DataFileError(f"{p}: {msg}")
 
 
+#: What ``bad_rows`` may be: ``"error"`` (a row with NaN or inf is an error
+#: naming it) or ``"drop"`` (such rows are dropped, with a summary warning).
+BAD_ROWS = ("error", "drop")
+
 #: The column mapping options of every reader, with their defaults.
 MAPPING_DEFAULTS = {
     "time_column": TIME_NAMES,
@@ -566,4 +616,5 @@ MAPPING_DEFAULTS = {
     "quaternion_order": "wxyz",
     "drop": (),
     "euler": "xyz",
+    "bad_rows": "error",
 }

@@ -53,11 +53,12 @@ import numpy as np
 
 from .._errors import DataFileError, NdlfdError, ValidationError
 from .._parallel import check_client, map_reduce
+from .._repairs import collecting_repairs, summary_warnings
 from ..demonstration import Demonstration
 from ..io import DemoFile
 from ._exact import scale_exponents
 from ._spec import DemoSpec, prepare, resolve_groups
-from ._stats import FitStats, RangeStats
+from ._stats import FitStats, RangeStats, merge_repairs
 from ._templates import template_mask
 
 __all__ = ["Scan", "collect_statistics", "scan_ranges"]
@@ -131,6 +132,8 @@ def _read_item(item, i: int, notes: list | None = None) -> list[Demonstration]:
             f"{head}{f.path}: cannot be read ({type(exc).__name__}: {exc})"
         ) from exc
     if not pairs:
+        if f.mapping.get("bad_files") == "skip":
+            return []  # skipped, and reported as a repair
         raise DataFileError(f"{head}{f.path}: holds no demonstration")
     if notes is not None and f.hints == "cli":
         notes.extend(str(m) for _, m in pairs)
@@ -217,7 +220,15 @@ class _PassSpec:
 def _probe(spec: _PassSpec, unit):
     """Groups and learned columns, from the first demonstration of the first item."""
     i, item = unit
+    with collecting_repairs() as log:
+        groups, columns, col_groups, n = _probe_item(spec, i, item)
+    return groups, columns, col_groups, n, _records(log, i, item)
+
+
+def _probe_item(spec: _PassSpec, i: int, item):
     demos = _read_item(item, i)
+    if not demos:  # a skipped file
+        return None, None, None, 0
     p = spec.params
     groups = resolve_groups(p["groups"], demos[0], derive_velocity=p["derive_velocity"])
     where = partial(_where, i, item, 0, len(demos))
@@ -236,21 +247,58 @@ def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
     for i, item in chunk:
-        if isinstance(item, Demonstration) and spec.cache is not None:
-            d = spec.cache.get(i)  # the first one, from the probe
-            if d is None:
-                d = _located(f"demos[{i}]", spec.demo.prepared, item)
-                spec.cache.put(i, d)
-            parts.append(RangeStats.of(i, d.X))
-            continue
         notes: list[str] = []
-        demos = _read_item(item, i, notes)
-        arrays = [
-            _located(partial(_where, i, item, k, len(demos)), spec.demo.prepared, d).X
-            for k, d in enumerate(demos)
-        ]
-        parts.append(RangeStats.of(i, *arrays, notes=notes))
+        with collecting_repairs() as log:
+            arrays = _ranges_of(spec, i, item, notes)
+        repairs = _records(log, i, item)
+        if arrays:
+            parts.append(RangeStats.of(i, *arrays, notes=notes, repairs=repairs))
+        else:  # a skipped file: no demonstration, no range
+            parts.append(_skipped(i, len(spec.demo.columns), repairs))
     return parts[0].merge(*parts[1:])
+
+
+def _ranges_of(spec: _PassSpec, i: int, item, notes: list) -> list[np.ndarray]:
+    """The prepared value arrays of item ``i`` (cached or read)."""
+    if isinstance(item, Demonstration) and spec.cache is not None:
+        d = spec.cache.get(i)  # the first one, from the probe
+        if d is None:
+            d = _located(f"demos[{i}]", spec.demo.prepared, item)
+            spec.cache.put(i, d)
+        return [d.X]
+    demos = _read_item(item, i, notes)
+    return [
+        _located(partial(_where, i, item, k, len(demos)), spec.demo.prepared, d).X
+        for k, d in enumerate(demos)
+    ]
+
+
+def _skipped(i: int, k: int, repairs: tuple) -> RangeStats:
+    """The pass-1 statistics of a skipped file: nothing, in a mergeable form."""
+    return RangeStats(
+        np.full(k, np.inf),
+        np.full(k, -np.inf),
+        0,
+        np.array([i], dtype=np.int64),
+        np.zeros(1, dtype=np.int64),
+        min_samples=np.iinfo(np.int64).max,
+        shortest_item=i,
+        longest_item=i,
+        repairs=repairs,
+    )
+
+
+def _records(log: list, i: int, item) -> tuple:
+    """An item's repairs (kind, item, label, count), one per kind."""
+    if not log:
+        return ()
+    f = _file(item)
+    label = f"demos[{i}]" if f is None else str(f.path)
+    counts: dict[str, list] = {}
+    for kind, n, detail in log:
+        seen = counts.setdefault(kind, [0, detail or label])
+        seen[0] += n
+    return tuple((kind, i, text, n) for kind, (n, text) in counts.items())
 
 
 def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitStats:
@@ -272,7 +320,15 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitSt
 
 
 def _map_statistics(spec: _PassSpec, chunk) -> FitStats:
-    """Pass 2: key points, states, bins, centroid sums and templates of some items."""
+    """Pass 2: key points, states, bins, centroid sums and templates of some items.
+
+    The repairs of the data are those of pass 1, which reported them.
+    """
+    with collecting_repairs():
+        return _statistics_of(spec, chunk)
+
+
+def _statistics_of(spec: _PassSpec, chunk) -> FitStats:
     parts = []
     for i, start, expected, item in chunk:
         if spec.cache is not None and isinstance(item, Demonstration):
@@ -298,6 +354,9 @@ def _numbered_items(source, counts: np.ndarray):
     for i, item in enumerate(source):
         if i >= counts.size:
             raise _changed(f"{counts.size} item(s) in the first, more in the second")
+        if counts[i] == 0:  # a file skipped in the first pass
+            n = i + 1
+            continue
         yield i, start, int(counts[i]), item
         start += int(counts[i])
         n = i + 1
@@ -391,11 +450,25 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
         demo=DemoSpec(cli=getattr(source, "hints", None) == "cli"),
         cache=_PreparedCache(_CACHE_BYTES) if local_list else None,
     )
-    if client is not None and not isinstance(first, Demonstration):
-        probe = client.submit(_probe, spec, (0, first), pure=False).result()
-    else:
-        probe = _probe(spec, (0, first))
-    groups, columns, col_groups, first_length = probe
+    head, probed = [], ()
+    while True:  # the first item that is not a skipped file
+        at = len(head)
+        if client is not None and not isinstance(first, Demonstration):
+            probe = client.submit(_probe, spec, (at, first), pure=False).result()
+        else:
+            probe = _probe(spec, (at, first))
+        groups, columns, col_groups, first_length, found = probe
+        probed = merge_repairs(probed, found)
+        if groups is not None:
+            break
+        head.append((at, first))
+        try:
+            first = next(items)
+        except StopIteration:
+            raise DataFileError(
+                f"demos: every one of the {len(head)} file(s) was skipped"
+                " (bad_files='skip'); expected at least one readable file"
+            ) from None
     workers, backend = _workers(params["n_jobs"], first_length, total)
     spec = replace(
         spec,
@@ -408,7 +481,9 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
         ),
         cache=None if backend == "processes" and workers > 1 else spec.cache,
     )
-    units = itertools.chain([(0, first)], enumerate(items, start=1))
+    units = itertools.chain(
+        head, [(len(head), first)], enumerate(items, start=len(head) + 1)
+    )
     del first
     ranges = map_reduce(
         _map_ranges,
@@ -420,6 +495,7 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
         backend=backend,
         **run,
     )
+    ranges = replace(ranges, repairs=merge_repairs(probed, ranges.repairs))
     return Scan(source, spec, ranges, total, run)
 
 
@@ -492,4 +568,6 @@ def collect_statistics(params: dict, done: Scan) -> tuple[DemoSpec, FitStats]:
             f" in the first, {stats.n_demos} of {int(stats.n_samples.sum())} in"
             " the second"
         )
+    # one warning per kind of repair of the data, at the end of the fit
+    summary_warnings([(k, label, n) for k, _, label, n in ranges.repairs])
     return spec, stats

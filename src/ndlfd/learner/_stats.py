@@ -35,7 +35,7 @@ import numpy as np
 from .._errors import ModelFormatError, ValidationError
 from ._exact import LIMB_BITS, N_LIMBS, from_limbs, to_limbs
 
-__all__ = ["FitStats", "RangeStats"]
+__all__ = ["FitStats", "RangeStats", "merge_repairs"]
 
 # ----------------------------------------------------------------- ragged helpers
 
@@ -121,6 +121,10 @@ class RangeStats:
         Distinct notes on the demonstrations (how their files were read),
         each with the first item it came from and how many demonstrations
         had it, in the order of their first items.
+    repairs : tuple of (str, int, str, int)
+        The repairs of the data made in reading and preparing them (see
+        :mod:`ndlfd._repairs`): kind, item, its label (the file) and count, one
+        per kind and item, in the order of the items.
 
     Examples
     --------
@@ -143,12 +147,14 @@ class RangeStats:
     shortest_item: int = 0
     longest_item: int = 0
     notes: tuple = ()
+    repairs: tuple = ()
 
     @classmethod
-    def of(cls, item: int, *arrays: np.ndarray, notes=()) -> RangeStats:
+    def of(cls, item: int, *arrays: np.ndarray, notes=(), repairs=()) -> RangeStats:
         """The statistics of the demonstrations (value arrays) of one item.
 
-        ``notes`` holds a note (a string) per demonstration, or nothing.
+        ``notes`` holds a note (a string) per demonstration, or nothing;
+        ``repairs`` the item's (kind, item, label, count) records.
         """
         if len(arrays) == 1:
             lo, hi = arrays[0].min(axis=0), arrays[0].max(axis=0)
@@ -167,6 +173,7 @@ class RangeStats:
             item,
             item,
             tuple((t, item, c) for t, c in Counter(notes).items()),
+            tuple(repairs),
         )
 
     @property
@@ -196,9 +203,22 @@ class RangeStats:
             short.shortest_item,
             long.longest_item,
             tuple(sorted(((t, f, n) for t, (f, n) in notes.items()), key=_by_item)),
+            merge_repairs(*(p.repairs for p in parts)),
         )
 
     __add__ = merge
+
+
+def merge_repairs(*groups) -> tuple:
+    """Repair records (kind, item, label, count), one per kind and item, sorted.
+
+    The same kind of repair of the same item seen twice (the first item is
+    read for the groups, then in pass 1) counts once.
+    """
+    seen: dict = {}
+    for kind, item, label, count in (r for g in groups for r in g):
+        seen.setdefault((item, kind), (kind, item, label, count))
+    return tuple(seen[k] for k in sorted(seen))
 
 
 # ----------------------------------------------------------------- pass 2
