@@ -51,7 +51,9 @@ def as_float_array(values, name: str) -> np.ndarray:
         raise ValidationError(
             f"{name} must hold real numbers (int or float); got {_describe(a)}"
         )
-    return np.ascontiguousarray(a, dtype=np.float64)
+    # ascontiguousarray makes a 0-d array 1-d: keep the shape, so a scalar is
+    # refused where an array is expected instead of passing as one sample
+    return np.ascontiguousarray(a, dtype=np.float64).reshape(a.shape)
 
 
 def first_nonfinite_row(a: np.ndarray) -> int | None:
@@ -241,7 +243,13 @@ def check_int_sequence(values, name: str, *, low: int, high: int) -> np.ndarray:
     ...
     ndlfd._errors.ValidationError: states must lie in 0..2; got states[1] = 3
     """
-    a = np.asarray(values)
+    try:
+        a = np.asarray(values)
+    except (ValueError, TypeError) as exc:  # ragged nested lists
+        raise ValidationError(
+            f"{name} must be a 1-D array of integers; got {type(values).__name__}"
+            f" that numpy cannot make rectangular ({exc})"
+        ) from None
     if a.dtype == object or a.dtype.kind not in "iuf":
         raise ValidationError(
             f"{name} must be a 1-D array of integers; got {_describe(a)}"
@@ -255,6 +263,11 @@ def check_int_sequence(values, name: str, *, low: int, high: int) -> np.ndarray:
             raise ValidationError(
                 f"{name} must hold whole numbers; got non-integer values"
             )
+    if a.size and (a.min() < low or a.max() >= high):  # before a cast that wraps
+        i = int(np.flatnonzero((a < low) | (a >= high))[0])
+        raise ValidationError(
+            f"{name} must lie in {low}..{high - 1}; got {name}[{i}] = {a[i]}"
+        )
     out = np.ascontiguousarray(a, dtype=np.int64)
     bad = np.flatnonzero((out < low) | (out >= high))
     if bad.size:

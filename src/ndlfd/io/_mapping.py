@@ -414,6 +414,11 @@ def map_arrays(
                     f"{p}: {noun} {k!r} must hold numbers of shape (n,) or (n, k);"
                     f" got shape {a.shape} and dtype {a.dtype}"
                 )
+            if a.ndim == 0 or a.shape[0] == 0:
+                raise DataFileError(
+                    f"{p}: {noun} {k!r} must hold at least one sample; got shape"
+                    f" {a.shape}"
+                )
             a = a.astype(np.float64).reshape(a.shape[0], -1)
             if n is None:
                 n = a.shape[0]
