@@ -21,6 +21,7 @@ __all__ = [
     "check_condition",
     "condition_bandwidth",
     "condition_log_weights",
+    "condition_target",
     "condition_weights",
     "contact_window",
     "group_columns",
@@ -225,6 +226,30 @@ def check_condition(values, what: str, column_groups, groups) -> dict | None:
     return out
 
 
+def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray]:
+    """The columns a checked condition names and its values there, normalized.
+
+    Parameters
+    ----------
+    cond : dict of str to ndarray
+        From :func:`check_condition` (a start, goal or via point).
+    scaler : GroupScaler
+        The fitted normalization.
+    column_groups : sequence of str
+        The group of each column.
+
+    Returns
+    -------
+    cols : list of int
+    target : ndarray of shape (len(cols),)
+    """
+    cols = [c for g in cond for c in group_columns(column_groups, g)]
+    row = scaler.data_min_.copy()
+    for g, v in cond.items():
+        row[group_columns(column_groups, g)] = v
+    return cols, scaler.transform(row[None, :], weighted=False)[0, cols]
+
+
 def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarray:
     """Every demonstration's log weight for a checked start or goal.
 
@@ -251,11 +276,7 @@ def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarr
     """
     if cond is None:
         return np.zeros(points.shape[0])
-    cols = [c for g in cond for c in group_columns(column_groups, g)]
-    row = scaler.data_min_.copy()
-    for g, v in cond.items():
-        row[group_columns(column_groups, g)] = v
-    target = scaler.transform(row[None, :], weighted=False)[0, cols]
+    cols, target = condition_target(cond, scaler, column_groups)
     pts = points[:, cols]
     ckey = (key, tuple(cols))
     if ckey not in cache:

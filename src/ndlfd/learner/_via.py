@@ -51,6 +51,7 @@ from ._conditioning import (
     check_condition,
     condition_bandwidth,
     condition_log_weights,
+    condition_target,
     contact_window,
     group_columns,
     minimum_jerk,
@@ -170,15 +171,6 @@ def demo_values_at(est, taus: np.ndarray, cache: dict) -> np.ndarray:
     return V
 
 
-def _target(est, cond) -> tuple[list[int], np.ndarray]:
-    """The columns a condition names and its values there, normalized."""
-    cols = [c for g in cond for c in group_columns(est.column_groups_, g)]
-    row = est.scaler_.data_min_.copy()
-    for g, v in cond.items():
-        row[group_columns(est.column_groups_, g)] = v
-    return cols, est.scaler_.transform(row[None, :], weighted=False)[0, cols]
-
-
 def via_log_weights(est, via, cache: dict) -> np.ndarray:
     """Every demonstration's log weight for checked via points.
 
@@ -201,7 +193,7 @@ def via_log_weights(est, via, cache: dict) -> np.ndarray:
         return logw
     V = demo_values_at(est, np.array([tau for tau, _ in via]), cache)
     for k, (_, cond) in enumerate(via):
-        cols, target = _target(est, cond)
+        cols, target = condition_target(cond, est.scaler_, est.column_groups_)
         pts = V[:, k, cols]
         logw += condition_log_weights(pts, target, condition_bandwidth(pts))
     return logw
