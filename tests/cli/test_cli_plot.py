@@ -96,3 +96,44 @@ def test_plot_uses_the_groups_of_fit_by_default(tmp_path, capsys):
     only = fit_model(folder, tmp_path / "p.ndlfd", "--groups", "position")
     k = [len(x) for x in only.keypoints_]
     assert f"key points ({min(k)}-{max(k)} at --epsilon 0.05)" in err[-1]
+
+
+def test_plot_bad_rows_and_files(tmp_path, capsys, monkeypatch):
+    """--bad-rows drop / --bad-files skip draw what fit would learn from."""
+    pytest.importorskip("matplotlib")
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+    monkeypatch.setattr(
+        ndlfd.plot,
+        "save_figure",
+        lambda fig, path, **kw: (figures.append(fig), save(fig, path, **kw))[1],
+    )
+    folder = square_demos(tmp_path / "demos", n_demos=3)
+    good = [read_csv(p) for p in sorted(folder.glob("*.csv"))]
+    second = sorted(folder.glob("*.csv"))[1]
+    lines = second.read_text().splitlines()
+    cells = lines[6].split(",")  # sample 5 (after the header)
+    cells[1] = "nan"
+    lines[6] = ",".join(cells)
+    second.write_text("\n".join(lines) + "\n")
+    (folder / "zz_header_only.csv").write_text("t,x,y\n")
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png")
+    assert rc == 2 and len(err) == 1 and "expected a finite number" in err[0]
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png",
+                  "--bad-rows", "drop", "--bad-files", "skip")  # fmt: skip
+    assert rc == 0, err
+    warned = [line for line in err if ": warning: " in line]
+    assert len(warned) == 2, err
+    assert any("dropped 1 of" in w for w in warned)
+    assert any("skipped" in w and "zz_header_only.csv" in w for w in warned)
+    assert err[-1].startswith("drew 3 demonstration(s) in 2-D (position)")
+    (ax,) = figures[-1].axes
+    keep = np.ones(good[1].n_samples, bool)
+    keep[5] = False
+    for i, want in enumerate([good[0].X, good[1].X[keep], good[2].X]):
+        np.testing.assert_array_equal(ax.lines[4 * i].get_xydata(), want[:, :2])
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png", "-q",
+                  "--bad-rows", "drop", "--bad-files", "skip")  # fmt: skip
+    assert rc == 0 and err == []

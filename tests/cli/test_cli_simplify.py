@@ -185,3 +185,49 @@ def test_simplify_normalizes_groups_like_fit(tmp_path, capsys):
     text = " ".join(build_parser_help("simplify").split())
     assert "(default: group, one range per group" in text
     assert "as in 'ndlfd fit'" in text
+
+
+@pytest.mark.parametrize("mask", [False, True])
+def test_simplify_bad_rows_drop(tmp_path, capsys, mask):
+    """--bad-rows drop: the key points of the file without its bad rows.
+
+    The reference is the same command on the file with those rows deleted.
+    """
+    data = walk_csv(tmp_path / "walk.csv", n=60)
+    header = ["t", "x", "y", "extra"]
+    lines = (tmp_path / "walk.csv").read_text().splitlines()
+    for row, col, text in [(10, 1, "nan"), (31, 2, "inf")]:
+        cells = lines[row + 1].split(",")
+        cells[col] = text
+        lines[row + 1] = ",".join(cells)
+    (tmp_path / "bad.csv").write_text("\n".join(lines) + "\n")
+    keep = np.ones(len(data), bool)
+    keep[[10, 31]] = False
+    write_table(tmp_path / "ref.csv", header, data[keep])
+    more = ["--mask"] if mask else []
+    rc, err = cli(capsys, "simplify", tmp_path / "bad.csv", "--epsilon", "0.05",
+                  "-o", tmp_path / "o.csv", *more)  # fmt: skip
+    assert rc == 2 and len(err) == 1
+    assert "line 12, column 'x': expected a finite number" in err[0]
+    rc, err = cli(capsys, "simplify", tmp_path / "bad.csv", "--epsilon", "0.05",
+                  "-o", tmp_path / "o.csv", "--bad-rows", "drop", *more)  # fmt: skip
+    assert rc == 0, err
+    assert err[0] == (
+        f"ndlfd simplify: warning: {tmp_path / 'bad.csv'}: dropped 2 of 60 row(s)"
+        " with NaN or inf"
+    )
+    assert main(["simplify", str(tmp_path / "ref.csv"), "--epsilon", "0.05",
+                 "-o", str(tmp_path / "r.csv"), "-q", *more]) == 0  # fmt: skip
+    assert read_table(tmp_path / "o.csv")[0] == read_table(tmp_path / "r.csv")[0]
+    np.testing.assert_array_equal(
+        read_table(tmp_path / "o.csv")[1], read_table(tmp_path / "r.csv")[1]
+    )
+    rc, err = cli(capsys, "simplify", tmp_path / "bad.csv", "--epsilon", "0.05",
+                  "-o", tmp_path / "o.csv", "--bad-rows", "drop", "-q")  # fmt: skip
+    assert rc == 0 and err == []
+    # one file: no --bad-files
+    with pytest.raises(SystemExit) as exit_:
+        main(["simplify", str(tmp_path / "bad.csv"), "--epsilon", "0.05",
+              "-o", str(tmp_path / "o.csv"), "--bad-files", "skip"])  # fmt: skip
+    assert exit_.value.code == 2
+    assert "unrecognized arguments: --bad-files" in capsys.readouterr().err

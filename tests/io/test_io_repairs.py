@@ -301,3 +301,138 @@ def test_one_warning_per_kind_on_threads(tmp_path):
     )
     jitter = next(m for m in texts if "jittery" in m)
     assert jitter.endswith(f"in 2 files: {tmp_path / 'a.csv'}, {tmp_path / 'c.csv'}")
+
+
+# ------------------------------------------- bad_rows on every single-file reader
+def _reach_arrays(n=12):
+    """A smooth 3-D reach with orientation and a NaN in row 4 and inf in row 7."""
+    t = np.arange(n) * 0.1
+    s = t / t[-1]
+    pos = np.column_stack([s, s**2, 0.5 * s])
+    half = 0.3 * s
+    quat = np.column_stack([np.cos(half), 0 * s, 0 * s, np.sin(half)])
+    bad = pos.copy()
+    bad[4, 1] = np.nan
+    bad[7, 2] = np.inf
+    return t, pos, quat, bad
+
+
+def _write_npz(path, t, pos, quat):
+    np.savez(path, t=t, position=pos, orientation=quat)
+    return path, {}
+
+
+def _write_hdf5(path, t, pos, quat):
+    h5py = pytest.importorskip("h5py")
+    path = path.with_suffix(".h5")
+    with h5py.File(path, "w") as f:
+        g = f.create_group("ep0")
+        g["t"], g["position"], g["orientation"] = t, pos, quat
+    return path, {}
+
+
+def _write_bag(path, t, pos, quat):
+    pytest.importorskip("rosbags")
+    from bag_samples import pose_stamped, write_bag
+
+    ns = 1_700_000_000 * 10**9 + np.round(t * 1e9).astype(np.int64)
+    msgs = [
+        (int(k), pose_stamped(int(k), p, q))
+        for k, p, q in zip(ns, pos, quat, strict=True)
+    ]
+    path = path.with_suffix(".mcap")
+    return write_bag(path, {"/ee_pose": msgs}), {"topic": "/ee_pose"}
+
+
+def _write_lerobot(path, t, pos, quat):
+    pytest.importorskip("pyarrow")
+    from lerobot_writer import write_lerobot
+
+    state = np.column_stack([pos, quat])
+    names = {"observation.state": ["x", "y", "z", "qw", "qx", "qy", "qz"]}
+    root = write_lerobot(path, [{"observation.state": state}], names, fps=10)
+    return root, {}
+
+
+def _readers():
+    from ndlfd.io import read_bag, read_hdf5, read_lerobot, read_npz
+
+    def single(fn):
+        return lambda p, **kw: [fn(p, **kw)]
+
+    return {
+        "npz": (_write_npz, single(read_npz)),
+        "hdf5": (_write_hdf5, read_hdf5),
+        "bag": (_write_bag, read_bag),
+        "lerobot": (_write_lerobot, read_lerobot),
+    }
+
+
+@pytest.mark.parametrize("kind", ["npz", "hdf5", "bag", "lerobot"])
+def test_bad_rows_on_every_single_file_reader(tmp_path, kind):
+    """The same semantics and report as read_csv, through one implementation.
+
+    The reference: the same file with finite values in those rows, read
+    without ``bad_rows``, less those rows.
+    """
+    from ndlfd import DataFileError
+
+    write, read = _readers()[kind]
+    t, pos, quat, bad = _reach_arrays()
+    (tmp_path / "bad").mkdir()
+    (tmp_path / "ref").mkdir()
+    p, opts = write(tmp_path / "bad" / "demo.npz", t, pos=bad, quat=quat)
+    keep = np.ones(t.size, bool)
+    keep[[4, 7]] = False
+    ref_p, _ = write(tmp_path / "ref" / "demo.npz", t, pos, quat)
+    with pytest.raises(DataFileError, match=r"finite|NaN|inf"):
+        read(p, **opts)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        got = read(p, bad_rows="drop", **opts)
+    texts = [str(w.message) for w in caught]
+    assert len(texts) == 1, texts
+    assert re.search(r"dropped 2 of 12 row\(s\) with NaN or inf", texts[0])
+    assert str(p) in texts[0]
+    (full,) = read(ref_p, **opts)
+    assert len(got) == 1
+    assert np.array_equal(got[0].t, full.t[keep])
+    assert np.array_equal(got[0].X, full.X[keep])
+    with pytest.raises(Exception, match=r"bad_rows must be one of 'error', 'drop'"):
+        read(p, bad_rows="keep", **opts)
+
+
+def test_cli_generate_like_bad_rows(tmp_path, capsys):
+    """generate --like reads the time column: --bad-rows drop drops bad stamps.
+
+    A NaN among the values does not matter (the time stamps alone are used);
+    a NaN time stamp is an error, or with ``--bad-rows drop`` left out.
+    """
+    from ndlfd import Demonstration
+    from ndlfd.io import read_csv, write_csv
+
+    t = np.linspace(0.0, 1.0, 30)
+    demos = tmp_path / "demos"
+    demos.mkdir()
+    for k in range(3):
+        xy = np.column_stack([t, np.sin(np.pi * t) * (1 + 0.1 * k)])
+        write_csv(Demonstration.from_arrays(t, position=xy), demos / f"d{k}.csv")
+    model = tmp_path / "m.ndlfd"
+    assert main(["fit", str(demos), "-o", str(model), "-q"]) == 0
+    lines = (demos / "d0.csv").read_text().splitlines()
+    value, stamp = lines[5].split(","), lines[9].split(",")
+    value[1] = "nan"  # sample 4's x
+    stamp[0] = "inf"  # sample 8's time
+    lines[5], lines[9] = ",".join(value), ",".join(stamp)
+    like = tmp_path / "like.csv"
+    like.write_text("\n".join(lines) + "\n")
+    out = tmp_path / "g.csv"
+    args = ["generate", str(model), "--like", str(like), "--dense", "-o", str(out)]
+    capsys.readouterr()
+    assert main(args) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and "time column 't'" in err[0], err
+    assert main([*args, "--bad-rows", "drop"]) == 0
+    err = capsys.readouterr().err
+    assert f"--like {like}: dropped 1 of 30 row(s) with NaN or inf in the time" in err
+    np.testing.assert_array_equal(read_csv(out).t, np.delete(t, 8))

@@ -24,7 +24,6 @@ from ..learner import (
     resolve_groups,
 )
 from ._options import (
-    add_bad_data_options,
     add_column_options,
     check_datasets,
     check_output,
@@ -352,5 +351,4 @@ def add_fit(sub) -> None:
         help="print no summary and no warnings of repaired data (errors still print)",
     )
     add_column_options(p)
-    add_bad_data_options(p)
     p.set_defaults(func=_cmd_fit)

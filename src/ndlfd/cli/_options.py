@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import math
 import os
 import re
@@ -27,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, NdlfdWarning, ValidationError
+from .._repairs import repaired
 from .._validation import check_times
 from ..demonstration import with_velocity
 from ..io import (
@@ -38,6 +40,7 @@ from ..io import (
     demo_files,
     parse_table,
     read_file,
+    read_or_skip,
 )
 from ..orientation import QUATERNION_ORDERS, check_euler
 
@@ -63,6 +66,7 @@ __all__ = [
     "parse_pairs",
     "position_conditions",
     "prepare_groups",
+    "quiet_news",
     "read_sources",
     "read_timing",
     "say",
@@ -269,6 +273,7 @@ def add_column_options(
             )
     if demonstrations:
         _add_demonstration_options(p, g)
+        add_bad_data_options(p)
 
 
 def _add_demonstration_options(p, g) -> None:
@@ -380,13 +385,18 @@ def column_options(args: argparse.Namespace) -> dict:
     return options
 
 
-# ------------------------------------------------- bad rows and files (fit)
-def add_bad_data_options(p) -> None:
-    """Add ``--bad-rows`` and ``--bad-files`` to the parser ``p``."""
+# --------------------------------------- bad rows and files (every reading command)
+def add_bad_data_options(p, *, files: bool = True) -> None:
+    """Add ``--bad-rows`` (and with ``files``, ``--bad-files``) to the parser ``p``.
+
+    :func:`add_column_options` adds both for every command that reads whole
+    demonstrations (``fit``, ``plot``, ``generate``/``sample --like``);
+    ``ndlfd simplify`` reads one file and adds ``--bad-rows`` alone.
+    """
     g = p.add_argument_group(
         "bad data",
         "what to do with rows of NaN or inf and files that cannot be read;"
-        " what is dropped or skipped is reported in one warning per fit",
+        " what is dropped or skipped is reported in one warning per kind",
     )
     g.add_argument(
         "--bad-rows",
@@ -395,13 +405,14 @@ def add_bad_data_options(p) -> None:
         help="a row with NaN or inf: an error naming it (default), or dropped"
         " (a file must keep at least 2 rows)",
     )
-    g.add_argument(
-        "--bad-files",
-        choices=BAD_FILES,
-        default="error",
-        help="a file that cannot be read: an error (default), or skipped with"
-        " the reason",
-    )
+    if files:
+        g.add_argument(
+            "--bad-files",
+            choices=BAD_FILES,
+            default="error",
+            help="a file that cannot be read: an error (default), or skipped with"
+            " the reason",
+        )
 
 
 def bad_data_options(args) -> dict:
@@ -410,6 +421,23 @@ def bad_data_options(args) -> dict:
         "bad_rows": getattr(args, "bad_rows", "error"),
         "bad_files": getattr(args, "bad_files", "error"),
     }
+
+
+def quiet_news(command):
+    """``command(args)`` with its :class:`~ndlfd.NdlfdWarning` lines silenced by ``-q``.
+
+    The repairs of the data (dropped rows, skipped files) are news for the
+    user, one line per kind; ``-q`` asks for none.
+    """
+
+    @functools.wraps(command)
+    def run(args: argparse.Namespace):
+        with warnings.catch_warnings():
+            if getattr(args, "quiet", False):
+                warnings.simplefilter("ignore", NdlfdWarning)
+            return command(args)
+
+    return run
 
 
 def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:
@@ -435,10 +463,16 @@ def read_sources(args, sources, *, flag: str, progress: bool = False):
     pairs, news = [], []
     for p in paths_iter:
         with noting(p, news):
-            pairs.extend(read_file(p, CLI_HINTS, **options))
+            pairs.extend(read_or_skip(p, CLI_HINTS, **options))
     tell(news)
     if not pairs:
-        raise ValidationError(f"{flag}: the files hold no demonstration")
+        skipped = options["bad_files"] == "skip"
+        raise ValidationError(
+            f"{flag}: every file was skipped (--bad-files skip); expected at least"
+            " one readable file"
+            if skipped
+            else f"{flag}: the files hold no demonstration"
+        )
     demos = [d for d, _ in pairs]
     maps = [m for _, m in pairs]
     texts = Counter(str(m) for m in maps)
@@ -609,6 +643,10 @@ def like_times(args: argparse.Namespace):
     columns cannot be mapped by the flags (names that need ``--group``), its
     time column alone is read, and the mapping is ``None`` (the output keeps
     the model's names). ``None`` for anything but one CSV file.
+
+    A NaN or inf among the values does not matter (only the time is used):
+    the time column alone is read then. ``--bad-rows drop`` drops the rows
+    whose time stamp is NaN or inf (reported); by default they are an error.
     """
     paths = demo_files(args.like, **dataset_options(args))
     p = paths[0]
@@ -619,8 +657,8 @@ def like_times(args: argparse.Namespace):
     options = column_options(args)
     news: list = []
     try:
-        with noting(p, news):
-            pairs = read_file(p, CLI_HINTS, **options)
+        with noting(p, news):  # values with NaN: the time column alone
+            pairs = read_file(p, CLI_HINTS, **{**options, "bad_rows": "error"})
     except DataFileError:
         pairs = None
     if pairs:
@@ -640,6 +678,15 @@ def like_times(args: argparse.Namespace):
         ]
         if len(hits) == 1:
             t = table.data[:, table.columns.index(hits[0])]
+            bad = ~np.isfinite(t)
+            if bad.any() and options["bad_rows"] == "drop":
+                repaired(
+                    "rows",
+                    int(bad.sum()),
+                    f"--like {p}: dropped {int(bad.sum())} of {t.size} row(s) with"
+                    f" NaN or inf in the time column {hits[0]!r}",
+                )
+                t = t[~bad]
             t = check_times(t, name=f"--like {p}: time column {hits[0]!r}")
             say(args, f"--like {p}: time={hits[0]} (its time stamps only)")
             return t, None

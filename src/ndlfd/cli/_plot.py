@@ -19,6 +19,7 @@ from ._options import (
     check_output,
     check_range,
     prepare_groups,
+    quiet_news,
     read_sources,
     say,
     split_names,
@@ -205,4 +206,4 @@ def add_plot(sub) -> None:
     p.add_argument("--title", help="title of the figure")
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
     add_column_options(p)
-    p.set_defaults(func=_cmd_plot)
+    p.set_defaults(func=quiet_news(_cmd_plot))

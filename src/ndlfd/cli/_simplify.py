@@ -17,11 +17,13 @@ from ..learner import NORMALIZATIONS
 from ..normalize import GroupScaler
 from ._options import (
     GROUP_NAME,
+    add_bad_data_options,
     add_column_options,
     check_output,
     check_range,
     column_options,
     parse_floats,
+    quiet_news,
     say,
     split_names,
 )
@@ -42,9 +44,9 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
         check_range(args.n_points, "--n-points", low=2)
     options = column_options(args)
     p = Path(args.input)
-    table = parse_table(p)
+    drop_rows = options["bad_rows"] == "drop"
+    table = parse_table(p, finite=not drop_rows)
     columns = table.columns
-    n = table.data.shape[0]
     # the time column: named, else 't' or 'time' when present, else the row number
     if args.time_column is not None:
         time_col = resolve_column(
@@ -88,6 +90,9 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
             g = _own_group(c, j, {*groups, *KNOWN_GROUPS})
             alone.add(g)
             groups[g] = [c]
+    used = [columns.index(c) for c in (*wanted, *([time_col] if time_col else []))]
+    # the rows read (those --bad-rows drop keeps): the output's rows index them
+    rows = np.flatnonzero(np.isfinite(table.data[:, used]).all(axis=1))
     arrays = {c: table.data[:, columns.index(c)] for c in wanted}
     if time_col is not None:
         arrays[time_col] = table.data[:, columns.index(time_col)]
@@ -100,7 +105,9 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
         quaternion_order="wxyz",
         how=CLI_HINTS,
         lines=table.lines,
+        bad_rows=options["bad_rows"],
     )
+    n = demo.n_samples
     order = [k for _, keys in mapping.groups for k in keys]  # the demo's columns
     if args.n_points is not None and args.n_points > n:
         raise ValidationError(
@@ -137,12 +144,13 @@ def _cmd_simplify(args: argparse.Namespace) -> int:
                 f"--mask-column {args.mask_column!r} is already a column of"
                 f" {p}; name another"
             )
-        data = np.column_stack([table.data, result.astype(np.float64)])
+        # every row read (--bad-rows drop leaves the dropped ones out)
+        data = np.column_stack([table.data[rows], result.astype(np.float64)])
         formats = [None] * len(columns) + ["%d"]
         write_table(out, [*columns, args.mask_column], data, float_format=formats)
         kept = int(result.sum())
     else:
-        write_table(out, columns, table.data[result])
+        write_table(out, columns, table.data[rows[result]])
         kept = int(result.size)
     say(args, _simplify_mapping(p, time_col, mapping.groups, alone, table, args))
     say(args, f"kept {kept} of {n} points ({100.0 * kept / n:.1f} %) -> {out}")
@@ -227,4 +235,5 @@ def add_simplify(sub) -> None:
     )
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
     add_column_options(p, what="input file", bags=None, demonstrations=False)
-    p.set_defaults(func=_cmd_simplify)
+    add_bad_data_options(p, files=False)
+    p.set_defaults(func=quiet_news(_cmd_simplify))

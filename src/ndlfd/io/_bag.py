@@ -482,6 +482,7 @@ def read_bag(
     split_gap: float | None = None,
     groups: Mapping[str, Sequence[str] | str] | None = None,
     drop: Sequence[str] = (),
+    bad_rows: str = "error",
 ) -> list[Demonstration]:
     """Read demonstrations from a ROS 2 bag: one, or one per segment.
 
@@ -505,6 +506,11 @@ def read_bag(
     groups, drop
         As in :func:`~ndlfd.io.read_csv`, on the arrays' names (``x``, ``qw``,
         ``joints.NAME``, ``gripper.gripper``).
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
+        at least 2 rows must remain in
+        each demonstration (after resampling onto the first topic's stamps).
 
     Returns
     -------
@@ -529,5 +535,6 @@ def read_bag(
             split_gap=split_gap,
             groups=groups,
             drop=drop,
+            bad_rows=bad_rows,
         )
     ]

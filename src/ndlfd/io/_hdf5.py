@@ -91,6 +91,7 @@ def read_hdf5(
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
     euler: str = "xyz",
+    bad_rows: str = "error",
 ) -> list[Demonstration]:
     """Read demonstrations from an HDF5 file: one HDF5 group per episode.
 
@@ -106,6 +107,11 @@ def read_hdf5(
         The file.
     time_column, groups, quaternion_order, drop, euler
         As in :func:`read_csv`, applied to every episode.
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
+        at least 2 rows must remain in
+        each episode.
 
     Returns
     -------
@@ -129,5 +135,6 @@ def read_hdf5(
             quaternion_order=quaternion_order,
             drop=drop,
             euler=euler,
+            bad_rows=bad_rows,
         )
     ]

@@ -519,6 +519,7 @@ def read_lerobot(
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
     euler: str = "xyz",
+    bad_rows: str = "error",
 ) -> list[Demonstration]:
     """Read the episodes of a LeRobot dataset (layout 2.x or 3.0).
 
@@ -542,6 +543,11 @@ def read_lerobot(
     time_column, groups, quaternion_order, drop, euler
         As in :func:`~ndlfd.io.read_csv` (the time column defaults to
         ``timestamp``).
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
+        at least 2 rows must remain in
+        each episode.
 
     Returns
     -------
@@ -561,6 +567,7 @@ def read_lerobot(
         "quaternion_order": quaternion_order,
         "drop": drop,
         "euler": euler,
+        "bad_rows": bad_rows,
     }
     return [
         demo

@@ -102,6 +102,7 @@ def read_npz(
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
     euler: str = "xyz",
+    bad_rows: str = "error",
 ) -> Demonstration:
     """Read a demonstration from an ``.npz`` file: ndlfd's own or plain arrays.
 
@@ -120,6 +121,11 @@ def read_npz(
         The file.
     time_column, groups, quaternion_order, drop, euler
         As in :func:`read_csv`, for a plain file.
+    bad_rows : {"error", "drop"}, default="error"
+        A row with NaN or inf is an error naming it, or (``"drop"``) dropped
+        with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
+        at least 2 rows must remain. A file
+        written by :func:`write_npz` holds no such row.
 
     Returns
     -------
@@ -153,4 +159,5 @@ def read_npz(
         quaternion_order=quaternion_order,
         drop=drop,
         euler=euler,
+        bad_rows=bad_rows,
     )[0][0]
