@@ -113,3 +113,16 @@ def build_parser_help(command):
 
 def ndlfd_demo(t, pos, q):
     return Demonstration.from_arrays(t, position=pos, orientation=q)
+
+
+def own_name_demos(folder, n_demos=4, seed=0):
+    """``time;pos_x;pos_y;gripper`` files: a square with the hand closing."""
+    folder.mkdir(parents=True, exist_ok=True)
+    demos, _ = synth.make_dataset("square", n_demos=n_demos, random_state=seed)
+    for i, d in enumerate(demos):
+        grip = (np.arange(d.n_samples) > d.n_samples // 2).astype(float)
+        rows = np.column_stack([d.t, d.get("position"), grip]).tolist()
+        text = ["time;pos_x;pos_y;gripper"]
+        text += [";".join(repr(v) for v in r) for r in rows]
+        (folder / f"d{i}.csv").write_text("\n".join(text) + "\n")
+    return folder

@@ -12,14 +12,16 @@ from cli_helpers import (
     assert_same_fit,
     cli,
     fit_model,
+    own_name_demos,
     reach_demos,
     square_demos,
     write_reach,
 )
 
 from ndlfd._simplify import simplify
+from ndlfd.cli import main
 from ndlfd.demonstration import Demonstration
-from ndlfd.io import read_csv, write_csv
+from ndlfd.io import read_csv, read_table, write_csv, write_table
 from ndlfd.learner import KeypointHMM
 
 
@@ -347,3 +349,66 @@ def test_fit_streams_the_files_once_per_pass_and_names_a_bad_one(
     assert rc != 0 and len(err) == 1
     assert "reach3.csv: a demonstration lacks group(s) position, velocity" in err[0]
     assert "map its columns with --group position=NAME" in err[0]
+
+
+def test_fit_records_the_input_names_for_generate_and_sample(tmp_path, capsys):
+    """Without --like, the output keeps the training files' names and time column.
+
+    The reference: the same model's path written with the model's own names
+    (the numbers must not change, only the header).
+    """
+    folder = own_name_demos(tmp_path / "d")
+    model = tmp_path / "m.ndlfd"
+    assert main(["fit", str(folder), "-o", str(model), "-q",
+                 "--group", "position=pos_x,pos_y"]) == 0  # fmt: skip
+    fitted = KeypointHMM.load(model)
+    assert fitted.input_mapping_.time == "time"
+    assert dict(fitted.input_mapping_.groups)["position"] == ("pos_x", "pos_y")
+    out = tmp_path / "g.csv"
+    rc, err = cli(capsys, "generate", model, "--duration", "2", "--samples", "9",
+                  "--dense", "-o", out)  # fmt: skip
+    assert rc == 0, err
+    header, data = read_table(out)
+    assert header == ["time", "pos_x", "pos_y", "vx", "vy", "gripper"]
+    ref = fitted.generate(np.linspace(0, 2, 9), dense=True)
+    np.testing.assert_allclose(data[:, 1:], ref.X, rtol=1e-9, atol=1e-12)
+    rc, err = cli(capsys, "sample", model, "--duration", "2", "--samples", "9",
+                  "-n", "2", "-o", tmp_path / "s")  # fmt: skip
+    assert rc == 0, err
+    assert read_table(tmp_path / "s" / "sample_000.csv")[0] == header
+    # files read in two ways: no one set of names to keep, the model's
+    (folder / "d9.csv").write_text(
+        "t,pos_x,pos_y,gripper\n0,0,0,0\n0.5,1,1,0\n1,2,1,1\n"
+    )
+    assert main(["fit", str(folder), "-o", str(model), "-q",
+                 "--group", "position=pos_x,pos_y"]) == 0  # fmt: skip
+    assert KeypointHMM.load(model).input_mapping_ is None
+    assert main(["generate", str(model), "--duration", "2", "-o", str(out)]) == 0
+    assert read_table(out)[0][:3] == ["t", "position.pos_x", "position.pos_y"]
+
+
+def test_fit_records_euler_angles_for_the_output(tmp_path, capsys):
+    """roll, pitch, yaw in: roll, pitch, yaw out, without --like."""
+    from ndlfd.orientation import euler_to_quaternions
+
+    folder = tmp_path / "d"
+    folder.mkdir()
+    t = np.linspace(0, 1, 30)
+    for k in range(3):
+        rpy = np.column_stack([0.2 * t, -0.1 * t, 0.5 * t + 0.05 * k])
+        xyz = np.column_stack([t, t**2, 0.1 * t + 0.01 * k])
+        write_table(folder / f"d{k}.csv", ["t", "x", "y", "z", "roll", "pitch",
+                    "yaw"], np.column_stack([t, xyz, rpy]))  # fmt: skip
+    model = tmp_path / "m.ndlfd"
+    assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
+    out = tmp_path / "g.csv"
+    assert main(["generate", str(model), "--duration", "1", "--samples", "30",
+                 "--dense", "-o", str(out), "-q"]) == 0  # fmt: skip
+    header, data = read_table(out)
+    assert header[:4] == ["t", "x", "y", "z"] and header[-3:] == ["roll", "pitch",
+                                                                  "yaw"]  # fmt: skip
+    path = KeypointHMM.load(model).generate(t, dense=True)
+    q = path.get("orientation")
+    back = euler_to_quaternions(data[:, -3:], "xyz")
+    # the same rotation (q and -q alike)
+    np.testing.assert_allclose(np.abs(np.sum(q * back, axis=1)), 1.0, atol=1e-8)

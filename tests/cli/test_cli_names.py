@@ -1,30 +1,15 @@
 """ndlfd generate --like: the input's names kept, only its time column needed."""
 
 import numpy as np
-from cli_helpers import cli
+from cli_helpers import cli, own_name_demos
 
 from ndlfd.cli import main
 from ndlfd.io import read_table
 from ndlfd.learner import KeypointHMM
 
 
-def _own_names(folder, n_demos=4, seed=0):
-    """``time;pos_x;pos_y;gripper`` files: a square with the hand closing."""
-    from ndlfd import synth
-
-    folder.mkdir(parents=True, exist_ok=True)
-    demos, _ = synth.make_dataset("square", n_demos=n_demos, random_state=seed)
-    for i, d in enumerate(demos):
-        grip = (np.arange(d.n_samples) > d.n_samples // 2).astype(float)
-        rows = np.column_stack([d.t, d.get("position"), grip]).tolist()
-        text = ["time;pos_x;pos_y;gripper"]
-        text += [";".join(repr(v) for v in r) for r in rows]
-        (folder / f"d{i}.csv").write_text("\n".join(text) + "\n")
-    return folder
-
-
 def test_generate_like_keeps_the_input_names(tmp_path, capsys):
-    folder = _own_names(tmp_path / "d")
+    folder = own_name_demos(tmp_path / "d")
     model = tmp_path / "m.ndlfd"
     group = ("--group", "position=pos_x,pos_y")
     assert main(["fit", str(folder), "-o", str(model), "-q", *group]) == 0
@@ -41,19 +26,20 @@ def test_generate_like_keeps_the_input_names(tmp_path, capsys):
     ref = KeypointHMM.load(model).generate(read_table(like)[1][:, 0], dense=True)
     np.testing.assert_array_equal(named[:, 0], ref.t)
     np.testing.assert_allclose(named[:, 1:], ref.X, rtol=1e-9, atol=1e-12)
-    # without the --group flags: only the time column is read, today's names
+    # without the --group flags: only the time column is read; the names are
+    # those the model recorded at fit (the same)
     rc, err = cli(capsys, "generate", model, "--like", like, "--dense",
                   "-o", tmp_path / "h.csv")  # fmt: skip
     assert rc == 0, err
     assert any("time=time (its time stamps only)" in line for line in err)
     assert (tmp_path / "h.csv").read_text().splitlines()[0] == (
-        "t,position.pos_x,position.pos_y,vx,vy,gripper"
+        "time,pos_x,pos_y,vx,vy,gripper"
     )
     np.testing.assert_array_equal(read_table(tmp_path / "h.csv")[1], named)
 
 
 def test_generate_like_time_only_errors(tmp_path, capsys):
-    folder = _own_names(tmp_path / "d", n_demos=3)
+    folder = own_name_demos(tmp_path / "d", n_demos=3)
     model = tmp_path / "m.ndlfd"
     group = ("--group", "position=pos_x,pos_y")
     assert main(["fit", str(folder), "-o", str(model), "-q", *group]) == 0

@@ -3,9 +3,12 @@
 import io
 import json
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from learner_helpers import (
     assert_same_model,
@@ -19,7 +22,10 @@ from ndlfd import (
     synth,
 )
 from ndlfd.demonstration import Demonstration
-from ndlfd.learner._persist import FORMAT_VERSION
+from ndlfd.io import ColumnMapping
+from ndlfd.learner._persist import FORMAT_VERSION, input_from_json, input_to_json
+
+DATA = Path(__file__).parents[1] / "data"
 
 
 def _same_scaler(a, b):
@@ -41,21 +47,30 @@ def test_a_loaded_models_scaler_is_the_fitted_one(mode, tmp_path):
     assert again.scaler_.n_samples_seen_ == sum(d.n_samples for d in train)
 
 
-def _strip_scaler_seen(src, dst):
-    """A version-4 file as written before it carried the scaler's extremes."""
+def _rewrite_meta(src, dst, edit):
+    """The model file ``src`` with its metadata changed by ``edit(meta)``."""
     with zipfile.ZipFile(src) as z:
         members = {n: z.read(n) for n in z.namelist()}
     key = next(n for n in members if n.startswith("__ndlfd__"))
     arr = np.lib.format.read_array(io.BytesIO(members[key]))
     meta = json.loads(str(arr))
-    assert meta["version"] == FORMAT_VERSION
-    del meta["scaler_seen"]
+    edit(meta)
     buf = io.BytesIO()
     np.lib.format.write_array(buf, np.array(json.dumps(meta, sort_keys=True)))
     members[key] = buf.getvalue()
     with zipfile.ZipFile(dst, "w") as z:
         for n, b in members.items():
             z.writestr(n, b)
+
+
+def _strip_scaler_seen(src, dst):
+    """A version-4 file as written before it carried the scaler's extremes."""
+
+    def edit(meta):
+        assert meta["version"] == FORMAT_VERSION
+        del meta["scaler_seen"]
+
+    _rewrite_meta(src, dst, edit)
 
 
 def test_a_version_4_file_without_the_scaler_extremes_still_loads(tmp_path):
@@ -190,3 +205,72 @@ def test_match_window_is_checked_saved_and_zero_for_older_files(tmp_path):
     raw = KeypointHMM(epsilon=0.02, n_time_bins=20, match_window=0.0).fit(demos)
     assert old.match_window == 0.0
     assert_same_model(old, raw, t)
+
+
+_NAME = st.text(st.characters(codec="utf-8", exclude_categories=("Cs",)), max_size=8)
+
+
+@settings(max_examples=50, deadline=None, derandomize=True)
+@given(
+    source=_NAME,
+    time=st.none() | _NAME,
+    groups=st.lists(st.tuples(_NAME, st.lists(_NAME, max_size=4)), max_size=4),
+    dropped=st.lists(_NAME, max_size=3),
+    layout=_NAME,
+    euler=st.none() | st.sampled_from(["xyz", "ZYX"]),
+)
+def test_input_mapping_json_round_trip(source, time, groups, dropped, layout, euler):
+    m = ColumnMapping(
+        source,
+        time,
+        tuple((g, tuple(ks)) for g, ks in groups),
+        tuple(dropped),
+        (),
+        layout,
+        euler,
+    )
+    text = json.dumps(input_to_json(m))  # what the model file stores
+    assert input_from_json(json.loads(text), "m.ndlfd") == m
+
+
+def test_the_input_mapping_is_saved_and_older_files_load_without_it(tmp_path):
+    train, test = synth.make_dataset("square", n_demos=4, random_state=0)
+    m = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(train)
+    m.save(tmp_path / "plain.ndlfd")  # fitted from Demonstrations: none recorded
+    plain = KeypointHMM.load(tmp_path / "plain.ndlfd")
+    assert plain.input_mapping_ is None
+    _rewrite_meta(tmp_path / "plain.ndlfd", tmp_path / "copy.ndlfd",
+                  lambda meta: assert_not_in("input", meta))  # fmt: skip
+    mapping = ColumnMapping(
+        "d0.csv",
+        "time",
+        (("position", ("pos_x", "pos_y")),),
+        layout="semicolon-separated",
+    )
+    m.input_mapping_ = mapping
+    m.save(tmp_path / "named.ndlfd")
+    named = KeypointHMM.load(tmp_path / "named.ndlfd")
+    assert named.input_mapping_ == mapping
+    # the mapping is metadata only: the same model and path
+    assert_same_model(named, plain, test.t)
+    np.testing.assert_array_equal(named.generate(test.t).X, plain.generate(test.t).X)
+    # the committed older files (versions 1 and 2) have no such key
+    for name in ("keypointhmm_v1.ndlfd", "keypointhmm_v2.ndlfd"):
+        assert KeypointHMM.load(DATA / name).input_mapping_ is None
+
+
+def assert_not_in(key, meta):
+    assert key not in meta
+
+
+def test_a_malformed_input_mapping_is_a_model_format_error(tmp_path):
+    train, _ = synth.make_dataset("square", n_demos=4, random_state=0)
+    m = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(train)
+    m.save(tmp_path / "m.ndlfd")
+
+    def edit(meta):
+        meta["input"] = {"source": "a.csv", "time": 3, "groups": "x"}
+
+    _rewrite_meta(tmp_path / "m.ndlfd", tmp_path / "bad.ndlfd", edit)
+    with pytest.raises(ModelFormatError, match=r"bad.ndlfd: the 'input' metadata"):
+        KeypointHMM.load(tmp_path / "bad.ndlfd")

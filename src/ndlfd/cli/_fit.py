@@ -196,6 +196,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
     def after_scan(ranges):  # report the mappings, bound the time bins
         mappings = {text: n for text, _, n in ranges.notes}
+        scanned["one_mapping"] = len(mappings) == 1
         say(args, describe_mappings(mappings, ranges.n_demos, paths))
         bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
         scanned.update(n_demos=ranges.n_demos, time_bins=bins, note=note)
@@ -213,6 +214,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             client.close()
     n_demos, time_bins, note = (scanned[k] for k in ("n_demos", "time_bins", "note"))
     elapsed = time.perf_counter() - t0
+    # the input's names, for 'ndlfd generate' without --like (one mapping only)
+    model.input_mapping_ = first_map if scanned["one_mapping"] else None
     model.save(out)
     k = model.n_keypoints_
     learned = ", ".join(groups) + (

@@ -77,6 +77,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
             f" {model.generation}"
         )
     timing, like = read_timing(args, n, times_only=model.generation != "paper")
+    like = like if like is not None else getattr(model, "input_mapping_", None)
     result = model.generate(
         timing,
         dense=args.dense,

@@ -43,7 +43,8 @@ def _cmd_sample(args: argparse.Namespace) -> int:
     via = parse_via(args.via)
     model = KeypointHMM.load(args.model)
     start, goal = position_conditions(model, start, goal)
-    timing, _ = read_timing(args, n)
+    timing, like = read_timing(args, n)
+    like = like if like is not None else getattr(model, "input_mapping_", None)
     paths = model.sample(
         timing,
         args.n,
@@ -62,6 +63,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
             folder / f"sample_{k:0{digits}d}.csv",
             float_format=FLOAT_FORMAT,
             time_format=None if exact_time else FLOAT_FORMAT,
+            mapping=like,
         )
     what = "key points" if args.key_points else "samples"
     say(args, f"drew {len(paths)} path(s) of {what} -> {folder}/sample_*.csv")

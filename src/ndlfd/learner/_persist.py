@@ -17,7 +17,14 @@ version   what it holds
 ========  ===========================================================
 
 Version 4 files also carry the scaler's data extremes per group and its
-sample count in their metadata (older ones load without them).
+sample count in their metadata (older ones load without them), and, when the
+model knows it, how its training files were read: the ``input`` key, an
+:class:`~ndlfd.io.ColumnMapping` as JSON (the file's time column, each group's
+column names, the Euler convention). ``ndlfd fit`` records it (when every file
+was read the same way) so that ``ndlfd generate`` writes the input's names
+without ``--like``. A file without the key (older, or a model fitted from
+:class:`~ndlfd.Demonstration` objects) loads with ``input_mapping_ = None``
+and keeps the model's names; readers that predate the key ignore it.
 """
 
 from __future__ import annotations
@@ -33,13 +40,22 @@ from .. import hmm
 from .._errors import ModelFormatError
 from .._fileformat import load_npz, save_npz
 from ..codebook import Codebook, TimeBins
+from ..io import ColumnMapping
 from ..normalize import GroupScaler
 from ._exact import scale_exponents
 from ._params import jsonable
 from ._spec import DemoSpec
 from ._stats import FitStats
 
-__all__ = ["FORMAT_VERSION", "Loaded", "load_model", "model_file_errors", "save_model"]
+__all__ = [
+    "FORMAT_VERSION",
+    "Loaded",
+    "input_from_json",
+    "input_to_json",
+    "load_model",
+    "model_file_errors",
+    "save_model",
+]
 
 FORMAT_KIND = "KeypointHMM"
 #: The version :func:`save_model` writes.
@@ -117,6 +133,9 @@ def save_model(est, path: str | os.PathLike) -> None:
         "n_states_used": est.n_states_used_,
         "n_clipped": est.n_clipped_,
     }
+    mapping = getattr(est, "input_mapping_", None)
+    if mapping is not None:
+        meta["input"] = input_to_json(mapping)
     if version == FORMAT_VERSION:
         meta["scaler_seen"] = {
             "group_min": scaler.group_min_,
@@ -226,6 +245,8 @@ def _common(arrays, meta, path, make, **older) -> Loaded:
     if isinstance(params.get("groups"), list):
         params["groups"] = tuple(params["groups"])
     est = make(params)
+    # how the training files were read (None: not recorded), for the output
+    est.input_mapping_ = input_from_json(meta.get("input"), path)
     columns = tuple(meta["columns"])
     col_groups = tuple(meta["column_groups"])
     d = len(columns)
@@ -263,6 +284,77 @@ def _common(arrays, meta, path, make, **older) -> Loaded:
         time_bins=TimeBins(est.n_time_bins),
         n_states_used=int(meta["n_states_used"]),
         n_clipped=int(meta["n_clipped"]),
+    )
+
+
+def input_to_json(mapping: ColumnMapping) -> dict:
+    """A :class:`~ndlfd.io.ColumnMapping` as a JSON object (:func:`input_from_json`).
+
+    Examples
+    --------
+    >>> m = ColumnMapping("a.csv", "time", (("position", ("X", "Y")),), ("id",))
+    >>> input_from_json(input_to_json(m), "m.ndlfd") == m
+    True
+    """
+    if not isinstance(mapping, ColumnMapping):
+        raise TypeError(
+            f"input_mapping_ must be a ColumnMapping or None; got"
+            f" {type(mapping).__name__}"
+        )
+    return {
+        "source": mapping.source,
+        "time": mapping.time,
+        "groups": [[g, list(ks)] for g, ks in mapping.groups],
+        "dropped": list(mapping.dropped),
+        "ignored": list(mapping.ignored),
+        "layout": mapping.layout,
+        "euler": mapping.euler,
+    }
+
+
+def input_from_json(obj, path) -> ColumnMapping | None:
+    """The :class:`~ndlfd.io.ColumnMapping` of a model file's ``input`` key.
+
+    ``None`` without the key; a :class:`~ndlfd.ModelFormatError` naming
+    ``path`` for a malformed one.
+    """
+    if obj is None:
+        return None
+
+    def names(x) -> bool:
+        return isinstance(x, list) and all(isinstance(s, str) for s in x)
+
+    def text(x, optional=False) -> bool:
+        return isinstance(x, str) or (optional and x is None)
+
+    ok = (
+        isinstance(obj, dict)
+        and text(obj.get("source"))
+        and text(obj.get("time"), optional=True)
+        and isinstance(obj.get("groups"), list)
+        and all(
+            isinstance(e, list) and len(e) == 2 and text(e[0]) and names(e[1])
+            for e in obj["groups"]
+        )
+        and names(obj.get("dropped"))
+        and names(obj.get("ignored"))
+        and text(obj.get("layout"))
+        and text(obj.get("euler"), optional=True)
+    )
+    if not ok:
+        raise ModelFormatError(
+            f"{path}: the 'input' metadata must describe how the training files"
+            f" were read (source, time, groups, dropped, ignored, layout, euler);"
+            f" got {obj!r:.200}"
+        )
+    return ColumnMapping(
+        obj["source"],
+        obj["time"],
+        tuple((g, tuple(ks)) for g, ks in obj["groups"]),
+        tuple(obj["dropped"]),
+        tuple(obj["ignored"]),
+        obj["layout"],
+        obj["euler"],
     )
 
 
