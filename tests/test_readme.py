@@ -96,7 +96,9 @@ def test_readme_shell_examples_run(tmp_path):
     np.testing.assert_allclose(at, [10.0, 10.5], atol=0.01)
     assert (tmp_path / "evaluation" / "summary.md").exists()
     assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
-    reach = read_csv(tmp_path / "reach.csv")
+    # the generated path keeps the recordings' names (fit recorded them)
+    assert (tmp_path / "reach.csv").read_text().startswith("time,pos_x,pos_y,")
+    reach = read_csv(tmp_path / "reach.csv", groups={"position": ["pos_x", "pos_y"]})
     assert reach.n_samples == 200 and reach.columns[:2] == ("pos_x", "pos_y")
     assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 

@@ -8,16 +8,17 @@ from pathlib import Path
 import numpy as np
 
 from .. import plot
-from .._errors import ValidationError
+from .._errors import DataFileError, ValidationError
 from .._simplify import simplify_many
 from ..demonstration import Demonstration
-from ..io import CLI_HINTS, MAPPING_DEFAULTS, parse_table, read_file
+from ..io import CLI_HINTS, MAPPING_DEFAULTS, csv_header, parse_table, read_file
 from ..learner import NORMALIZATIONS, KeypointHMM, resolve_groups
 from ..normalize import GroupScaler
 from ._options import (
     add_column_options,
     check_output,
     check_range,
+    column_options,
     prepare_groups,
     quiet_news,
     read_sources,
@@ -33,6 +34,19 @@ def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
     n = [d.n_samples for d in demos]
     lo, hi = int(np.argmin(n)), int(np.argmax(n))
     return n[lo], maps[lo].source, n[hi], maps[hi].source
+
+
+def _read_path(p: Path, args: argparse.Namespace):
+    """The generated path of ``--path``: in the demonstrations' names or the model's.
+
+    ``ndlfd generate`` writes the names of the files the model was fitted on
+    (read with the same flags as the demonstrations) or, when the model did
+    not record them, its own (read by their names).
+    """
+    try:
+        return read_file(p, CLI_HINTS, **column_options(args))
+    except DataFileError:
+        return read_file(p, CLI_HINTS, **MAPPING_DEFAULTS)
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
@@ -76,7 +90,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     k = demos[0].columns_of(group).size
     path = S = None
     if args.path is not None:
-        pairs = read_file(Path(args.path), CLI_HINTS, **MAPPING_DEFAULTS)
+        pairs = _read_path(Path(args.path), args)
         path, path_map = pairs[0]
         if (
             len(pairs) != 1
@@ -96,14 +110,15 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             )
         header = parse_table(Path(args.path)).columns
         table = parse_table(Path(args.std))
-        if table.columns != header or table.data.shape[0] != path.n_samples:
+        # generate writes the std in the model's names, the path maybe in the input's
+        named = (header, csv_header(path, "t"))
+        if table.columns not in named or table.data.shape[0] != path.n_samples:
             raise ValidationError(
                 f"--std {args.std} must have the columns and rows of --path"
                 f" {args.path} ({', '.join(header)}; {path.n_samples} rows); got"
                 f" {', '.join(table.columns)}; {table.data.shape[0]} rows"
             )
-        keys = dict(path_map.groups)[group]
-        S = table.data[:, [header.index(c) for c in keys]]
+        S = table.data[:, 1 + path.columns_of(group)]
     if k == 1:  # one column: draw it over time, with no spread in time
 
         def over_time(d):
