@@ -107,3 +107,44 @@ def rosbags_read(path, topic):
             (ns, STORE.deserialize_cdr(raw, c.msgtype))
             for c, ns, raw in r.messages(connections=conns)
         ]
+
+
+def pick_place_messages(n=120, seed=0, start_ns=1_700_000_000 * 10**9):
+    """A 3-D pick-and-place recorded at about 20 Hz: (ns, pos, quat, poses, grip).
+
+    The hand moves down to the grasp (0.4, 0, 0), closes, lifts and carries
+    the part to the place (0.4, 0.5, 0) while turning 90 degrees about z, and
+    opens there; each recording a little apart. ``poses`` are PoseStamped
+    messages, ``grip`` Float64 messages of the gripper (0 open, 1 closed).
+    """
+    rng = np.random.default_rng(seed)
+    ns = start_ns + np.cumsum(rng.integers(45_000_000, 55_000_000, n))
+    tau = np.linspace(0.0, 1.0, n)
+
+    def ramp(x):  # minimum jerk from 0 to 1
+        x = np.clip(x, 0.0, 1.0)
+        return 10 * x**3 - 15 * x**4 + 6 * x**5
+
+    start, grasp, place = np.array([0.0, 0, 0.25]), np.array([0.4, 0, 0]), [0.4, 0.5, 0]
+    a = ramp(tau / 0.35)[:, None]
+    b = ramp((tau - 0.45) / 0.45)[:, None]
+    pos = start + a * (grasp - start) + b * (np.asarray(place) - grasp)
+    pos[:, 2] += 0.15 * np.sin(np.pi * b[:, 0])  # lift while carrying
+    pos += rng.normal(0, 0.004, 3)
+    yaw = 0.5 * np.pi * b[:, 0] + rng.normal(0, 0.02)
+    pitch = 0.3 * np.sin(np.pi * a[:, 0])  # tilt on the way down
+    # q = q_z(yaw) * q_y(pitch), as (w, x, y, z)
+    cy, sy, cp, sp = (
+        np.cos(yaw / 2),
+        np.sin(yaw / 2),
+        np.cos(pitch / 2),
+        np.sin(pitch / 2),
+    )
+    quat = np.column_stack([cy * cp, -sy * sp, cy * sp, sy * cp])
+    closed = (tau > 0.4) & (tau < 0.93)
+    poses = [
+        (int(k), pose_stamped(int(k), p, q))
+        for k, p, q in zip(ns, pos, quat, strict=True)
+    ]
+    grip = [(int(k), float64(c)) for k, c in zip(ns, closed, strict=True)]
+    return ns, pos, quat, poses, grip

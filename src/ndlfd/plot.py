@@ -28,6 +28,8 @@ __all__ = [
     "plot_demos",
     "plot_keypoint_counts",
     "plot_path",
+    "plot_samples",
+    "plot_triads",
     "save_figure",
 ]
 
@@ -35,6 +37,8 @@ DEMO_COLOR = "#7fa7d6"
 KEY_COLOR = "#1f3f8f"
 GEN_COLOR = "#d62728"
 TEST_COLOR = "#222222"
+#: Colours of an orientation triad's x, y and z axes (red, green, blue, as RViz).
+TRIAD_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
 #: Colours of compared generators, in order (ndlfd itself is always GEN_COLOR).
 PALETTE = (
     "#1f77b4",
@@ -160,6 +164,157 @@ def plot_path(ax, values, *, keypoints=None, label=None, color=DEMO_COLOR, **kw)
     ax.plot(*_xyz(V[:1]), "x", color="black", markersize=8, mew=2, linestyle="none")
     ax.plot(*_xyz(V[-1:]), "*", color="black", markersize=11, linestyle="none")
     return ax
+
+
+def plot_samples(ax, paths, *, color=GEN_COLOR, label="samples", **kw):
+    """Draw paths drawn from a model as thin lines (one legend entry).
+
+    Parameters
+    ----------
+    ax : Axes
+        Target axes (3-D axes for 3-column values).
+    paths : sequence of array-like of shape (n_samples, 2) or (n_samples, 3)
+        The sampled paths (``KeypointHMM.sample``, ``ndlfd sample -o DIR``);
+        the first two columns are drawn on 2-D axes, three on 3-D axes.
+    color : str, default=GEN_COLOR
+        Line colour.
+    label : str, default="samples"
+        The legend label (of the first line only).
+    **kw
+        Passed to ``ax.plot`` (default ``lw=0.6, alpha=0.5``).
+
+    Returns
+    -------
+    ax : Axes
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> _, (ax,) = new_figure(1)
+    >>> s = np.linspace(0, 1, 20)
+    >>> ax = plot_samples(ax, [np.column_stack([s, s**k]) for k in (1, 2, 3)])
+    >>> [ln.get_label() for ln in ax.lines][:2], ax.lines[0].get_linewidth()
+    (['samples', '_nolegend_'], 0.6)
+    """
+    paths = [np.asarray(p, dtype=float) for p in paths]
+    if not paths:
+        raise ValidationError("plot_samples needs at least one path; got none")
+    for p in paths:
+        if p.ndim != 2 or p.shape[1] < 2:
+            raise ValidationError(
+                f"a path to plot must have shape (n_samples, 2 or 3); got {p.shape}"
+            )
+    style = {"lw": 0.6, "alpha": 0.5, **kw}
+    dims = 3 if ax.name == "3d" else 2
+    for i, p in enumerate(paths):
+        ax.plot(*_xyz(p)[:dims], color=color,
+                label=label if i == 0 else "_nolegend_", **style)  # fmt: skip
+    return ax
+
+
+def triad_indices(positions, n_triads: int) -> np.ndarray:
+    """Where to draw ``n_triads`` triads: equal steps of arc length, ends included.
+
+    Parameters
+    ----------
+    positions : array-like of shape (n_samples, d)
+    n_triads : int
+        How many (at most ``n_samples``; a path that does not move gets them
+        at equal steps of the sample index instead).
+
+    Returns
+    -------
+    indices : ndarray of int64, sorted, distinct
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.r_[np.zeros(5), np.linspace(0, 1, 11)]  # a pause, then a move
+    >>> triad_indices(np.column_stack([x, 0 * x]), 3).tolist()
+    [0, 10, 15]
+    """
+    P = np.asarray(positions, dtype=float)
+    n = P.shape[0]
+    k = min(int(n_triads), n)
+    if k <= 0:
+        return np.zeros(0, np.int64)
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))]
+    if k == 1:
+        return np.zeros(1, np.int64)
+    if s[-1] <= 0:
+        return np.unique(np.round(np.linspace(0, n - 1, k)).astype(np.int64))
+    # the first sample at or past each of k equal steps of the path's length
+    idx = np.searchsorted(s, np.linspace(0.0, s[-1], k) * (1 - 1e-12))
+    return np.unique(np.minimum(idx, n - 1)).astype(np.int64)
+
+
+def plot_triads(ax, positions, quaternions, *, n_triads: int = 8, length=None):
+    """Draw orientation triads (the body's x, y, z axes) along a 3-D path.
+
+    Each triad is three short lines from a sample's position along the columns
+    of its rotation matrix, x red, y green, z blue (as RViz draws frames). The
+    triads stand at equal steps of the path's arc length, both ends included,
+    so a pause gets no pile of them (:func:`triad_indices`). The axes get
+    equal scales, so that the triads look square.
+
+    Parameters
+    ----------
+    ax : Axes
+        3-D axes.
+    positions : array-like of shape (n_samples, 3)
+    quaternions : array-like of shape (n_samples, 4)
+        Unit quaternions ``(w, x, y, z)`` (normalized here).
+    n_triads : int, default=8
+        How many triads (fewer on a shorter path).
+    length : float, optional
+        The length of each axis line. Default: a tenth of the largest extent
+        of the positions (1 for a path that does not move).
+
+    Returns
+    -------
+    indices : ndarray of int64
+        The samples that got a triad.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> _, (ax,) = new_figure(1, dims=3)
+    >>> p = np.column_stack([np.linspace(0, 1, 5), np.zeros(5), np.zeros(5)])
+    >>> q = np.tile([np.sqrt(0.5), 0, 0, np.sqrt(0.5)], (5, 1))  # 90 deg about z
+    >>> plot_triads(ax, p, q, n_triads=2, length=0.5).tolist()
+    [0, 4]
+    >>> x_axis = ax.lines[0].get_data_3d()  # the body's x now points along y
+    >>> np.round([c[:2] for c in x_axis], 6).tolist()
+    [[0.0, 0.0], [0.0, 0.5], [0.0, 0.0]]
+    """
+    from scipy.spatial.transform import Rotation
+
+    P = np.asarray(positions, dtype=float)
+    Q = np.asarray(quaternions, dtype=float)
+    if P.ndim != 2 or P.shape[1] != 3 or Q.shape != (P.shape[0], 4):
+        raise ValidationError(
+            "plot_triads needs positions of shape (n, 3) and quaternions of shape"
+            f" (n, 4); got {P.shape} and {Q.shape}"
+        )
+    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(Q))):
+        raise ValidationError("plot_triads needs finite positions and quaternions")
+    norms = np.linalg.norm(Q, axis=1)
+    if np.any(norms < 1e-12):
+        raise ValidationError("plot_triads needs quaternions of non-zero norm")
+    if length is None:
+        extent = float(np.ptp(P, axis=0).max()) if P.size else 0.0
+        length = 0.1 * extent if extent > 0 else 1.0
+    idx = triad_indices(P, n_triads)
+    R = Rotation.from_quat((Q[idx] / norms[idx, None])[:, [1, 2, 3, 0]]).as_matrix()
+    gap = np.full((idx.size, 1, 3), np.nan)
+    for a, color in enumerate(TRIAD_COLORS):
+        tips = P[idx] + length * R[:, :, a]  # column a: the body's axis a
+        segs = np.concatenate([P[idx][:, None], tips[:, None], gap], axis=1)
+        xyz = segs.reshape(-1, 3)
+        label = "orientation: x, y, z axes" if a == 0 else "_nolegend_"
+        ax.plot(xyz[:, 0], xyz[:, 1], xyz[:, 2], color=color, lw=1.2, label=label)
+    ax.set_aspect("equal")  # else the triads do not look square
+    return idx
 
 
 def plot_demos(

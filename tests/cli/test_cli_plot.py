@@ -63,7 +63,8 @@ def test_plot_draws_demos_keypoints_path_and_band(tmp_path, capsys, monkeypatch)
     assert rc == 0, err
     assert figures[-1].axes[0].name == "3d"
     assert err[-1].startswith("drew 3 demonstration(s) in 3-D (position) with their"
-                              " key points (6-6 at --n-points 6) -> ")  # fmt: skip
+                              " key points (6-6 at --n-points 6), 8 orientation"
+                              " triads on ")  # fmt: skip
     assert (tmp_path / "r.svg").read_text().lstrip().startswith("<?xml")
     for args, message in [
         (["--std", std], "--std draws the band of --path FILE.csv; pass --path"),
@@ -137,3 +138,84 @@ def test_plot_bad_rows_and_files(tmp_path, capsys, monkeypatch):
     rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png", "-q",
                   "--bad-rows", "drop", "--bad-files", "skip")  # fmt: skip
     assert rc == 0 and err == []
+
+
+def _keep_figures(monkeypatch):
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+    monkeypatch.setattr(
+        ndlfd.plot,
+        "save_figure",
+        lambda fig, path, **kw: (figures.append(fig), save(fig, path, **kw))[1],
+    )
+    return figures
+
+
+def test_plot_draws_a_folder_of_samples_as_thin_lines(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from ndlfd.plot import GEN_COLOR
+
+    figures = _keep_figures(monkeypatch)
+    folder = square_demos(tmp_path / "demos", n_demos=4)
+    model = tmp_path / "m.ndlfd"
+    assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
+    samples = tmp_path / "samples"
+    assert main(["sample", str(model), "-n", "5", "--duration", "2", "--samples",
+                 "50", "--random-state", "1", "-o", str(samples)]) == 0  # fmt: skip
+    rc, err = cli(capsys, "plot", folder, "--samples", samples, "-o",
+                  tmp_path / "p.png")  # fmt: skip
+    assert rc == 0, err
+    assert err[-1].endswith(f", 5 sample(s) -> {tmp_path / 'p.png'}")
+    (ax,) = figures[-1].axes
+    thin = [ln for ln in ax.lines if ln.get_color() == GEN_COLOR
+            and ln.get_linewidth() < 1]  # fmt: skip
+    files = sorted(samples.glob("*.csv"))
+    assert len(thin) == len(files) == 5
+    for line, f in zip(thin, files, strict=True):
+        np.testing.assert_array_equal(line.get_xydata(), read_csv(f).get("position"))
+    assert "samples" in [t.get_text() for t in ax.get_legend().get_texts()]
+    for args, message in [
+        ([tmp_path / "nowhere"], "expected the folder 'ndlfd sample -o' writes"),
+        ([tmp_path], "the folder holds no .csv file"),
+    ]:
+        rc, err = cli(capsys, "plot", folder, "--samples", *args, "-o",
+                      tmp_path / "q.png")  # fmt: skip
+        assert rc == 2 and len(err) == 1 and message in err[0], err
+
+
+def test_plot_draws_orientation_triads_along_a_3d_path(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from ndlfd.plot import TRIAD_COLORS, triad_indices
+
+    figures = _keep_figures(monkeypatch)
+    folder = write_reach(tmp_path / "reach")  # 3-D with orientation
+    model = tmp_path / "m.ndlfd"
+    assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
+    gen = tmp_path / "g.csv"
+    assert main(["generate", str(model), "--duration", "1", "--samples", "80",
+                 "--dense", "-o", str(gen), "-q"]) == 0  # fmt: skip
+    rc, err = cli(capsys, "plot", folder, "--path", gen, "--triads", "5",
+                  "-o", tmp_path / "p.png")  # fmt: skip
+    assert rc == 0, err
+    assert err[-1].endswith(
+        f"the generated path, 5 orientation triads on the generated path ->"
+        f" {tmp_path / 'p.png'}"
+    )
+    (ax,) = figures[-1].axes
+    path = read_csv(gen)
+    idx = triad_indices(path.get("position"), 5)
+    axes = [ln for ln in ax.lines if ln.get_color() in TRIAD_COLORS and
+            np.isnan(ln.get_data_3d()[0]).any()]  # fmt: skip
+    assert len(axes) == 3
+    base = np.column_stack(axes[0].get_data_3d()).reshape(-1, 3, 3)[:, 0]
+    np.testing.assert_array_equal(base, path.get("position")[idx])
+    # without --path: on the first demonstration; --triads 0: none; 2-D: none
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "q.png")
+    assert rc == 0 and "8 orientation triads on " in err[-1], err
+    assert str(sorted(folder.glob("*.csv"))[0]) in err[-1]
+    rc, err = cli(capsys, "plot", folder, "--triads", "0", "-o", tmp_path / "q.png")
+    assert rc == 0 and "triads" not in err[-1], err
+    rc, err = cli(capsys, "plot", folder, "--triads", "-1", "-o", tmp_path / "q.png")
+    assert rc == 2 and "--triads" in err[0], err

@@ -49,6 +49,57 @@ def _read_path(p: Path, args: argparse.Namespace):
         return read_file(p, CLI_HINTS, **MAPPING_DEFAULTS)
 
 
+def _sample_files(args: argparse.Namespace) -> list[Path]:
+    """The CSV files of ``--samples DIR`` (``ndlfd sample -o DIR``), checked."""
+    if args.samples is None:
+        return []
+    folder = Path(args.samples)
+    if not folder.is_dir():
+        raise ValidationError(
+            f"--samples {folder}: expected the folder 'ndlfd sample -o' writes"
+        )
+    files = sorted(folder.glob("*.csv"))
+    if not files:
+        raise ValidationError(f"--samples {folder}: the folder holds no .csv file")
+    return files
+
+
+def _read_samples(args, files: list[Path], group: str, k: int) -> list:
+    """The sampled paths of ``files``, each with the ``k`` columns of ``group``."""
+    out = []
+    for p in files:
+        pairs = _read_path(p, args)
+        d = pairs[0][0]
+        if len(pairs) != 1 or not d.has_group(group) or d.columns_of(group).size != k:
+            raise ValidationError(
+                f"--samples {p} must be one path with the {k} {group} column(s) of"
+                f" the demonstrations; got {', '.join(d.columns)}"
+            )
+        out.append(d)
+    return out
+
+
+def _draw_triads(ax, args, group: str, k: int, path, demos, maps) -> str:
+    """Orientation triads along the generated path (else the first demonstration).
+
+    Only for a 3-D position with an orientation; returns the summary's words.
+    """
+    source = path if path is not None else demos[0]
+    if (
+        args.triads == 0
+        or group != "position"
+        or k != 3
+        or not source.has_group("orientation")
+        or source.columns_of("orientation").size != 4
+    ):
+        return ""
+    idx = plot.plot_triads(
+        ax, source.get("position"), source.get("orientation"), n_triads=args.triads
+    )
+    where = "the generated path" if path is not None else maps[0].source
+    return f", {idx.size} orientation triads on {where}"
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     fig0, _ = plot.new_figure(1)  # matplotlib is there (or a one-line error)
@@ -67,6 +118,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     check_range(epsilon, "--epsilon", low=0)
     if args.n_points is not None:
         check_range(args.n_points, "--n-points", low=2)
+    check_range(args.triads, "--triads", low=0, high=1000)
+    sample_files = _sample_files(args)
 
     demos, maps = read_sources(args, args.demos, flag="demos")
     fewest, fewest_src, _, _ = _sample_bounds(demos, maps)
@@ -102,6 +155,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                 f" column(s) of the demonstrations; got {len(pairs)} path(s) with"
                 f" {', '.join(path.columns)}"
             )
+    samples = _read_samples(args, sample_files, group, k)
     if args.std is not None:
         if path_map.layout == "arrays" or path_map.layout == "ndlfd":
             raise ValidationError(
@@ -127,6 +181,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             return Demonstration(d.t, X, ("time", c), (group, group))
 
         demos = [over_time(d) for d in demos]
+        samples = [over_time(d) for d in samples]
         if path is not None:
             path = over_time(path)
         if S is not None:
@@ -150,10 +205,14 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         title=args.title,
         max_demos=None,
     )
+    if samples:
+        plot.plot_samples(ax, [d.get(group) for d in samples])
     if path is not None:  # a line (a dense path would drown in dots)
         plot.plot_path(
             ax, path.get(group), color=plot.GEN_COLOR, lw=2.0, label="generated"
         )
+    triads = _draw_triads(ax, args, group, k, path, demos, maps)
+    if path is not None or samples or triads:
         ax.legend(loc="best", fontsize="small")
     plot.save_figure(fig, out)
     counts = np.array([len(i) for i in keypoints])
@@ -163,6 +222,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         else f"--epsilon {epsilon:g}"
     )
     drawn = f", the generated path{band}" if path is not None else ""
+    drawn += f", {len(samples)} sample(s)" if samples else ""
+    drawn += triads
     say(
         args,
         f"drew {len(demos)} demonstration(s) in {dims}-D ({group}) with their key"
@@ -179,8 +240,10 @@ def add_plot(sub) -> None:
             "Draw demonstrations (files or folders, read like 'ndlfd fit' reads"
             " them) with their key points as 'ndlfd fit' finds them, and"
             " optionally a generated path (--path, e.g. from 'ndlfd generate') with"
-            " its band (--std). Positions are drawn in 2-D or 3-D by their number"
-            " of columns (one column: over time; more than three: the first"
+            " its band (--std), sampled paths (--samples DIR, from 'ndlfd"
+            " sample') and orientation triads along a 3-D path. Positions are"
+            " drawn in 2-D or 3-D by their number of columns (one column: over"
+            " time; more than three: the first"
             ' three). Needs matplotlib (pip install "ndlfd[plot]").'
         ),
     )
@@ -217,6 +280,20 @@ def add_plot(sub) -> None:
         metavar="FILE.csv",
         help="the path's standard deviation (from 'ndlfd generate --std'), drawn"
         " as a band of one standard deviation (2-D only)",
+    )
+    p.add_argument(
+        "--samples",
+        metavar="DIR",
+        help="a folder of sampled paths ('ndlfd sample -o DIR'), drawn as thin lines",
+    )
+    p.add_argument(
+        "--triads",
+        type=int,
+        default=8,
+        metavar="N",
+        help="orientation triads (x red, y green, z blue) drawn at equal steps of"
+        " arc length along the generated path, else the first demonstration, when"
+        " the position is 3-D with an orientation (default 8; 0: none)",
     )
     p.add_argument("--title", help="title of the figure")
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
