@@ -105,21 +105,23 @@ def test_readme_shell_examples_run(tmp_path):
 
 def test_readme_ros_bag_examples_run(tmp_path):
     pytest.importorskip("rosbags")
-    from bag_samples import float64, reach_messages, write_bag
+    pytest.importorskip("matplotlib")
+    from bag_samples import pick_place_messages, write_bag
     from ndlfd.io import read_bag
 
     examples = _shell_examples("### ROS 2 bags")
-    assert [e[1] for e in examples] == ["fit", "generate"]
+    assert [e[1] for e in examples] == ["fit", "generate", "generate", "plot"]
+    # the picture's bags (docs/images/ros-pick-triads.png)
     (tmp_path / "bags").mkdir()
-    for i in range(4):
-        ns, _, _, msgs = reach_messages(n=80, seed=i)
-        grip = [(int(k), float64(j > 40)) for j, k in enumerate(ns)]
-        write_bag(tmp_path / "bags" / f"pick{i}", {"/ee_pose": msgs, "/gripper": grip})
+    for i in range(6):
+        _, _, _, poses, grip = pick_place_messages(seed=i)
+        write_bag(tmp_path / "bags" / f"pick{i}", {"/ee_pose": poses, "/gripper": grip})
     for args in examples:
         _run(args, tmp_path)
     (path,) = read_bag(tmp_path / "pick.mcap", ["/ndlfd/path", "/ndlfd/path/gripper"])
     assert path.n_samples == 300 and path.t[-1] == 6.0
     assert path.group_names == ("position", "orientation", "gripper")
+    assert (tmp_path / "pick.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def test_readme_lerobot_examples_run(tmp_path):
