@@ -436,3 +436,62 @@ def test_cli_generate_like_bad_rows(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"--like {like}: dropped 1 of 30 row(s) with NaN or inf in the time" in err
     np.testing.assert_array_equal(read_csv(out).t, np.delete(t, 8))
+
+
+def test_one_warning_per_kind_on_dask(folder, tmp_path):
+    """The Dask path of the fit: the same single summaries as the serial fit.
+
+    Four files with renormalized quaternions and jittery stamps, one with a
+    NaN row (dropped) and one header-only file (skipped), fitted on a Dask
+    LocalCluster (threads: the same map steps and merges as processes).
+    """
+    distributed = pytest.importorskip("distributed")
+    root, counts = folder
+    data = tmp_path / "data"
+    data.mkdir()
+    for p in sorted(root.glob("*.csv")):
+        (data / p.name).write_text(p.read_text())
+    lines = (data / "d.csv").read_text().splitlines()
+    cells = lines[3].split(",")
+    cells[1] = "nan"
+    lines[3] = ",".join(cells)
+    (data / "e.csv").write_text("\n".join(lines) + "\n")  # d with a NaN row
+    (data / "f.csv").write_text(",".join(HEADER) + "\n")  # header only
+
+    def fit(**kw):
+        files = DemoFiles(data, bad_rows="drop", bad_files="skip")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            model = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(files, **kw)
+        texts = [str(w.message) for w in caught if w.category is NdlfdWarning]
+        return model, texts
+
+    serial, want = fit()
+    with (
+        distributed.LocalCluster(
+            n_workers=2, processes=False, threads_per_worker=1, dashboard_address=":0"
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        before = cluster.scheduler.transition_counter
+        model, texts = fit(client=client)
+        assert cluster.scheduler.transition_counter > before  # ran as Dask tasks
+    assert model.fit_stats_ == serial.fit_stats_
+    assert sorted(texts) == sorted(want)
+    assert len(texts) == 4, texts  # one per kind: quaternions, jitter, rows, files
+    by_kind = {k: [m for m in texts if k in m] for k in
+               ("quaternion", "jittery", "NaN", "skipped")}  # fmt: skip
+    assert all(len(v) == 1 for v in by_kind.values()), by_kind
+    assert by_kind["quaternion"][0].endswith(
+        f"in 2 files: {data / 'a.csv'} ({counts['a']}), {data / 'b.csv'}"
+        f" ({counts['b']})"
+    )
+    assert by_kind["jittery"][0].endswith(
+        f"in 2 files: {data / 'a.csv'}, {data / 'c.csv'}"
+    )
+    assert by_kind["NaN"][0] == (
+        "dropped 1 row(s) with NaN or inf (bad_rows='drop') in 1 file:"
+        f" {data / 'e.csv'} (1)"
+    )
+    assert by_kind["skipped"][0].startswith("skipped 1 file(s)")
+    assert f"{data / 'f.csv'}: expected data rows" in by_kind["skipped"][0]
