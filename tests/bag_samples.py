@@ -4,6 +4,8 @@ import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
 
+from ndlfd.demonstration import Demonstration
+
 STORE = get_typestore(Stores.LATEST)
 T = STORE.types
 STORAGES = {"mcap": StoragePlugin.MCAP, "sqlite3": StoragePlugin.SQLITE3}
@@ -148,3 +150,19 @@ def pick_place_messages(n=120, seed=0, start_ns=1_700_000_000 * 10**9):
     ]
     grip = [(int(k), float64(c)) for k, c in zip(ns, closed, strict=True)]
     return ns, pos, quat, poses, grip
+
+
+def generated(n=25):
+    """A path with every stream write_bag writes: pose, joints, gripper."""
+    rng = np.random.default_rng(3)
+    t = np.arange(n) / 64.0  # exact in nanoseconds
+    q = rng.normal(size=(n, 4))
+    q /= np.linalg.norm(q, axis=1, keepdims=True)
+    return Demonstration.from_arrays(
+        t,
+        position=rng.normal(size=(n, 3)),
+        orientation=q,
+        joints=rng.normal(size=(n, 2)),
+        gripper=(np.arange(n) > n // 2).astype(float),
+        columns={"joints": ["j1", "j2"], "gripper": ["gripper"]},
+    )

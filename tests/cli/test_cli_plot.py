@@ -102,15 +102,7 @@ def test_plot_uses_the_groups_of_fit_by_default(tmp_path, capsys):
 def test_plot_bad_rows_and_files(tmp_path, capsys, monkeypatch):
     """--bad-rows drop / --bad-files skip draw what fit would learn from."""
     pytest.importorskip("matplotlib")
-    import ndlfd.plot
-
-    figures = []
-    save = ndlfd.plot.save_figure
-    monkeypatch.setattr(
-        ndlfd.plot,
-        "save_figure",
-        lambda fig, path, **kw: (figures.append(fig), save(fig, path, **kw))[1],
-    )
+    figures = _keep_figures(monkeypatch)
     folder = square_demos(tmp_path / "demos", n_demos=3)
     good = [read_csv(p) for p in sorted(folder.glob("*.csv"))]
     second = sorted(folder.glob("*.csv"))[1]

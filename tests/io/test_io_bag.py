@@ -8,6 +8,7 @@ pytest.importorskip("rosbags")
 from bag_samples import (
     T,
     float64,
+    generated,
     joint_state,
     odometry,
     pose_stamped,
@@ -281,21 +282,6 @@ def test_one_message_and_nan_in_a_pose(tmp_path):
         r" row 2",
     ):
         read_bag(bag, "/p")
-
-
-def generated(n=25):
-    rng = np.random.default_rng(3)
-    t = np.arange(n) / 64.0  # exact in nanoseconds
-    q = rng.normal(size=(n, 4))
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return Demonstration.from_arrays(
-        t,
-        position=rng.normal(size=(n, 3)),
-        orientation=q,
-        joints=rng.normal(size=(n, 2)),
-        gripper=(np.arange(n) > n // 2).astype(float),
-        columns={"joints": ["j1", "j2"], "gripper": ["gripper"]},
-    )
 
 
 @pytest.mark.parametrize("name", ["out.mcap", "out.db3", "folder"])

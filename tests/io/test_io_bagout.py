@@ -16,7 +16,7 @@ pytest.importorskip("rosbags")
 from rosbags.rosbag2 import Reader
 from rosbags.typesys import Stores, get_types_from_msg, get_typestore
 
-from ndlfd.demonstration import Demonstration
+from bag_samples import generated
 from ndlfd.io import write_bag
 
 TYPES = {
@@ -24,21 +24,6 @@ TYPES = {
     "/gen/joint_states": "sensor_msgs/msg/JointState",
     "/gen/gripper": "std_msgs/msg/Float64",
 }
-
-
-def _path(n=40):
-    rng = np.random.default_rng(5)
-    t = np.arange(n) / 32.0  # exact in nanoseconds
-    q = rng.normal(size=(n, 4))
-    q /= np.linalg.norm(q, axis=1, keepdims=True)
-    return Demonstration.from_arrays(
-        t,
-        position=rng.normal(size=(n, 3)),
-        orientation=q,
-        joints=rng.normal(size=(n, 2)),
-        gripper=(np.arange(n) > n // 2).astype(float),
-        columns={"joints": ["j1", "j2"], "gripper": ["gripper"]},
-    )
 
 
 def _self_described_store(connections):
@@ -51,7 +36,7 @@ def _self_described_store(connections):
 
 def test_a_bag_folder_has_the_metadata_ros2_bag_play_reads(tmp_path):
     yaml = pytest.importorskip("yaml")
-    demo = _path()
+    demo = generated()
     out = write_bag(demo, tmp_path / "bag", topic="/gen")
     assert sorted(p.name for p in out.iterdir()) == ["bag.mcap", "metadata.yaml"]
     info = yaml.safe_load((out / "metadata.yaml").read_text())
@@ -75,7 +60,7 @@ def test_a_bag_folder_has_the_metadata_ros2_bag_play_reads(tmp_path):
 
 @pytest.mark.parametrize("name", ["bag", "out.mcap", "out.db3"])
 def test_every_written_bag_describes_its_messages(tmp_path, name):
-    demo = _path()
+    demo = generated()
     out = write_bag(demo, tmp_path / name, topic="/gen")
     latest = get_typestore(Stores.LATEST)
     with Reader(out) as reader:
