@@ -6,7 +6,8 @@ tests and the command line. Install the extra with ``pip install "ndlfd[plot]"``
 
 Conventions: demonstrations in one light colour, key points as dots, the start
 as ``×`` and the goal as ``*``, the generated path in red over them, the test
-demonstration dashed.
+demonstration dashed, sampled paths as thin red lines, and orientation triads
+with the x, y and z axes in red, green and blue (as RViz draws frames).
 """
 
 from __future__ import annotations
