@@ -33,6 +33,7 @@ from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
 from ._blend import align_many, blend, skeleton_times
+from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
@@ -51,9 +52,11 @@ from ._via import (
 __all__ = [
     "GENERATIONS",
     "Plan",
+    "aligned_templates",
     "band",
     "decode_key_points",
     "decode_paper",
+    "decode_route",
     "demo_log_weights",
     "generate_blend",
     "generate_paper",
@@ -182,7 +185,7 @@ def demo_log_weights(est, start, goal, cache: dict):
     return logw, cache["routes"]
 
 
-def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
+def make_plan(est, all_t, start, goal, cache: ModelCache, extra=None) -> Plan:
     """Decode the skeleton and align the templates to it.
 
     Parameters
@@ -193,8 +196,9 @@ def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
         The timing.
     start, goal : dict of str to ndarray, or None
         Checked conditions.
-    cache : dict
-        See :func:`demo_log_weights`.
+    cache : ModelCache
+        See :func:`demo_log_weights`; also keeps the route's model, skeleton
+        and alignments (:func:`decode_route`, :func:`aligned_templates`).
     extra : ndarray of shape (n_demos,), optional
         Log weights added to the start's and goal's (via points, a prefix:
         :mod:`ndlfd.learner._via`).
@@ -209,11 +213,45 @@ def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
     if extra is not None:
         logw = logw + extra
     logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
-    model = route_model(est, logw)
-    states, logp = decode_states(
-        est.decoder, model, np.arange(est.n_time_bins), est.start
-    )
-    return plan_from_states(est, states, logp, model, logw)
+    model, states, logp = decode_route(est, logw, cache)
+    return plan_from_states(est, states, logp, model, logw, cache=cache)
+
+
+def decode_route(est, logw: np.ndarray, cache: ModelCache):
+    """The route's segment model and its decoded skeleton (memoized).
+
+    The same demonstrations that weigh (:func:`route_model`), decoder, start
+    and number of bins give the same model and states: they are kept in the
+    model's cache (:meth:`~ndlfd.learner._cache.ModelCache.memo`), so a
+    replanning robot pays the decoding once per route.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    logw : ndarray of shape (n_demos,)
+        The demonstrations' log weights (``-inf`` off the route followed).
+    cache : ModelCache
+        The model's cache.
+
+    Returns
+    -------
+    model : ndlfd.hmm.DiscreteHMM
+    states : ndarray of shape (n_time_bins,), dtype int64
+        Read-only.
+    log_probability : float
+    """
+    model = route_model(est, logw, cache)
+
+    def make():
+        states, logp = decode_states(
+            est.decoder, model, np.arange(est.n_time_bins), est.start
+        )
+        states.flags.writeable = False
+        return states, logp
+
+    key = ("skeleton", est.decoder, est.start, *_route_key(est, logw))
+    return (model, *cache.memo(key, make))
 
 
 def template_weights(est, logw: np.ndarray):
@@ -240,7 +278,9 @@ def template_weights(est, logw: np.ndarray):
     return templates, tw[templates]
 
 
-def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
+def plan_from_states(
+    est, states, logp, model, logw, weights=None, cache: ModelCache | None = None
+) -> Plan:
     """Align the templates to the skeleton of decoded (or drawn) bin states.
 
     Parameters
@@ -257,6 +297,10 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
         The demonstrations' log weights (:func:`template_weights`).
     weights : ndarray of shape (n_kept,), optional
         Blend weights of the kept templates instead of theirs (a sample's).
+    cache : ModelCache, optional
+        Keep the templates' alignments to this skeleton there
+        (:func:`aligned_templates`); without it they are computed (a drawn
+        skeleton, which seldom comes again).
 
     Returns
     -------
@@ -271,8 +315,11 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
     C = est.centroids_[np.searchsorted(est.centroid_states_, skel)]
     values = [est.train_values_[j] for j in templates]
     taus = [est.train_tau_[j] for j in templates]
-    window = float(est.match_window)
-    index = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+    if cache is None:
+        window = float(est.match_window)
+        index = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+    else:
+        index = aligned_templates(est, skel, C, templates, cache)
     key_tau = skeleton_times(taus, index, weights)
     # every alignment pins the ends to samples at tau 0 and 1: exact ends
     key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -281,7 +328,60 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
     return Plan(skel, logp, model, values, taus, weights, index, key_tau, knots)
 
 
-def route_model(est, logw: np.ndarray):
+def aligned_templates(est, skel, C, templates, cache: ModelCache) -> list:
+    """The templates' alignments to a skeleton, each computed once per skeleton.
+
+    A template's alignment depends on its values, the skeleton and the match
+    window only (not on the other templates or the weights), so it is kept
+    per skeleton in the model's cache and reused by any start, goal or
+    prefix whose skeleton it is.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    skel : ndarray of shape (n_keys,), dtype int64
+        The skeleton's states.
+    C : ndarray of shape (n_keys, n_columns)
+        Their centroids.
+    templates : ndarray of int
+        Indices into ``est.template_indices_`` (and ``est.train_values_``).
+    cache : ModelCache
+
+    Returns
+    -------
+    index : list of ndarray of shape (n_keys,)
+        Read-only, one per template, as :func:`~ndlfd.learner._blend.align_many`.
+    """
+    window = float(est.match_window)
+    key = ("aligned", window, _ALIGN_CANDIDATES, skel.tobytes())
+    store = cache.memo(key, dict)
+    with cache.locked():
+        missing = [int(j) for j in templates if int(j) not in store]
+    if missing:
+        values = [est.train_values_[j] for j in missing]
+        got = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+        for a in got:
+            a.flags.writeable = False
+        with cache.locked():
+            for j, a in zip(missing, got, strict=True):
+                store.setdefault(j, a)
+    with cache.locked():
+        return [store[int(j)] for j in templates]
+
+
+def _weighing(logw: np.ndarray) -> np.ndarray:
+    """Which demonstrations weigh (at least :data:`_KEEP_WEIGHT` of the largest)."""
+    return np.exp(logw - logw.max()) >= _KEEP_WEIGHT
+
+
+def _route_key(est, logw: np.ndarray) -> tuple:
+    """What a route's segment model depends on: its demonstrations, the counts."""
+    kept = np.packbits(_weighing(logw)).tobytes()
+    return (est.n_time_bins, est.pseudo_transition, est.pseudo_emission, kept)
+
+
+def route_model(est, logw: np.ndarray, cache: ModelCache | None = None):
     """The segment model of the demonstrations that weigh.
 
     Parameters
@@ -291,24 +391,31 @@ def route_model(est, logw: np.ndarray):
     logw : ndarray of shape (n_demos,)
         The demonstrations' log weights; those below :data:`_KEEP_WEIGHT` of
         the largest are left out.
+    cache : ModelCache, optional
+        Keep the model there, by the demonstrations that weigh.
 
     Returns
     -------
     model : ndlfd.hmm.DiscreteHMM
         ``est.segment_model_`` when every demonstration weighs.
     """
-    w = np.exp(logw - logw.max())
-    demos = np.flatnonzero(w >= _KEEP_WEIGHT)
-    if demos.size == w.size:
+    demos = np.flatnonzero(_weighing(logw))
+    if demos.size == logw.size:
         return est.segment_model_
-    return segment_model(
-        est.fit_stats_,
-        demos,
-        est.codebook_.n_states,
-        est.n_time_bins,
-        pseudo_transition=est.pseudo_transition,
-        pseudo_emission=est.pseudo_emission,
-    )
+
+    def make():
+        return segment_model(
+            est.fit_stats_,
+            demos,
+            est.codebook_.n_states,
+            est.n_time_bins,
+            pseudo_transition=est.pseudo_transition,
+            pseudo_emission=est.pseudo_emission,
+        )
+
+    if cache is None:
+        return make()
+    return cache.memo(("route model", *_route_key(est, logw)), make)
 
 
 def observations(est, times_or_demo):
@@ -347,7 +454,7 @@ def decode_paper(est, times_or_demo):
     return key_t, states, logp, all_t
 
 
-def decode_key_points(est, times_or_demo, cache: dict):
+def decode_key_points(est, times_or_demo, cache: ModelCache):
     """Decoded key points of a timing: times, states, log-probability."""
     if est.generation == "paper":
         key_t, states, logp, _ = decode_paper(est, times_or_demo)
@@ -494,12 +601,7 @@ def generate_blend(
     all_t = times_of(times_or_demo)
     cols, groups = est.column_groups_, est.groups_
     via = check_via(via, all_t, cols, groups)
-    prefix = check_observed(est, observed, all_t)
-    if prefix is not None and (start is not None or via is not None):
-        raise ValidationError(
-            "observed continues an execution from its last sample; it cannot"
-            " be combined with start or via (a goal is fine)"
-        )
+    prefix = check_observed(est, observed, all_t, start=start, via=via)
     extra = None
     if via is not None:
         extra = via_log_weights(est, via, cache)

@@ -67,6 +67,7 @@ __all__ = [
     "continue_from",
     "demo_values_at",
     "observed_log_weights",
+    "prefix_rows",
     "via_log_weights",
 ]
 
@@ -248,8 +249,23 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
     return X
 
 
-def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
-    """Check an executed prefix against the model and the timing.
+def check_observed(
+    est, observed, all_t: np.ndarray, *, start=None, via=None
+) -> Demonstration | None:
+    """Check an executed prefix against the model, the timing and the conditions.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    observed : Demonstration or None
+        The samples executed so far.
+    all_t : ndarray of shape (n_samples,)
+        The timing (the prefix is at its first time stamps).
+    start, via : optional
+        The other conditions asked: a prefix replaces a start (its first
+        sample is where the robot started) and cannot be combined with via
+        points (a goal is fine).
 
     Returns
     -------
@@ -258,6 +274,11 @@ def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
     """
     if observed is None:
         return None
+    if start is not None or via is not None:
+        raise ValidationError(
+            "observed continues an execution from its last sample; it cannot"
+            " be combined with start or via (a goal is fine)"
+        )
     if not isinstance(observed, Demonstration):
         raise ValidationError(
             "observed must be a Demonstration of the samples executed so far;"
@@ -284,7 +305,22 @@ def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
     return d
 
 
-def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray:
+def prefix_rows(n: int) -> np.ndarray:
+    """The prefix samples a route is inferred from: up to :data:`PREFIX_POINTS`.
+
+    Spread evenly, the first and the last included.
+
+    Examples
+    --------
+    >>> prefix_rows(4), prefix_rows(100)
+    (array([0, 1, 2, 3]), array([ 0, 11, 22, 33, 44, 55, 66, 77, 88, 99]))
+    """
+    return np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
+
+
+def observed_log_weights(
+    est, prefix, tq: np.ndarray, cache: dict, *, total: bool = False
+) -> np.ndarray:
     """Every demonstration's log weight for an executed prefix.
 
     Parameters
@@ -297,22 +333,27 @@ def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray
         Normalized times of the whole timing.
     cache : dict
         See :func:`demo_values_at`.
+    total : bool, default=False
+        The sum instead of the mean: every prefix sample is an observation
+        of the route, so the probability of a route given the prefix
+        (:func:`~ndlfd.learner._sampling.sample_paths` draws routes by it)
+        takes the product of their kernels. The mean, a tempered weight,
+        keeps several templates of the route in the blend.
 
     Returns
     -------
     log_weights : ndarray of shape (n_demos,)
-        The mean, over up to :data:`PREFIX_POINTS` prefix samples, of the
-        kernels' logarithms.
+        The mean (or sum), over up to :data:`PREFIX_POINTS` prefix samples,
+        of the kernels' logarithms.
     """
-    n = prefix.t.size
-    rows = np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
+    rows = prefix_rows(prefix.t.size)
     U = est.scaler_.transform(prefix.X[rows], weighted=False)
     V = demo_values_at(est, tq[rows], cache)
     logw = np.zeros(V.shape[0])
     for k in range(rows.size):
         pts = V[:, k]
         logw += condition_log_weights(pts, U[k], condition_bandwidth(pts))
-    return logw / rows.size
+    return logw if total else logw / rows.size
 
 
 def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
