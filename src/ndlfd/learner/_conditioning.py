@@ -28,6 +28,7 @@ __all__ = [
     "group_columns",
     "log_weights_for",
     "minimum_jerk",
+    "orient_condition",
     "pin",
     "pin_offset",
 ]
@@ -239,6 +240,57 @@ def check_condition(values, what: str, column_groups, groups) -> dict | None:
             )
         out[g] = arr
     return out
+
+
+def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | None:
+    """A requested orientation as a unit quaternion on the demonstrations' side.
+
+    ``q`` and ``-q`` are one rotation: the requested quaternion is scaled to
+    unit norm and, when it points away from the mean of the demonstrations'
+    (first or last) orientations, negated, so the kernel weights and the
+    offset pinned onto the path compare it with the same sign.
+
+    Parameters
+    ----------
+    cond : dict of str to ndarray, or None
+        From :func:`check_condition`.
+    points : ndarray of shape (n_demos, n_columns) or None
+        The demonstrations' first (start) or last (goal) normalized samples;
+        ``None`` (a model without them): the norm only.
+    scaler : GroupScaler
+        The fitted normalization.
+    column_groups : sequence of str
+    what : str
+        For the message (``"start"``, ``"goal"``).
+
+    Returns
+    -------
+    condition : dict of str to ndarray, or None
+
+    Examples
+    --------
+    >>> from ndlfd import GroupScaler
+    >>> cg = ("orientation",) * 4
+    >>> sc = GroupScaler(cg, mode="none").fit(np.eye(4))
+    >>> orient_condition({"orientation": np.array([-1.0, 1.0, 1.0, 1.0])},
+    ...                  np.array([[1.0, 0, 0, 0]]), sc, cg, "start")
+    {'orientation': array([ 0.5, -0.5, -0.5, -0.5])}
+    """
+    cols = group_columns(column_groups, "orientation")
+    if cond is None or "orientation" not in cond or len(cols) != 4:
+        return cond
+    q = cond["orientation"]
+    norm = float(np.linalg.norm(q))
+    if not norm > 1e-12:
+        raise ValidationError(
+            f"{what}['orientation'] must be a quaternion w, x, y, z of non-zero"
+            f" norm; got {q.tolist()}"
+        )
+    q = q / norm
+    if points is not None:
+        ref = scaler.inverse_transform(points, weighted=False)[:, cols].mean(axis=0)
+        q = -q if float(q @ ref) < 0.0 else q
+    return {**cond, "orientation": q}
 
 
 def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray]:

@@ -34,7 +34,7 @@ from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
 from ._blend import align_many, blend, skeleton_times
 from ._cache import ModelCache
-from ._conditioning import group_columns, log_weights_for, pin
+from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
 from ._routes import choose_route, route_labels, segment_paths
@@ -62,6 +62,7 @@ __all__ = [
     "generate_paper",
     "make_plan",
     "observations",
+    "orient_conditions",
     "plan_from_states",
     "render",
     "route_model",
@@ -145,6 +146,20 @@ def _renormalize(X: np.ndarray, column_groups) -> np.ndarray:
     X = X.copy()
     X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
     return X
+
+
+def orient_conditions(est, start, goal) -> tuple:
+    """Checked start and goal, their orientations on the demonstrations' side.
+
+    See :func:`~ndlfd.learner._conditioning.orient_condition`.
+    """
+    cg = est.column_groups_
+    first = getattr(est, "first_values_", None)  # none in a format-1 file
+    last = getattr(est, "last_values_", None)
+    return (
+        orient_condition(start, first, est.scaler_, cg, "start"),
+        orient_condition(goal, last, est.scaler_, cg, "goal"),
+    )
 
 
 def demo_log_weights(est, start, goal, cache: dict):
@@ -512,6 +527,22 @@ def band(est, model, tq) -> np.ndarray:
     return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
 
 
+def _snap_physical(est, X: np.ndarray, levels: dict) -> np.ndarray:
+    """Two-valued columns (a gripper) back on their values after the offsets.
+
+    A requested start, goal, via point or prefix shifts every column by an
+    offset faded over the path; a gripper column must stay open or closed,
+    so it is snapped again (it takes the requested value until the fade is
+    half done).
+    """
+    if not levels:
+        return X
+    cols = list(levels)
+    U = snap_two_valued(est.scaler_.transform(X, weighted=False), levels)
+    X[:, cols] = est.scaler_.inverse_transform(U, weighted=False)[:, cols]
+    return X
+
+
 def render(
     est,
     plan: Plan,
@@ -568,12 +599,13 @@ def render(
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
     X = _renormalize(est.scaler_.inverse_transform(U), groups)
-    X = pin(X, at, start, goal, groups, tq.size)
+    X = _renormalize(pin(X, at, start, goal, groups, tq.size), groups)
     if via is not None:
         X = _renormalize(apply_via(X, at, via, groups, tq.size), groups)
     if prefix is not None:
         X = X[: tq.size]
         X = _renormalize(continue_from(X, tq, prefix, groups), groups)
+    X = _snap_physical(est, X, cache["two-valued"])  # the offsets moved them
     key_tau = plan.key_tau if prefix is None else plan.key_tau[:0]  # no key rows
     X = _derive_velocity(X, tq, key_tau, all_t, groups)
     if prefix is not None:
@@ -600,6 +632,7 @@ def generate_blend(
     """The blended generation (see :meth:`KeypointHMM.generate`)."""
     all_t = times_of(times_or_demo)
     cols, groups = est.column_groups_, est.groups_
+    start, goal = orient_conditions(est, start, goal)
     via = check_via(via, all_t, cols, groups)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
     extra = None
@@ -640,6 +673,7 @@ def generate_paper(
             " no uncertainty band"
         )
     groups = est.column_groups_
+    start, goal = orient_conditions(est, start, goal)
     key_t, states, _, all_t = decode_paper(est, times_or_demo)
     X = est.scaler_.inverse_transform(est.codebook_.decode(states))
     X = _renormalize(X, groups)
@@ -651,7 +685,7 @@ def generate_paper(
         key_t = all_t
     if start is not None or goal is not None:
         tq = unit_time(np.r_[all_t[0], key_t, all_t[-1]])[1:-1]
-        X = pin(X, tq, start, goal, groups)
+        X = _renormalize(pin(X, tq, start, goal, groups), groups)
     return Demonstration(key_t, X, est.columns_, groups)
 
 

@@ -43,6 +43,7 @@ from ..demonstration import Demonstration
 from ._conditioning import check_condition
 from ._generation import (
     demo_log_weights,
+    orient_conditions,
     plan_from_states,
     render,
     route_model,
@@ -157,6 +158,7 @@ def sample_paths(
     groups, cols = est.groups_, est.column_groups_
     start = check_condition(start, "start", cols, groups)
     goal = check_condition(goal, "goal", cols, groups)
+    start, goal = orient_conditions(est, start, goal)
     n_samples = check_positive_int(n_samples, "n_samples")
     rng = check_random_state(random_state)
     all_t = times_of(times_or_demo)
