@@ -109,6 +109,22 @@ def test_bad_start_and_goal_flags(capsys, tmp_path, pick_model, flags, message):
         assert message in err[0], err
 
 
+def test_a_negative_bare_start_is_told_to_take_an_equals_sign(capsys, tmp_path,
+                                                              pick_model):  # fmt: skip
+    path, _ = pick_model
+    with pytest.raises(SystemExit) as exit_:  # argparse's usage error
+        cli(capsys, "generate", path, "--duration", "4", "--start", "-1,0,0",
+            "-o", tmp_path / "o.csv")  # fmt: skip
+    err = capsys.readouterr().err.splitlines()
+    assert exit_.value.code == 2 and len(err) == 1
+    assert "a value that starts with '-' takes '=': --start=-..." in err[0]
+    rc, err = cli(capsys, "generate", path, "--duration", "4", "--start=-0.01,0,0.3",
+                  "-o", tmp_path / "o.csv")  # fmt: skip
+    assert rc == 0, err
+    np.testing.assert_allclose(read_csv(tmp_path / "o.csv").get("position")[0],
+                               [-0.01, 0.0, 0.3])  # fmt: skip
+
+
 # ------------------------------------------------------------- --observed
 
 G = np.linspace(0.0, 5.0, 201)

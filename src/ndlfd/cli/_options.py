@@ -82,10 +82,16 @@ class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line, like every other error."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        """Print one line naming the command and exit with status 2."""
-        self.exit(
-            EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n"
-        )
+        """Print one line naming the command and exit with status 2.
+
+        A flag left without its value because the value starts with ``-``
+        (``--start -1,2`` reads ``-1,2`` as a flag) is told to use ``=``.
+        """
+        hint = f"see {self.prog} --help"
+        flag = re.match(r"argument (--[\w-]+): expected one argument", message)
+        if flag:
+            hint = f"a value that starts with '-' takes '=': {flag[1]}=-...; {hint}"
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} ({hint})\n")
 
 
 def say(args: argparse.Namespace, line: str) -> None:
