@@ -15,6 +15,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import ValidationError
+from ._discrete import DISCRETE_GROUPS
 
 __all__ = [
     "BANDWIDTH_FACTOR",
@@ -31,6 +32,7 @@ __all__ = [
     "orient_condition",
     "pin",
     "pin_offset",
+    "switch_window",
 ]
 
 #: Kernel width in units of the median nearest-neighbour distance between the
@@ -406,6 +408,46 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     return first, last
 
 
+def switch_window(X, tq, column_groups) -> tuple[float, float]:
+    """Normalized times around the first and last switch of a gripper.
+
+    A discrete channel (:data:`~ndlfd.learner._discrete.DISCRETE_GROUPS`)
+    that changes value marks a contact event even where the hand does not
+    slow down: a start's offset must be gone by the last row before the
+    first switch, a goal's must come in from the first row after the last.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_columns)
+        The path in time order.
+    tq : ndarray of shape (n_samples,)
+        Their normalized times, increasing.
+    column_groups : sequence of str
+
+    Returns
+    -------
+    first, last : float
+        ``(1, 0)`` without a switch strictly inside the motion.
+
+    Examples
+    --------
+    >>> X = np.array([[0.0, 0], [1.0, 0], [2.0, 1], [3.0, 1], [4.0, 0]])
+    >>> switch_window(X, np.linspace(0.0, 1.0, 5), ("position", "gripper"))
+    (0.25, 0.5)
+    """
+    first, last = 1.0, 0.0
+    for c, g in enumerate(column_groups):
+        if g not in DISCRETE_GROUPS:
+            continue
+        at = np.flatnonzero(np.diff(X[:, c]) != 0)
+        before, after = tq[at], tq[at + 1]  # the rows either side of each switch
+        inside = (before > 0.0) & (after < 1.0)
+        if inside.any():
+            first = min(first, float(before[inside][0]))
+            last = max(last, float(after[inside][-1]))
+    return first, last
+
+
 def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     """Shift a path onto ``start`` and ``goal`` with an offset faded before contact.
 
@@ -413,9 +455,10 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     rows (the path at normalized times 0 and 1) and applied to every row at
     its normalized time ``tq``, faded by :func:`minimum_jerk`: the start's
     offset is gone by the path's first slow-down (:func:`contact_window`, on
-    the position columns; the whole motion if it has none), the goal's offset
-    comes in after the last one, so the path reaches a grasp or placement
-    where the demonstrations do, not shifted by a start elsewhere.
+    the position columns; the whole motion if it has none) or its first
+    gripper switch if that comes earlier (:func:`switch_window`), the goal's
+    offset comes in after the last of them, so the path reaches a grasp or
+    placement where the demonstrations do, not shifted by a start elsewhere.
 
     Parameters
     ----------
@@ -449,6 +492,8 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     n = X.shape[0] if n_dense is None else n_dense
     pos = group_columns(column_groups, "position")
     first, last = contact_window(X[:n, pos], tq[:n]) if pos else (1.0, 0.0)
+    switch_first, switch_last = switch_window(X[:n], tq[:n], column_groups)
+    first, last = min(first, switch_first), max(last, switch_last)
     to_start = 1.0 - minimum_jerk(tq / first)
     to_goal = minimum_jerk((tq - last) / (1.0 - last))
     X = X.copy()

@@ -34,7 +34,8 @@ the robot executed so far, at the first time stamps of ``times``:
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
-  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`),
+  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`)
+  or gripper switch (:func:`~ndlfd.learner._conditioning.switch_window`),
   as :func:`~ndlfd.learner._conditioning.pin` does for a start.
 """
 
@@ -55,6 +56,7 @@ from ._conditioning import (
     contact_window,
     group_columns,
     minimum_jerk,
+    switch_window,
 )
 from ._routes import segment_paths
 from ._spec import prepare
@@ -385,6 +387,7 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     last = tq[n - 1]
     pos = group_columns(column_groups, "position")
     first = contact_window(X[n - 1 :, pos], tq[n - 1 :])[0] if pos else 1.0
+    first = min(first, switch_window(X[n - 1 :], tq[n - 1 :], column_groups)[0])
     if not first > last:
         first = 1.0
     fade = 1.0 - minimum_jerk((tq - last) / (first - last))
