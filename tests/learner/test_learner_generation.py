@@ -331,7 +331,7 @@ def test_a_two_valued_gripper_stays_two_valued_and_switches_on_time():
     assert set(np.unique(g)) == {0.0, 0.085}
 
 
-def _carries(n_demos=6, seed=0, noise=2e-3):
+def carries(n_demos=6, seed=0, noise=2e-3):
     """3-D carries turning about z, the gripper closing half way."""
     rng = np.random.default_rng(seed)
     out = []
@@ -353,7 +353,7 @@ def _carries(n_demos=6, seed=0, noise=2e-3):
 def test_a_start_orientation_and_gripper_keep_the_path_valid(generation):
     # a requested orientation is pinned as a unit quaternion, -q as q (one
     # rotation); a requested gripper value leaves the gripper on its two values
-    model = KeypointHMM(generation=generation).fit(_carries())
+    model = KeypointHMM(generation=generation).fit(carries())
     t = np.linspace(0.0, 4.0, 200)
     q = np.array([np.cos(0.2), 0.0, 0.0, np.sin(0.2)])
     goal = {"orientation": [2.0, 0.0, 0.0, 0.0]}
@@ -382,7 +382,7 @@ def test_a_start_offset_is_gone_when_the_gripper_closes():
     # switch, so the hand closes where the unconditioned path does; the
     # goal's offset comes in after the switch. The demonstrations are one
     # carry at different speeds, so any blend of them is that carry.
-    model = KeypointHMM().fit(_carries(noise=0.0))
+    model = KeypointHMM().fit(carries(noise=0.0))
     t = np.linspace(0.0, 4.0, 400)
     plain = model.generate(t, dense=True)
     here = plain.get("position")[0] + [0.05, -0.05, 0.0]
@@ -401,7 +401,7 @@ def test_a_start_offset_is_gone_when_the_gripper_closes():
 
 def test_a_prefix_offset_is_gone_when_the_gripper_closes():
     # as for a start: the junction's offset is faded out before the switch
-    model = KeypointHMM().fit(_carries(noise=0.0))
+    model = KeypointHMM().fit(carries(noise=0.0))
     t = np.linspace(0.0, 4.0, 400)
     plain = model.generate(t, dense=True)
     X = plain.X[:80].copy()

@@ -46,6 +46,7 @@ from ._via import (
     check_via,
     continue_from,
     observed_log_weights,
+    orient_via,
     via_log_weights,
 )
 
@@ -633,7 +634,7 @@ def generate_blend(
     all_t = times_of(times_or_demo)
     cols, groups = est.column_groups_, est.groups_
     start, goal = orient_conditions(est, start, goal)
-    via = check_via(via, all_t, cols, groups)
+    via = orient_via(est, check_via(via, all_t, cols, groups), cache)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
     extra = None
     if via is not None:

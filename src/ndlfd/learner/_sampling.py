@@ -54,6 +54,7 @@ from ._via import (
     check_observed,
     check_via,
     observed_log_weights,
+    orient_via,
     prefix_rows,
     via_log_weights,
 )
@@ -162,7 +163,7 @@ def sample_paths(
     n_samples = check_positive_int(n_samples, "n_samples")
     rng = check_random_state(random_state)
     all_t = times_of(times_or_demo)
-    via = check_via(via, all_t, cols, groups)
+    via = orient_via(est, check_via(via, all_t, cols, groups), cache)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
     logw, routes = demo_log_weights(est, start, goal, cache)
     logw = logw + via_log_weights(est, via, cache)

@@ -56,6 +56,7 @@ from ._conditioning import (
     contact_window,
     group_columns,
     minimum_jerk,
+    orient_condition,
     switch_window,
 )
 from ._routes import segment_paths
@@ -69,6 +70,7 @@ __all__ = [
     "continue_from",
     "demo_values_at",
     "observed_log_weights",
+    "orient_via",
     "prefix_rows",
     "via_log_weights",
 ]
@@ -172,6 +174,37 @@ def demo_values_at(est, taus: np.ndarray, cache: dict) -> np.ndarray:
         U, tau = est.train_values_[k], est.train_tau_[k]
         V[j] = np.column_stack([np.interp(taus, tau, c) for c in U.T])
     return V
+
+
+def orient_via(est, via, cache: dict) -> list | None:
+    """Checked via points, their orientations on the demonstrations' side.
+
+    As for a start (:func:`~ndlfd.learner._conditioning.orient_condition`),
+    against the demonstrations' orientations at the via point's time
+    (:func:`demo_values_at`): ``-q`` is the rotation ``q``, and the offset
+    the path is shifted by must not turn it the long way round.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    via : list of (float, dict), or None
+        From :func:`check_via`.
+    cache : dict
+        See :func:`demo_values_at`.
+
+    Returns
+    -------
+    via : list of (float, dict), or None
+    """
+    if via is None or not any("orientation" in cond for _, cond in via):
+        return via
+    V = demo_values_at(est, np.array([tau for tau, _ in via]), cache)
+    cg, scaler = est.column_groups_, est.scaler_
+    out = []
+    for k, (tau, cond) in enumerate(via):
+        out.append((tau, orient_condition(cond, V[:, k], scaler, cg, f"via[{k}]")))
+    return out
 
 
 def via_log_weights(est, via, cache: dict) -> np.ndarray:
