@@ -102,8 +102,8 @@ def add_sample(sub) -> None:
     p.add_argument(
         "--key-points",
         action="store_true",
-        help="write each path's key points instead of every time stamp (not"
-        " with --observed: a continuation has every time stamp)",
+        help="write each path's key points instead of every time stamp (with"
+        " --observed every time stamp: a continuation is dense)",
     )
     p.add_argument(
         "--random-state",
