@@ -18,7 +18,7 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..demonstration import Demonstration
-from ._options import GROUP_NAME, parse_floats, read_sources
+from ._options import GROUP_NAME, parse_floats, read_one
 
 __all__ = [
     "add_condition_options",
@@ -190,13 +190,7 @@ def read_observed(args: argparse.Namespace):
     """The ``--observed`` demonstration and its column mapping (or ``None``s)."""
     if args.observed is None:
         return None, None
-    demos, maps = read_sources(args, args.observed, flag="--observed")
-    if len(demos) != 1:
-        raise ValidationError(
-            f"--observed must name one demonstration; {args.observed} holds"
-            f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
-        )
-    return demos[0], maps[0]
+    return read_one(args, args.observed, "--observed")
 
 
 def observed_timing(prefix: Demonstration, timing) -> np.ndarray:

@@ -63,6 +63,7 @@ __all__ = [
     "parse_floats",
     "parse_pairs",
     "prepare_groups",
+    "read_one",
     "read_sources",
     "read_timing",
     "say",
@@ -588,10 +589,22 @@ def read_timing(args: argparse.Namespace, n: int | None, *, times_only=False):
         got = like_times(args)
         if got is not None:
             return got
-    demos, maps = read_sources(args, args.like, flag="--like")
+    return read_one(args, args.like, "--like")
+
+
+def read_one(args: argparse.Namespace, source, flag: str):
+    """The one demonstration ``source`` holds, read with the column flags.
+
+    Returns
+    -------
+    demo : Demonstration
+    mapping : ColumnMapping
+        How its columns were read (the output may write them back so).
+    """
+    demos, maps = read_sources(args, source, flag=flag)
     if len(demos) != 1:
         raise ValidationError(
-            f"--like must name one demonstration; {args.like} holds"
+            f"{flag} must name one demonstration; {source} holds"
             f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
         )
     return demos[0], maps[0]
