@@ -3,10 +3,11 @@
 ``ndlfd generate`` and ``ndlfd sample`` share these flags
 (:func:`add_condition_options`). They are parsed before the model is read, so
 a typo is reported first (:func:`parse_condition`, :func:`parse_via`), then
-checked against the model's groups (:func:`model_conditions`,
-:func:`check_condition_flags`); an executed prefix is read like ``--like``
-(:func:`read_observed`) and its time stamps become the first of the output
-(:func:`observed_timing`). Every error is one line naming the flag.
+checked against the model's groups and generation (:func:`model_conditions`,
+:func:`check_condition_flags`; the three steps: :func:`load_with_conditions`).
+An executed prefix is read like ``--like`` (:func:`read_observed`) and its
+time stamps become the first of the output (:func:`observed_timing`). Every
+error is one line naming the flag.
 """
 
 from __future__ import annotations
@@ -18,11 +19,13 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..demonstration import Demonstration
+from ..learner import KeypointHMM
 from ._options import GROUP_NAME, parse_floats, read_one
 
 __all__ = [
     "add_condition_options",
     "check_condition_flags",
+    "load_with_conditions",
     "model_conditions",
     "observed_timing",
     "parse_condition",
@@ -186,11 +189,47 @@ def check_condition_flags(args: argparse.Namespace, model) -> None:
                 )
 
 
-def read_observed(args: argparse.Namespace):
-    """The ``--observed`` demonstration and its column mapping (or ``None``s)."""
+def load_with_conditions(args: argparse.Namespace) -> tuple:
+    """The model of ``args.model`` and the start, goal and via points for it.
+
+    The flags are parsed before the model is read (a typo is reported
+    first), then checked against its groups and generation.
+
+    Returns
+    -------
+    model : KeypointHMM
+    start, goal : dict or None
+    via : list or None
+    """
+    start = parse_condition(args.start, "--start")
+    goal = parse_condition(args.goal, "--goal")
+    via = parse_via(args.via)
+    model = KeypointHMM.load(args.model)
+    start, goal = model_conditions(model, start, goal)
+    check_condition_flags(args, model)
+    return model, start, goal, via
+
+
+def read_observed(args: argparse.Namespace, timing) -> tuple:
+    """The ``--observed`` prefix, the output's timing and the prefix's mapping.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+    timing : Demonstration or ndarray
+        The timing of ``--like`` or ``--duration``.
+
+    Returns
+    -------
+    prefix : Demonstration or None
+    timing : Demonstration or ndarray
+        :func:`observed_timing` with a prefix, else as given.
+    mapping : ColumnMapping or None
+    """
     if args.observed is None:
-        return None, None
-    return read_one(args, args.observed, "--observed")
+        return None, timing, None
+    prefix, mapping = read_one(args, args.observed, "--observed")
+    return prefix, observed_timing(prefix, timing), mapping
 
 
 def observed_timing(prefix: Demonstration, timing) -> np.ndarray:

@@ -15,16 +15,7 @@ from ..io import (
     write_joint_trajectory,
     write_table,
 )
-from ..learner import KeypointHMM
-from ._conditions import (
-    add_condition_options,
-    check_condition_flags,
-    model_conditions,
-    observed_timing,
-    parse_condition,
-    parse_via,
-    read_observed,
-)
+from ._conditions import add_condition_options, load_with_conditions, read_observed
 from ._options import (
     MAX_SAMPLES,
     add_column_options,
@@ -71,21 +62,15 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     fmt = _output_format(args, out)
     std_out = check_output(args.std, "--std") if args.std is not None else None
     n = check_timing(args)
-    start = parse_condition(args.start, "--start")
-    goal = parse_condition(args.goal, "--goal")
-    via = parse_via(args.via)
-    model = KeypointHMM.load(args.model)
-    start, goal = model_conditions(model, start, goal)
-    check_condition_flags(args, model)
+    model, start, goal, via = load_with_conditions(args)
     if std_out is not None and model.generation != "blend":
         raise ValidationError(
             "--std needs a model fitted with --generation blend; this one uses"
             f" {model.generation}"
         )
     timing, like = read_timing(args, n, times_only=model.generation != "paper")
-    prefix, observed_map = read_observed(args)
-    if prefix is not None:
-        timing, like = observed_timing(prefix, timing), like or observed_map
+    prefix, timing, observed_map = read_observed(args, timing)
+    like = like or observed_map
     result = model.generate(
         timing,
         dense=args.dense,

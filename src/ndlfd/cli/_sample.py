@@ -7,16 +7,7 @@ from pathlib import Path
 
 from .._errors import ValidationError
 from ..io import write_csv
-from ..learner import KeypointHMM
-from ._conditions import (
-    add_condition_options,
-    check_condition_flags,
-    model_conditions,
-    observed_timing,
-    parse_condition,
-    parse_via,
-    read_observed,
-)
+from ._conditions import add_condition_options, load_with_conditions, read_observed
 from ._generate import FLOAT_FORMAT
 from ._options import (
     add_column_options,
@@ -43,16 +34,9 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         )
     check_range(args.n, "-n", low=1, high=MAX_DRAWS)
     n = check_timing(args)
-    start = parse_condition(args.start, "--start")
-    goal = parse_condition(args.goal, "--goal")
-    via = parse_via(args.via)
-    model = KeypointHMM.load(args.model)
-    start, goal = model_conditions(model, start, goal)
-    check_condition_flags(args, model)
+    model, start, goal, via = load_with_conditions(args)
     timing, _ = read_timing(args, n)
-    prefix, _ = read_observed(args)
-    if prefix is not None:
-        timing = observed_timing(prefix, timing)
+    prefix, timing, _ = read_observed(args, timing)
     paths = model.sample(
         timing,
         args.n,
