@@ -173,7 +173,7 @@ def test_generate_continues_an_observed_prefix(capsys, tmp_path, routes_model):
 def test_the_prefix_gives_the_first_time_stamps(capsys, tmp_path, routes_model):
     # a prefix at its own rate: its stamps, then the grid's after them
     demos, path, _ = routes_model
-    times = np.arange(0.0, 1.2, 0.0375)  # 32 samples, not on the grid
+    times = np.arange(0.0, 1.19, 0.04)  # 30 samples, not on the grid
     prefix = _write_prefix(demos[1], times, tmp_path / "prefix.csv")
     rc, err = cli(capsys, "generate", path, "--duration", "5", "--samples", "201",
                   "--observed", tmp_path / "prefix.csv",
@@ -182,7 +182,8 @@ def test_the_prefix_gives_the_first_time_stamps(capsys, tmp_path, routes_model):
     got = read_csv(tmp_path / "p.csv")
     n = times.size
     np.testing.assert_array_equal(got.t[:n], prefix.t)
-    np.testing.assert_array_equal(got.t[n:], G[G > times[-1]])
+    # the grid's stamps more than half its step (0.0125 s) after the prefix
+    np.testing.assert_array_equal(got.t[n:], G[G > times[-1] + 0.0125])
     assert _no_jump(got.get("position"), n, prefix, demos)
     assert got.get("position")[np.argmin(np.abs(got.t - 2.5)), 1] > 4.5  # major
 

@@ -235,6 +235,10 @@ def read_observed(args: argparse.Namespace, timing) -> tuple:
 def observed_timing(prefix: Demonstration, timing) -> np.ndarray:
     """The output's time stamps: the prefix's, then the timing's after them.
 
+    A stamp of the timing within half its median step after the prefix's
+    last is left out (two stamps a hair apart would make the derived
+    velocity spike).
+
     Parameters
     ----------
     prefix : Demonstration
@@ -253,6 +257,8 @@ def observed_timing(prefix: Demonstration, timing) -> np.ndarray:
     >>> prefix = Demonstration([0.0, 0.3], [[0.0], [1.0]], ("x",), ("position",))
     >>> observed_timing(prefix, np.linspace(0.0, 1.0, 5))
     array([0.  , 0.3 , 0.5 , 0.75, 1.  ])
+    >>> observed_timing(prefix, np.linspace(0.0, 1.0, 6))  # not 0.4 (0.1 after)
+    array([0. , 0.3, 0.6, 0.8, 1. ])
     """
     t = timing.t if isinstance(timing, Demonstration) else np.asarray(timing)
     tol = 1e-9 * (t[-1] - t[0])
@@ -262,7 +268,7 @@ def observed_timing(prefix: Demonstration, timing) -> np.ndarray:
             " expected the samples executed from the start of the motion, on"
             " the timing's clock"
         )
-    rest = t[t > prefix.t[-1] + tol]
+    rest = t[t > prefix.t[-1] + max(tol, 0.5 * float(np.median(np.diff(t))))]
     if rest.size == 0:
         raise ValidationError(
             f"--observed ends at {prefix.t[-1]:g} s, not before the timing's end"
