@@ -9,6 +9,14 @@ middle sample, and the jump at the junction (largest of |step after the
 prefix| - |largest step of the prefix|, over the range). Target (issue 17):
 ``observed`` <= 5 ms, jump <= 0.5 % of the range.
 
+Also, as a robot replanning during one execution: 20 calls on each held-out
+demonstration with the prefix growing from 10 % to 50 % of its samples, the
+median and the largest time per call over all shapes (the first call after
+the fit, which finds the routes and fills the model's cache, apart); and the
+same prefix calls on a model with 100 position levels (m = 1,000,000 states
+instead of 40,000) on the first 5 shapes, to show the cost follows the seen
+states, not the codebook.
+
 Run: ``PYTHONPATH=src .venv/bin/python benchmarks/bench_continue.py`` (about a
 minute). Prints the medians over the shapes.
 """
@@ -33,12 +41,32 @@ def best_of(f, repeat=7):
     return min(times)
 
 
+def prefix_of(test, n):
+    return Demonstration(test.t[:n], test.X[:n], test.columns, test.groups)
+
+
+def replanning(model, test, calls=20):
+    """Time of each call, the prefix growing from 10 % to 50 % of the samples."""
+    out = []
+    for n in np.linspace(0.1 * test.t.size, 0.5 * test.t.size, calls).astype(int):
+        prefix = prefix_of(test, n)
+        t0 = time.perf_counter()
+        model.generate(test.t, observed=prefix)
+        out.append(time.perf_counter() - t0)
+    return out
+
+
 def main():
-    obs_ms, via_ms, jumps, via_err = [], [], [], []
+    warm = load_lasa(lasa_names()[0])  # compile (or load) the numba kernels once
+    KeypointHMM().fit(warm[:-1]).generate(warm[-1].t, observed=prefix_of(warm[-1], 300))
+    obs_ms, via_ms, jumps, via_err, replan_ms, first_ms = [], [], [], [], [], []
     for name in lasa_names():
         demos = load_lasa(name)
         train, test = demos[:-1], demos[-1]
         model = KeypointHMM().fit(train)
+        first, *later = replanning(model, test)
+        first_ms.append(first * 1e3)
+        replan_ms += [s * 1e3 for s in later]
         t, P = test.t, test.get("position")
         n = int(0.3 * t.size)
         prefix = Demonstration(t[:n], test.X[:n], test.columns, test.groups)
@@ -61,6 +89,24 @@ def main():
     print(f"jump after the prefix: max {max(jumps) * 100:.3f} % of the range")
     print(f"generate(via=middle sample): median {np.median(via_ms):.2f} ms;"
           f" via error max {max(via_err) * 100:.2e} % of the range")  # fmt: skip
+    med, top = np.median(replan_ms), np.max(replan_ms)
+    f_med, f_top = np.median(first_ms), np.max(first_ms)
+    print(f"replanning (20 calls per shape, prefix 10 % -> 50 %): calls 2-20"
+          f" median {med:.2f} ms, max {top:.2f} ms; the first after the fit"
+          f" median {f_med:.2f} ms, max {f_top:.2f} ms")  # fmt: skip
+    coarse, fine = [], []
+    for name in lasa_names()[:5]:
+        demos = load_lasa(name)
+        train, test = demos[:-1], demos[-1]
+        prefix = prefix_of(test, int(0.3 * test.t.size))
+        for levels, out in ((20, coarse), (100, fine)):
+            model = KeypointHMM(levels={"position": levels}).fit(train)
+            model.generate(test.t, observed=prefix)
+            call = functools.partial(model.generate, test.t, observed=prefix)
+            out.append(best_of(call) * 1e3)
+    print(f"first 5 shapes, generate(observed=30 %): median {np.median(coarse):.2f} ms"
+          f" at 20 position levels (m = 40,000), {np.median(fine):.2f} ms at 100"
+          " (m = 1,000,000)")  # fmt: skip
 
 
 if __name__ == "__main__":

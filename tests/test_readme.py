@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ndlfd import synth
+from ndlfd import Demonstration, synth
 from ndlfd.io import read_csv, write_csv, write_table
 
 README = Path(__file__).resolve().parents[1] / "README.md"
@@ -57,6 +57,8 @@ def test_readme_shell_examples_run(tmp_path):
         "generate",
         "generate",
         "generate",
+        "generate",
+        "sample",
         "evaluate",
         "reproduce",
         "fit",
@@ -69,10 +71,15 @@ def test_readme_shell_examples_run(tmp_path):
         [np.arange(500) * 0.1, np.cumsum(rng.normal(size=(500, 2)), 0)]
     )
     write_table(tmp_path / "walk.csv", ["t", "x", "y"], walk)
-    train, _ = synth.make_dataset("square", n_demos=15, random_state=2)
+    train, test = synth.make_dataset("square", n_demos=15, random_state=2)
     (tmp_path / "demos").mkdir()
     for i, d in enumerate(train):
         write_csv(d, tmp_path / "demos" / f"d{i}.csv")
+    # what a robot executed so far: the held-out square's first 30 %, from 0 s
+    n = int(0.3 * test.n_samples)
+    so_far = Demonstration(test.t[:n] - test.t[0], test.X[:n], test.columns,
+                           test.groups)  # fmt: skip
+    write_csv(so_far, tmp_path / "so-far.csv")
     # "Your own data": the picture's recordings (docs/images/plot-own-data.png)
     own, _ = synth.make_dataset("square", n_demos=6, noise=0.02, random_state=2)
     (tmp_path / "recordings").mkdir()
@@ -94,6 +101,12 @@ def test_readme_shell_examples_run(tmp_path):
     via = read_csv(tmp_path / "via.csv")  # through the via point at t = 4
     at = [np.interp(4.0, via.t, c) for c in via.get("position").T]
     np.testing.assert_allclose(at, [10.0, 10.5], atol=0.01)
+    so_far = read_csv(tmp_path / "so-far.csv")
+    rest = read_csv(tmp_path / "rest.csv")  # the prefix, then its continuation
+    np.testing.assert_array_equal(rest.t[:n], so_far.t)
+    np.testing.assert_allclose(rest.get("position")[:n], so_far.get("position"))
+    continuations = sorted((tmp_path / "continuations").glob("sample_*.csv"))
+    assert len(continuations) == 20
     assert (tmp_path / "evaluation" / "summary.md").exists()
     assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
     # the generated path keeps the recordings' names (fit recorded them)

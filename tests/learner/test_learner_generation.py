@@ -329,3 +329,89 @@ def test_a_two_valued_gripper_stays_two_valued_and_switches_on_time():
     g = KeypointHMM().fit(demos_of(0.085)).generate(t, dense=True).get("gripper")
     g = g[:, 0]
     assert set(np.unique(g)) == {0.0, 0.085}
+
+
+def carries(n_demos=6, seed=0, noise=2e-3):
+    """3-D carries turning about z, the gripper closing half way."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n_demos):
+        s = np.linspace(0.0, 1.0, 150)
+        P = np.column_stack([0.5 * s, 0.1 * np.sin(np.pi * s), 0.3 - 0.2 * s])
+        half = 0.25 * s + rng.normal(0.0, 5 * noise)
+        Q = np.column_stack([np.cos(half), 0 * s, 0 * s, np.sin(half)])
+        t = 4.0 * s * rng.uniform(0.95, 1.05)
+        P = P + rng.normal(0.0, noise, P.shape)
+        grip = (s > 0.5) * 1.0
+        out.append(
+            Demonstration.from_arrays(t, position=P, orientation=Q, gripper=grip)
+        )
+    return out
+
+
+@pytest.mark.parametrize("generation", ["blend", "paper"])
+def test_a_start_orientation_and_gripper_keep_the_path_valid(generation):
+    # a requested orientation is pinned as a unit quaternion, -q as q (one
+    # rotation); a requested gripper value leaves the gripper on its two values
+    model = KeypointHMM(generation=generation).fit(carries())
+    t = np.linspace(0.0, 4.0, 200)
+    q = np.array([np.cos(0.2), 0.0, 0.0, np.sin(0.2)])
+    goal = {"orientation": [2.0, 0.0, 0.0, 0.0]}
+    paths = [
+        model.generate(
+            t, dense=True, goal=goal, start={"orientation": s * q, "gripper": [1.0]}
+        )
+        for s in (1.0, -1.0, -3.0)
+    ]
+    np.testing.assert_array_equal(paths[0].X, paths[1].X)
+    np.testing.assert_allclose(paths[0].X, paths[2].X, rtol=1e-12, atol=1e-12)
+    Q = paths[0].get("orientation")
+    np.testing.assert_allclose(np.linalg.norm(Q, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(Q[0], q, atol=1e-12)
+    np.testing.assert_allclose(Q[-1], [1.0, 0.0, 0.0, 0.0], atol=1e-12)
+    if generation == "blend":
+        grip = paths[0].get("gripper")[:, 0]
+        assert grip[0] == 1.0 and set(np.unique(grip)) <= {0.0, 1.0}
+    with pytest.raises(ValidationError, match="non-zero norm"):
+        model.generate(t, start={"orientation": [0.0, 0.0, 0.0, 0.0]})
+
+
+def test_a_start_offset_is_gone_when_the_gripper_closes():
+    # the carries never slow down before the gripper closes (half way): the
+    # offset to a start 5 cm off is faded out by the last sample before the
+    # switch, so the hand closes where the unconditioned path does; the
+    # goal's offset comes in after the switch. The demonstrations are one
+    # carry at different speeds, so any blend of them is that carry.
+    model = KeypointHMM().fit(carries(noise=0.0))
+    t = np.linspace(0.0, 4.0, 400)
+    plain = model.generate(t, dense=True)
+    here = plain.get("position")[0] + [0.05, -0.05, 0.0]
+    there = plain.get("position")[-1] + [0.0, 0.05, 0.05]
+    path = model.generate(t, dense=True, start={"position": here},
+                          goal={"position": there})  # fmt: skip
+    grip = path.get("gripper")[:, 0]
+    np.testing.assert_array_equal(grip, plain.get("gripper")[:, 0])
+    close = int(np.flatnonzero(np.diff(grip))[0])  # the last row before it
+    P, Q = path.get("position"), plain.get("position")
+    np.testing.assert_allclose(P[0], here)
+    np.testing.assert_allclose(P[close : close + 2], Q[close : close + 2], atol=1e-12)
+    assert np.linalg.norm(P[close // 2] - Q[close // 2]) > 0.01  # faded, not cut
+    np.testing.assert_allclose(P[-1], there, atol=1e-12)
+
+
+def test_a_prefix_offset_is_gone_when_the_gripper_closes():
+    # as for a start: the junction's offset is faded out before the switch
+    model = KeypointHMM().fit(carries(noise=0.0))
+    t = np.linspace(0.0, 4.0, 400)
+    plain = model.generate(t, dense=True)
+    X = plain.X[:80].copy()
+    X[:, :3] += [0.03, 0.0, -0.03]  # executed 3 cm off the demonstrations
+    prefix = Demonstration(t[:80], X, plain.columns, plain.groups)
+    path = model.generate(t, observed=prefix)
+    grip = path.get("gripper")[:, 0]
+    np.testing.assert_array_equal(grip, plain.get("gripper")[:, 0])
+    close = int(np.flatnonzero(np.diff(grip))[0])
+    P, Q = path.get("position"), plain.get("position")
+    np.testing.assert_array_equal(P[:80], X[:, :3])
+    np.testing.assert_allclose(P[close : close + 2], Q[close : close + 2], atol=1e-12)
+    assert np.linalg.norm(P[(80 + close) // 2] - Q[(80 + close) // 2]) > 0.005

@@ -6,6 +6,7 @@ from scipy import stats
 from test_learner_routes import obstacle
 
 from ndlfd import NotFittedError, ValidationError
+from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 from ndlfd.learner._sampling import _seen_only, route_probabilities
 
@@ -126,3 +127,46 @@ def test_unseen_states_of_a_drawn_skeleton_keep_the_state_before():
     model = KeypointHMM(pseudo_emission=0.5).fit(demos)
     for p in model.sample(T, 40, random_state=0):
         assert abs(curve(p.get("position"))[25]) > 5
+
+
+def _prefix_of(demo, n):
+    """The first ``n`` time stamps of ``T``, ``demo`` on the same normalized clock."""
+    tau = demo.t / demo.t[-1]
+    X = np.column_stack([np.interp(T[:n] / T[-1], tau, c) for c in demo.X.T])
+    return Demonstration(T[:n], X, demo.columns, demo.groups)
+
+
+@pytest.mark.parametrize(("who", "below"), [(10, True), (2, False)])
+def test_samples_all_continue_an_observed_prefix(uneven, who, below):
+    demos, model = uneven
+    n = 120  # 30 % of the timing, on the minor (10) or major (2) route
+    prefix = _prefix_of(demos[who], n)
+    paths = model.sample(T, 30, dense=False, observed=prefix, random_state=5)
+    rng = np.ptp(np.vstack([d.get("position") for d in demos]), axis=0)
+    largest = np.abs(np.diff(prefix.X, axis=0)).max(axis=0)
+    tails = []
+    for p in paths:
+        assert np.array_equal(p.t, T)  # every time stamp, even with dense=False
+        P = p.get("position")
+        np.testing.assert_array_equal(P[:n], prefix.X)
+        # no jump: the step after the prefix within its largest + 0.5 % range
+        assert np.all(np.abs(P[n] - P[n - 1]) <= largest + 0.005 * rng)
+        assert (curve(P)[25] < -4.5) if below else (curve(P)[25] > 4.5)
+        tails.append(P[n:])
+    assert np.unique(np.round(tails, 6), axis=0).shape[0] > 1  # they vary
+    again = model.sample(T, 30, observed=prefix, random_state=5)
+    for p, q in zip(paths, again, strict=True):
+        np.testing.assert_array_equal(p.X, q.X)
+    other = model.sample(T, 30, observed=prefix, random_state=6)
+    assert any(not np.array_equal(p.X, q.X) for p, q in zip(paths, other, strict=True))
+
+
+def test_an_observed_prefix_with_a_start_or_via_is_refused(uneven):
+    demos, model = uneven
+    prefix = _prefix_of(demos[0], 50)
+    with pytest.raises(ValidationError, match="cannot be combined with start or via"):
+        model.sample(T, observed=prefix, start={"position": [-10.0, 0.0]})
+    with pytest.raises(ValidationError, match="cannot be combined with start or via"):
+        model.sample(T, observed=prefix, via=[(2.5, {"position": [-5.0, 5.0]})])
+    with pytest.raises(ValidationError, match="first time stamps of the timing"):
+        model.sample(T + 1.0, observed=prefix)

@@ -202,3 +202,20 @@ def test_check_via_sorts_by_time():
     out = check_via([(3.0, {"p": [1]}), (1.0, {"p": [2]})], np.array([0.0, 4.0]),
                     ("p",), ("p",))  # fmt: skip
     assert [tau for tau, _ in out] == [0.25, 0.75]
+
+
+def test_an_orientation_via_point_as_minus_q_is_the_same_rotation():
+    from test_learner_generation import carries
+
+    model = KeypointHMM().fit(carries())
+    t = np.linspace(0.0, 4.0, 201)
+    q = np.array([np.cos(0.2), 0.0, 0.0, np.sin(0.2)])
+    paths = [model.generate(t, dense=True, via=[(t[100], {"orientation": s * q})])
+             for s in (1.0, -1.0)]  # fmt: skip
+    np.testing.assert_array_equal(paths[0].X, paths[1].X)
+    Q = paths[0].get("orientation")
+    np.testing.assert_allclose(Q[100], q, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(Q, axis=1), 1.0, atol=1e-12)
+    # no flip: as smooth as the path without the via point
+    plain = model.generate(t, dense=True).get("orientation")
+    assert np.abs(np.diff(Q, axis=0)).max() < 2 * np.abs(np.diff(plain, axis=0)).max()

@@ -15,17 +15,13 @@ from ..io import (
     write_joint_trajectory,
     write_table,
 )
-from ..learner import KeypointHMM
+from ._conditions import add_condition_options, load_with_conditions, read_observed
 from ._options import (
     MAX_SAMPLES,
     add_column_options,
     add_timing_options,
-    add_via_option,
     check_output,
     check_timing,
-    parse_floats,
-    parse_via,
-    position_conditions,
     read_timing,
     say,
 )
@@ -66,17 +62,15 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     fmt = _output_format(args, out)
     std_out = check_output(args.std, "--std") if args.std is not None else None
     n = check_timing(args)
-    start = parse_floats(args.start, "--start")
-    goal = parse_floats(args.goal, "--goal")
-    via = parse_via(args.via)
-    model = KeypointHMM.load(args.model)
-    start, goal = position_conditions(model, start, goal)
+    model, start, goal, via = load_with_conditions(args)
     if std_out is not None and model.generation != "blend":
         raise ValidationError(
             "--std needs a model fitted with --generation blend; this one uses"
             f" {model.generation}"
         )
     timing, like = read_timing(args, n, times_only=model.generation != "paper")
+    prefix, timing, observed_map = read_observed(args, timing)
+    like = like or observed_map
     like = like if like is not None else getattr(model, "input_mapping_", None)
     result = model.generate(
         timing,
@@ -84,10 +78,12 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         start=start,
         goal=goal,
         via=via,
+        observed=prefix,
         return_std=std_out is not None,
     )
     path, std = result if std_out is not None else (result, None)
-    exact_time = args.like is not None and args.dense
+    dense = args.dense or prefix is not None  # a continuation: every time stamp
+    exact_time = (args.like is not None and dense) or prefix is not None
     if fmt == "bag":
         write_bag(path, out, topic=args.topic or "/ndlfd/path")
     elif fmt == "joint-trajectory":
@@ -99,7 +95,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         formats += [FLOAT_FORMAT] * path.n_dims
         write_table(std_out, csv_header(path, "t"),
                     np.column_stack([path.t, std]), float_format=formats)  # fmt: skip
-    what = "samples" if args.dense else "key points"
+    what = "samples" if dense else "key points"
+    if prefix is not None:
+        what += f" (the first {prefix.n_samples} observed)"
     also = f" and its standard deviation -> {std_out}" if std_out is not None else ""
     say(args, f"generated {path.n_samples} {what} -> {out}{also}")
     return 0
@@ -139,11 +137,12 @@ def add_generate(sub) -> None:
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     add_timing_options(p)
-    add_via_option(p)
+    add_condition_options(p)
     p.add_argument(
         "--dense",
         action="store_true",
-        help="interpolate to every time stamp instead of writing key points",
+        help="interpolate to every time stamp instead of writing key points"
+        " (always with --observed)",
     )
     p.add_argument(
         "--std",

@@ -6,10 +6,11 @@ every bounded setting), the output checks (:func:`check_output`), the column
 mapping flags (:func:`add_column_options`, :func:`column_options`), reading
 demonstrations with them (:func:`read_sources`) and the one-line reports
 (:func:`say` on stderr unless ``-q``; :func:`noting` and :func:`tell`: one warning
-line per kind of news), and the timing and conditions of a path from a model
-(:func:`add_timing_options`, :func:`check_timing`, :func:`read_timing`,
-:func:`position_conditions`: ``ndlfd generate`` and ``ndlfd sample``). A command
-module uses these and adds its own flags.
+line per kind of news), and the timing of a path from a model
+(:func:`add_timing_options`, :func:`check_timing`, :func:`read_timing`:
+``ndlfd generate`` and ``ndlfd sample``; where it goes is
+:mod:`ndlfd.cli._conditions`). A command module uses these and adds its own
+flags.
 """
 
 from __future__ import annotations
@@ -64,9 +65,9 @@ __all__ = [
     "noting",
     "parse_floats",
     "parse_pairs",
-    "position_conditions",
     "prepare_groups",
     "quiet_news",
+    "read_one",
     "read_sources",
     "read_timing",
     "say",
@@ -86,10 +87,16 @@ class Parser(argparse.ArgumentParser):
     """An argument parser whose errors are one line, like every other error."""
 
     def error(self, message: str) -> None:  # type: ignore[override]
-        """Print one line naming the command and exit with status 2."""
-        self.exit(
-            EXIT_USAGE, f"{self.prog}: error: {message} (see {self.prog} --help)\n"
-        )
+        """Print one line naming the command and exit with status 2.
+
+        A flag left without its value because the value starts with ``-``
+        (``--start -1,2`` reads ``-1,2`` as a flag) is told to use ``=``.
+        """
+        hint = f"see {self.prog} --help"
+        flag = re.match(r"argument (--[\w-]+): expected one argument", message)
+        if flag:
+            hint = f"a value that starts with '-' takes '=': {flag[1]}=-...; {hint}"
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} ({hint})\n")
 
 
 def say(args: argparse.Namespace, line: str) -> None:
@@ -558,23 +565,12 @@ def prepare_groups(demos, maps, groups: list[str]):
 
 
 def add_timing_options(p) -> None:
-    """``--like``, ``--start``, ``--goal``, ``--duration`` and ``--samples``."""
+    """``--like``, ``--duration`` and ``--samples``."""
     p.add_argument(
         "--like",
         help="a test demonstration whose timing is used (one file, or one episode"
         " of a LeRobot dataset with --episodes N); when it gives the orientation"
         " as Euler angles, the output does too, under its names",
-    )
-    p.add_argument(
-        "--start",
-        metavar="X,Y[,Z]",
-        help="where the robot starts (position): the path begins there and"
-        " follows the demonstrations that start nearby",
-    )
-    p.add_argument(
-        "--goal",
-        metavar="X,Y[,Z]",
-        help="where the path must end (position)",
     )
     p.add_argument(
         "--duration", type=float, help="duration (> 0) of a uniform time grid"
@@ -627,10 +623,22 @@ def read_timing(args: argparse.Namespace, n: int | None, *, times_only=False):
         got = like_times(args)
         if got is not None:
             return got
-    demos, maps = read_sources(args, args.like, flag="--like")
+    return read_one(args, args.like, "--like")
+
+
+def read_one(args: argparse.Namespace, source, flag: str):
+    """The one demonstration ``source`` holds, read with the column flags.
+
+    Returns
+    -------
+    demo : Demonstration
+    mapping : ColumnMapping
+        How its columns were read (the output may write them back so).
+    """
+    demos, maps = read_sources(args, source, flag=flag)
     if len(demos) != 1:
         raise ValidationError(
-            f"--like must name one demonstration; {args.like} holds"
+            f"{flag} must name one demonstration; {source} holds"
             f" {len(demos)} ({maps[0].source}, {maps[1].source}, ...)"
         )
     return demos[0], maps[0]
@@ -694,81 +702,3 @@ def like_times(args: argparse.Namespace):
         f"--like {p}: expected a time column named {tc!r} (any case); got columns"
         f" {table.columns}; {CLI_HINTS['time_hint']}"
     )
-
-
-def position_conditions(model, start, goal) -> tuple:
-    """``--start`` and ``--goal`` as ``{"position": values}`` (or ``None``).
-
-    Parameters
-    ----------
-    model : KeypointHMM
-        Fitted: the values must be one per position column.
-    start, goal : list of float or None
-        ``parse_floats(args.start, "--start")`` and the goal's (parsed before
-        the model is read, so a typo is reported first).
-
-    Returns
-    -------
-    start, goal : dict or None
-    """
-    n_pos = model.column_groups_.count("position")
-    for flag, values in (("--start", start), ("--goal", goal)):
-        if values is None:
-            continue
-        if n_pos == 0:
-            raise ValidationError(
-                f"{flag} needs a model that learned position; it learned"
-                f" {', '.join(model.groups_)}"
-            )
-        if len(values) != n_pos:
-            pairs = zip(model.columns_, model.column_groups_, strict=True)
-            names = ", ".join(c for c, g in pairs if g == "position")
-            raise ValidationError(
-                f"{flag} must give {n_pos} position values (one per column: {names});"
-                f" got {len(values)}"
-            )
-    return tuple(None if v is None else {"position": v} for v in (start, goal))
-
-
-# ---------------------------------------------------------------- via points
-
-
-def add_via_option(p) -> None:
-    """``--via TIME:GROUP=values``, repeatable (``generate`` and ``sample``)."""
-    p.add_argument(
-        "--via",
-        action="append",
-        metavar="TIME:GROUP=V1,V2,...",
-        help="a via point: the path passes through these values of GROUP at"
-        " TIME (on the timing's clock) and follows the route through them;"
-        " repeatable, e.g. --via 2.5:position=0.6,0.1,0.3",
-    )
-
-
-def parse_via(texts: list[str] | None) -> list | None:
-    """``--via`` flags as ``[(time, {group: values})]`` (or ``None``).
-
-    Examples
-    --------
-    >>> parse_via(["2.5:position=0.6,0.1"])
-    [(2.5, {'position': [0.6, 0.1]})]
-    """
-    if not texts:
-        return None
-    out = []
-    example = "TIME:GROUP=V1,V2,... (e.g. 2.5:position=0.6,0.1,0.3)"
-    for text in texts:
-        time, colon, rest = text.partition(":")
-        group, eq, values = rest.partition("=")
-        if not (colon and eq and group.strip()):
-            raise ValidationError(f"--via must look like {example}; got {text!r}")
-        try:
-            t = float(time)
-        except ValueError:
-            raise ValidationError(
-                f"--via: the time {time!r} is not a number in {text!r}"
-            ) from None
-        if not math.isfinite(t):
-            raise ValidationError(f"--via: the time must be finite; got {text!r}")
-        out.append((t, {group.strip(): parse_floats(values, f"--via {text}")}))
-    return out

@@ -7,17 +7,13 @@ from pathlib import Path
 
 from .._errors import ValidationError
 from ..io import write_csv
-from ..learner import KeypointHMM
+from ._conditions import add_condition_options, load_with_conditions, read_observed
 from ._generate import FLOAT_FORMAT
 from ._options import (
     add_column_options,
     add_timing_options,
-    add_via_option,
     check_range,
     check_timing,
-    parse_floats,
-    parse_via,
-    position_conditions,
     read_timing,
     say,
 )
@@ -38,12 +34,10 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         )
     check_range(args.n, "-n", low=1, high=MAX_DRAWS)
     n = check_timing(args)
-    start = parse_floats(args.start, "--start")
-    goal = parse_floats(args.goal, "--goal")
-    via = parse_via(args.via)
-    model = KeypointHMM.load(args.model)
-    start, goal = position_conditions(model, start, goal)
+    model, start, goal, via = load_with_conditions(args)
     timing, like = read_timing(args, n)
+    prefix, timing, observed_map = read_observed(args, timing)
+    like = like or observed_map
     like = like if like is not None else getattr(model, "input_mapping_", None)
     paths = model.sample(
         timing,
@@ -52,10 +46,12 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         start=start,
         goal=goal,
         via=via,
+        observed=prefix,
         random_state=args.random_state,
     )
     folder.mkdir(exist_ok=True)
-    exact_time = args.like is not None and not args.key_points
+    dense = not args.key_points or prefix is not None  # a continuation: all
+    exact_time = (args.like is not None and dense) or prefix is not None
     digits = max(3, len(str(args.n - 1)))
     for k, path in enumerate(paths):
         write_csv(
@@ -65,7 +61,9 @@ def _cmd_sample(args: argparse.Namespace) -> int:
             time_format=None if exact_time else FLOAT_FORMAT,
             mapping=like,
         )
-    what = "key points" if args.key_points else "samples"
+    what = "samples" if dense else "key points"
+    if prefix is not None:
+        what += f", each continuing the {prefix.n_samples} observed"
     say(args, f"drew {len(paths)} path(s) of {what} -> {folder}/sample_*.csv")
     return 0
 
@@ -87,11 +85,12 @@ def add_sample(sub) -> None:
         "-n", type=int, default=1, help=f"paths to draw, 1 <= N <= {MAX_DRAWS:,}"
     )
     add_timing_options(p)
-    add_via_option(p)
+    add_condition_options(p)
     p.add_argument(
         "--key-points",
         action="store_true",
-        help="write each path's key points instead of every time stamp",
+        help="write each path's key points instead of every time stamp (with"
+        " --observed every time stamp: a continuation is dense)",
     )
     p.add_argument(
         "--random-state",

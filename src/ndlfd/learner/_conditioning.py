@@ -15,9 +15,11 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import ValidationError
+from ._discrete import DISCRETE_GROUPS
 
 __all__ = [
     "BANDWIDTH_FACTOR",
+    "BRUTE_FORCE_POINTS",
     "check_condition",
     "condition_bandwidth",
     "condition_log_weights",
@@ -27,8 +29,10 @@ __all__ = [
     "group_columns",
     "log_weights_for",
     "minimum_jerk",
+    "orient_condition",
     "pin",
     "pin_offset",
+    "switch_window",
 ]
 
 #: Kernel width in units of the median nearest-neighbour distance between the
@@ -37,6 +41,11 @@ __all__ = [
 #: single shapes and 0.133, 0.135, 0.136 and 0.152 on Multi_Models; narrower
 #: kernels copy the nearest demonstration, wider ones start to mix routes.
 BANDWIDTH_FACTOR = 4.0
+
+#: Points up to which :func:`condition_bandwidth` measures every pair. On
+#: random 2-D points (best of 200, numpy and scipy of the venv) the pairs
+#: took 6, 19 and 57 us at 6, 32 and 64 points, a k-d tree 19, 26 and 35 us.
+BRUTE_FORCE_POINTS = 32
 
 
 def minimum_jerk(s: np.ndarray) -> np.ndarray:
@@ -95,19 +104,28 @@ def condition_bandwidth(points: np.ndarray) -> float:
 
     :data:`BANDWIDTH_FACTOR` times the median distance from each point to its
     nearest other one (the width of the whole set if most coincide; 1 for a
-    single point). A k-d tree makes it ``O(n log n)``.
+    single point). Up to :data:`BRUTE_FORCE_POINTS` points by all pairwise
+    distances (a k-d tree costs more to build than they take: continuing a
+    prefix asks for one width per observed sample), beyond by a k-d tree in
+    ``O(n log n)``.
 
     Examples
     --------
     >>> condition_bandwidth(np.array([[0.0], [0.5], [3.0], [3.5]]))
     2.0
     """
-    from scipy.spatial import cKDTree
-
     points = np.asarray(points, dtype=np.float64)
     if points.shape[0] < 2:
         return 1.0
-    nearest = cKDTree(points).query(points, k=2)[0][:, 1]
+    if points.shape[0] <= BRUTE_FORCE_POINTS:
+        diff = points[:, None, :] - points[None, :, :]
+        d2 = np.einsum("ijk,ijk->ij", diff, diff)
+        np.fill_diagonal(d2, np.inf)
+        nearest = np.sqrt(d2.min(axis=1))
+    else:
+        from scipy.spatial import cKDTree
+
+        nearest = cKDTree(points).query(points, k=2)[0][:, 1]
     h = BANDWIDTH_FACTOR * float(np.median(nearest))
     if not h > 0:  # most points coincide: the width of the whole set
         h = float(np.linalg.norm(points.max(axis=0) - points.min(axis=0))) or 1.0
@@ -226,6 +244,57 @@ def check_condition(values, what: str, column_groups, groups) -> dict | None:
     return out
 
 
+def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | None:
+    """A requested orientation as a unit quaternion on the demonstrations' side.
+
+    ``q`` and ``-q`` are one rotation: the requested quaternion is scaled to
+    unit norm and, when it points away from the mean of the demonstrations'
+    (first or last) orientations, negated, so the kernel weights and the
+    offset pinned onto the path compare it with the same sign.
+
+    Parameters
+    ----------
+    cond : dict of str to ndarray, or None
+        From :func:`check_condition`.
+    points : ndarray of shape (n_demos, n_columns) or None
+        The demonstrations' first (start) or last (goal) normalized samples;
+        ``None`` (a model without them): the norm only.
+    scaler : GroupScaler
+        The fitted normalization.
+    column_groups : sequence of str
+    what : str
+        For the message (``"start"``, ``"goal"``).
+
+    Returns
+    -------
+    condition : dict of str to ndarray, or None
+
+    Examples
+    --------
+    >>> from ndlfd import GroupScaler
+    >>> cg = ("orientation",) * 4
+    >>> sc = GroupScaler(cg, mode="none").fit(np.eye(4))
+    >>> orient_condition({"orientation": np.array([-1.0, 1.0, 1.0, 1.0])},
+    ...                  np.array([[1.0, 0, 0, 0]]), sc, cg, "start")
+    {'orientation': array([ 0.5, -0.5, -0.5, -0.5])}
+    """
+    cols = group_columns(column_groups, "orientation")
+    if cond is None or "orientation" not in cond or len(cols) != 4:
+        return cond
+    q = cond["orientation"]
+    norm = float(np.linalg.norm(q))
+    if not norm > 1e-12:
+        raise ValidationError(
+            f"{what}['orientation'] must be a quaternion w, x, y, z of non-zero"
+            f" norm; got {q.tolist()}"
+        )
+    q = q / norm
+    if points is not None:
+        ref = scaler.inverse_transform(points, weighted=False)[:, cols].mean(axis=0)
+        q = -q if float(q @ ref) < 0.0 else q
+    return {**cond, "orientation": q}
+
+
 def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray]:
     """The columns a checked condition names and its values there, normalized.
 
@@ -339,6 +408,46 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     return first, last
 
 
+def switch_window(X, tq, column_groups) -> tuple[float, float]:
+    """Normalized times around the first and last switch of a gripper.
+
+    A discrete channel (:data:`~ndlfd.learner._discrete.DISCRETE_GROUPS`)
+    that changes value marks a contact event even where the hand does not
+    slow down: a start's offset must be gone by the last row before the
+    first switch, a goal's must come in from the first row after the last.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_columns)
+        The path in time order.
+    tq : ndarray of shape (n_samples,)
+        Their normalized times, increasing.
+    column_groups : sequence of str
+
+    Returns
+    -------
+    first, last : float
+        ``(1, 0)`` without a switch strictly inside the motion.
+
+    Examples
+    --------
+    >>> X = np.array([[0.0, 0], [1.0, 0], [2.0, 1], [3.0, 1], [4.0, 0]])
+    >>> switch_window(X, np.linspace(0.0, 1.0, 5), ("position", "gripper"))
+    (0.25, 0.5)
+    """
+    first, last = 1.0, 0.0
+    for c, g in enumerate(column_groups):
+        if g not in DISCRETE_GROUPS:
+            continue
+        at = np.flatnonzero(np.diff(X[:, c]) != 0)
+        before, after = tq[at], tq[at + 1]  # the rows either side of each switch
+        inside = (before > 0.0) & (after < 1.0)
+        if inside.any():
+            first = min(first, float(before[inside][0]))
+            last = max(last, float(after[inside][-1]))
+    return first, last
+
+
 def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     """Shift a path onto ``start`` and ``goal`` with an offset faded before contact.
 
@@ -346,9 +455,10 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     rows (the path at normalized times 0 and 1) and applied to every row at
     its normalized time ``tq``, faded by :func:`minimum_jerk`: the start's
     offset is gone by the path's first slow-down (:func:`contact_window`, on
-    the position columns; the whole motion if it has none), the goal's offset
-    comes in after the last one, so the path reaches a grasp or placement
-    where the demonstrations do, not shifted by a start elsewhere.
+    the position columns; the whole motion if it has none) or its first
+    gripper switch if that comes earlier (:func:`switch_window`), the goal's
+    offset comes in after the last of them, so the path reaches a grasp or
+    placement where the demonstrations do, not shifted by a start elsewhere.
 
     Parameters
     ----------
@@ -382,6 +492,8 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     n = X.shape[0] if n_dense is None else n_dense
     pos = group_columns(column_groups, "position")
     first, last = contact_window(X[:n, pos], tq[:n]) if pos else (1.0, 0.0)
+    switch_first, switch_last = switch_window(X[:n], tq[:n], column_groups)
+    first, last = min(first, switch_first), max(last, switch_last)
     to_start = 1.0 - minimum_jerk(tq / first)
     to_goal = minimum_jerk((tq - last) / (1.0 - last))
     X = X.copy()

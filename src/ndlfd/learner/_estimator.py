@@ -18,6 +18,7 @@ import numpy as np
 from .._errors import NotFittedError
 from .._parallel import keep_workers
 from ._blend import MATCH_WINDOW
+from ._cache import ModelCache
 from ._conditioning import check_condition
 from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_params
@@ -239,7 +240,7 @@ class KeypointHMM(ParamsMixin):
         self.groups_ = spec.groups
         self.scaler_, self.codebook_ = spec.scaler, spec.codebook
         self.time_bins_ = spec.time_bins
-        self._widths = {}  # conditioning kernel widths, computed when first asked
+        self._cache = ModelCache()  # computed when first asked (never saved)
         if stats is not None:
             vars(self).update(
                 learned_from_stats(
@@ -291,7 +292,7 @@ class KeypointHMM(ParamsMixin):
         log_probability : float
         """
         self._check_fitted()
-        return decode_key_points(self, times_or_demo, self._widths)
+        return decode_key_points(self, times_or_demo, self._cache)
 
     def generate(
         self,
@@ -351,11 +352,11 @@ class KeypointHMM(ParamsMixin):
         goal = check_condition(goal, "goal", self.column_groups_, self.groups_)
         how = GENERATIONS.get(self.generation)
         return how(self, times_or_demo, dense=dense, start=start, goal=goal,
-                   return_std=return_std, cache=self._widths, via=via,
+                   return_std=return_std, cache=self._cache, via=via,
                    observed=observed)  # fmt: skip
 
-    def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None,
-               goal=None, via=None, random_state=None) -> list:  # fmt: skip
+    def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None, goal=None,
+               via=None, observed=None, random_state=None) -> list:  # fmt: skip
         """Paths drawn from the model, each on one route (always blended).
 
         Routes in proportion to their weight, varying within a route about as
@@ -363,7 +364,7 @@ class KeypointHMM(ParamsMixin):
 
         Parameters
         ----------
-        times_or_demo, dense, start, goal, via
+        times_or_demo, dense, start, goal, via, observed
             As in :meth:`generate` (``dense`` true by default).
         n_samples : int, default=1
         random_state : None, int or Generator, default=None
@@ -384,8 +385,8 @@ class KeypointHMM(ParamsMixin):
         """
         self._check_fitted()
         return sample_paths(self, times_or_demo, n_samples, dense=dense,
-                            start=start, goal=goal, via=via,
-                            random_state=random_state, cache=self._widths)  # fmt: skip
+                            start=start, goal=goal, via=via, observed=observed,
+                            random_state=random_state, cache=self._cache)  # fmt: skip
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:

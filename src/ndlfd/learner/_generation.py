@@ -33,7 +33,8 @@ from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
 from ._blend import align_many, blend, skeleton_times
-from ._conditioning import group_columns, log_weights_for, pin
+from ._cache import ModelCache
+from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
 from ._routes import choose_route, route_labels, segment_paths
@@ -45,20 +46,24 @@ from ._via import (
     check_via,
     continue_from,
     observed_log_weights,
+    orient_via,
     via_log_weights,
 )
 
 __all__ = [
     "GENERATIONS",
     "Plan",
+    "aligned_templates",
     "band",
     "decode_key_points",
     "decode_paper",
+    "decode_route",
     "demo_log_weights",
     "generate_blend",
     "generate_paper",
     "make_plan",
     "observations",
+    "orient_conditions",
     "plan_from_states",
     "render",
     "route_model",
@@ -144,6 +149,20 @@ def _renormalize(X: np.ndarray, column_groups) -> np.ndarray:
     return X
 
 
+def orient_conditions(est, start, goal) -> tuple:
+    """Checked start and goal, their orientations on the demonstrations' side.
+
+    See :func:`~ndlfd.learner._conditioning.orient_condition`.
+    """
+    cg = est.column_groups_
+    first = getattr(est, "first_values_", None)  # none in a format-1 file
+    last = getattr(est, "last_values_", None)
+    return (
+        orient_condition(start, first, est.scaler_, cg, "start"),
+        orient_condition(goal, last, est.scaler_, cg, "goal"),
+    )
+
+
 def demo_log_weights(est, start, goal, cache: dict):
     """Every demonstration's log weight for a start and goal, and the routes.
 
@@ -182,7 +201,7 @@ def demo_log_weights(est, start, goal, cache: dict):
     return logw, cache["routes"]
 
 
-def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
+def make_plan(est, all_t, start, goal, cache: ModelCache, extra=None) -> Plan:
     """Decode the skeleton and align the templates to it.
 
     Parameters
@@ -193,8 +212,9 @@ def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
         The timing.
     start, goal : dict of str to ndarray, or None
         Checked conditions.
-    cache : dict
-        See :func:`demo_log_weights`.
+    cache : ModelCache
+        See :func:`demo_log_weights`; also keeps the route's model, skeleton
+        and alignments (:func:`decode_route`, :func:`aligned_templates`).
     extra : ndarray of shape (n_demos,), optional
         Log weights added to the start's and goal's (via points, a prefix:
         :mod:`ndlfd.learner._via`).
@@ -209,11 +229,45 @@ def make_plan(est, all_t, start, goal, cache: dict, extra=None) -> Plan:
     if extra is not None:
         logw = logw + extra
     logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
-    model = route_model(est, logw)
-    states, logp = decode_states(
-        est.decoder, model, np.arange(est.n_time_bins), est.start
-    )
-    return plan_from_states(est, states, logp, model, logw)
+    model, states, logp = decode_route(est, logw, cache)
+    return plan_from_states(est, states, logp, model, logw, cache=cache)
+
+
+def decode_route(est, logw: np.ndarray, cache: ModelCache):
+    """The route's segment model and its decoded skeleton (memoized).
+
+    The same demonstrations that weigh (:func:`route_model`), decoder, start
+    and number of bins give the same model and states: they are kept in the
+    model's cache (:meth:`~ndlfd.learner._cache.ModelCache.memo`), so a
+    replanning robot pays the decoding once per route.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    logw : ndarray of shape (n_demos,)
+        The demonstrations' log weights (``-inf`` off the route followed).
+    cache : ModelCache
+        The model's cache.
+
+    Returns
+    -------
+    model : ndlfd.hmm.DiscreteHMM
+    states : ndarray of shape (n_time_bins,), dtype int64
+        Read-only.
+    log_probability : float
+    """
+    model = route_model(est, logw, cache)
+
+    def make():
+        states, logp = decode_states(
+            est.decoder, model, np.arange(est.n_time_bins), est.start
+        )
+        states.flags.writeable = False
+        return states, logp
+
+    key = ("skeleton", est.decoder, est.start, *_route_key(est, logw))
+    return (model, *cache.memo(key, make))
 
 
 def template_weights(est, logw: np.ndarray):
@@ -240,7 +294,9 @@ def template_weights(est, logw: np.ndarray):
     return templates, tw[templates]
 
 
-def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
+def plan_from_states(
+    est, states, logp, model, logw, weights=None, cache: ModelCache | None = None
+) -> Plan:
     """Align the templates to the skeleton of decoded (or drawn) bin states.
 
     Parameters
@@ -257,6 +313,10 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
         The demonstrations' log weights (:func:`template_weights`).
     weights : ndarray of shape (n_kept,), optional
         Blend weights of the kept templates instead of theirs (a sample's).
+    cache : ModelCache, optional
+        Keep the templates' alignments to this skeleton there
+        (:func:`aligned_templates`); without it they are computed (a drawn
+        skeleton, which seldom comes again).
 
     Returns
     -------
@@ -271,8 +331,11 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
     C = est.centroids_[np.searchsorted(est.centroid_states_, skel)]
     values = [est.train_values_[j] for j in templates]
     taus = [est.train_tau_[j] for j in templates]
-    window = float(est.match_window)
-    index = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+    if cache is None:
+        window = float(est.match_window)
+        index = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+    else:
+        index = aligned_templates(est, skel, C, templates, cache)
     key_tau = skeleton_times(taus, index, weights)
     # every alignment pins the ends to samples at tau 0 and 1: exact ends
     key_tau[0], key_tau[-1] = 0.0, 1.0
@@ -281,7 +344,60 @@ def plan_from_states(est, states, logp, model, logw, weights=None) -> Plan:
     return Plan(skel, logp, model, values, taus, weights, index, key_tau, knots)
 
 
-def route_model(est, logw: np.ndarray):
+def aligned_templates(est, skel, C, templates, cache: ModelCache) -> list:
+    """The templates' alignments to a skeleton, each computed once per skeleton.
+
+    A template's alignment depends on its values, the skeleton and the match
+    window only (not on the other templates or the weights), so it is kept
+    per skeleton in the model's cache and reused by any start, goal or
+    prefix whose skeleton it is.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    skel : ndarray of shape (n_keys,), dtype int64
+        The skeleton's states.
+    C : ndarray of shape (n_keys, n_columns)
+        Their centroids.
+    templates : ndarray of int
+        Indices into ``est.template_indices_`` (and ``est.train_values_``).
+    cache : ModelCache
+
+    Returns
+    -------
+    index : list of ndarray of shape (n_keys,)
+        Read-only, one per template, as :func:`~ndlfd.learner._blend.align_many`.
+    """
+    window = float(est.match_window)
+    key = ("aligned", window, _ALIGN_CANDIDATES, skel.tobytes())
+    store = cache.memo(key, dict)
+    with cache.locked():
+        missing = [int(j) for j in templates if int(j) not in store]
+    if missing:
+        values = [est.train_values_[j] for j in missing]
+        got = align_many(values, C, est.n_jobs, _ALIGN_CANDIDATES, window)
+        for a in got:
+            a.flags.writeable = False
+        with cache.locked():
+            for j, a in zip(missing, got, strict=True):
+                store.setdefault(j, a)
+    with cache.locked():
+        return [store[int(j)] for j in templates]
+
+
+def _weighing(logw: np.ndarray) -> np.ndarray:
+    """Which demonstrations weigh (at least :data:`_KEEP_WEIGHT` of the largest)."""
+    return np.exp(logw - logw.max()) >= _KEEP_WEIGHT
+
+
+def _route_key(est, logw: np.ndarray) -> tuple:
+    """What a route's segment model depends on: its demonstrations, the counts."""
+    kept = np.packbits(_weighing(logw)).tobytes()
+    return (est.n_time_bins, est.pseudo_transition, est.pseudo_emission, kept)
+
+
+def route_model(est, logw: np.ndarray, cache: ModelCache | None = None):
     """The segment model of the demonstrations that weigh.
 
     Parameters
@@ -291,24 +407,31 @@ def route_model(est, logw: np.ndarray):
     logw : ndarray of shape (n_demos,)
         The demonstrations' log weights; those below :data:`_KEEP_WEIGHT` of
         the largest are left out.
+    cache : ModelCache, optional
+        Keep the model there, by the demonstrations that weigh.
 
     Returns
     -------
     model : ndlfd.hmm.DiscreteHMM
         ``est.segment_model_`` when every demonstration weighs.
     """
-    w = np.exp(logw - logw.max())
-    demos = np.flatnonzero(w >= _KEEP_WEIGHT)
-    if demos.size == w.size:
+    demos = np.flatnonzero(_weighing(logw))
+    if demos.size == logw.size:
         return est.segment_model_
-    return segment_model(
-        est.fit_stats_,
-        demos,
-        est.codebook_.n_states,
-        est.n_time_bins,
-        pseudo_transition=est.pseudo_transition,
-        pseudo_emission=est.pseudo_emission,
-    )
+
+    def make():
+        return segment_model(
+            est.fit_stats_,
+            demos,
+            est.codebook_.n_states,
+            est.n_time_bins,
+            pseudo_transition=est.pseudo_transition,
+            pseudo_emission=est.pseudo_emission,
+        )
+
+    if cache is None:
+        return make()
+    return cache.memo(("route model", *_route_key(est, logw)), make)
 
 
 def observations(est, times_or_demo):
@@ -347,7 +470,7 @@ def decode_paper(est, times_or_demo):
     return key_t, states, logp, all_t
 
 
-def decode_key_points(est, times_or_demo, cache: dict):
+def decode_key_points(est, times_or_demo, cache: ModelCache):
     """Decoded key points of a timing: times, states, log-probability."""
     if est.generation == "paper":
         key_t, states, logp, _ = decode_paper(est, times_or_demo)
@@ -403,6 +526,22 @@ def band(est, model, tq) -> np.ndarray:
     sd = est.scaler_.inverse_scale(sd)
     centres = (np.arange(nt) + 0.5) / nt
     return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
+
+
+def _snap_physical(est, X: np.ndarray, levels: dict) -> np.ndarray:
+    """Two-valued columns (a gripper) back on their values after the offsets.
+
+    A requested start, goal, via point or prefix shifts every column by an
+    offset faded over the path; a gripper column must stay open or closed,
+    so it is snapped again (it takes the requested value until the fade is
+    half done).
+    """
+    if not levels:
+        return X
+    cols = list(levels)
+    U = snap_two_valued(est.scaler_.transform(X, weighted=False), levels)
+    X[:, cols] = est.scaler_.inverse_transform(U, weighted=False)[:, cols]
+    return X
 
 
 def render(
@@ -461,12 +600,13 @@ def render(
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
     X = _renormalize(est.scaler_.inverse_transform(U), groups)
-    X = pin(X, at, start, goal, groups, tq.size)
+    X = _renormalize(pin(X, at, start, goal, groups, tq.size), groups)
     if via is not None:
         X = _renormalize(apply_via(X, at, via, groups, tq.size), groups)
     if prefix is not None:
         X = X[: tq.size]
         X = _renormalize(continue_from(X, tq, prefix, groups), groups)
+    X = _snap_physical(est, X, cache["two-valued"])  # the offsets moved them
     key_tau = plan.key_tau if prefix is None else plan.key_tau[:0]  # no key rows
     X = _derive_velocity(X, tq, key_tau, all_t, groups)
     if prefix is not None:
@@ -493,13 +633,9 @@ def generate_blend(
     """The blended generation (see :meth:`KeypointHMM.generate`)."""
     all_t = times_of(times_or_demo)
     cols, groups = est.column_groups_, est.groups_
-    via = check_via(via, all_t, cols, groups)
-    prefix = check_observed(est, observed, all_t)
-    if prefix is not None and (start is not None or via is not None):
-        raise ValidationError(
-            "observed continues an execution from its last sample; it cannot"
-            " be combined with start or via (a goal is fine)"
-        )
+    start, goal = orient_conditions(est, start, goal)
+    via = orient_via(est, check_via(via, all_t, cols, groups), cache)
+    prefix = check_observed(est, observed, all_t, start=start, via=via)
     extra = None
     if via is not None:
         extra = via_log_weights(est, via, cache)
@@ -538,6 +674,7 @@ def generate_paper(
             " no uncertainty band"
         )
     groups = est.column_groups_
+    start, goal = orient_conditions(est, start, goal)
     key_t, states, _, all_t = decode_paper(est, times_or_demo)
     X = est.scaler_.inverse_transform(est.codebook_.decode(states))
     X = _renormalize(X, groups)
@@ -549,7 +686,7 @@ def generate_paper(
         key_t = all_t
     if start is not None or goal is not None:
         tq = unit_time(np.r_[all_t[0], key_t, all_t[-1]])[1:-1]
-        X = pin(X, tq, start, goal, groups)
+        X = _renormalize(pin(X, tq, start, goal, groups), groups)
     return Demonstration(key_t, X, est.columns_, groups)
 
 

@@ -7,7 +7,10 @@ takes the most probable choice:
 * **the route**, in proportion to its total weight: the weights
   :func:`~ndlfd.learner._routes.choose_route` sums (one per demonstration
   without a start or goal, so a route shown by 9 of 12 demonstrations is
-  drawn 3 times in 4; with a start or goal the conditioned kernel weights);
+  drawn 3 times in 4; with a start, goal or via points the conditioned
+  kernel weights; with an executed prefix the product of its samples'
+  kernels, :func:`~ndlfd.learner._via.observed_log_weights`, so a prefix
+  well on one route draws that route only);
 * **the skeleton**, the segment state of every time bin, drawn from its exact
   posterior under the route's segment model by forward-filtering
   backward-sampling (:func:`ndlfd.hmm.sample_paths`), instead of the decoded
@@ -24,9 +27,10 @@ takes the most probable choice:
   :data:`CONCENTRATION`).
 
 The templates are then aligned to the drawn skeleton, blended and pinned to
-the start and goal exactly as :func:`~ndlfd.learner._generation.make_plan`
-and :func:`~ndlfd.learner._generation.render` do. The same input and random
-state give the same samples.
+the start and goal (or continued from a prefix's last sample) exactly as
+:func:`~ndlfd.learner._generation.make_plan` and
+:func:`~ndlfd.learner._generation.render` do. The same input and random state
+give the same samples.
 """
 
 from __future__ import annotations
@@ -39,13 +43,21 @@ from ..demonstration import Demonstration
 from ._conditioning import check_condition
 from ._generation import (
     demo_log_weights,
+    orient_conditions,
     plan_from_states,
     render,
     route_model,
     template_weights,
     times_of,
 )
-from ._via import check_via, via_log_weights
+from ._via import (
+    check_observed,
+    check_via,
+    observed_log_weights,
+    orient_via,
+    prefix_rows,
+    via_log_weights,
+)
 
 __all__ = ["CONCENTRATION", "route_probabilities", "sample_paths"]
 
@@ -111,6 +123,7 @@ def sample_paths(
     random_state,
     cache,
     via=None,
+    observed=None,
 ):
     """Paths drawn from a fitted model (see :meth:`KeypointHMM.sample`).
 
@@ -131,7 +144,11 @@ def sample_paths(
     via : sequence of (float, mapping), optional
         Via points (:mod:`ndlfd.learner._via`): the routes weighted by them,
         every path through them.
-    cache : dict
+    observed : Demonstration, optional
+        The samples executed so far (:mod:`ndlfd.learner._via`): the routes
+        weighted by them, every path them and then its continuation from the
+        last one (every time stamp, as :meth:`KeypointHMM.generate`).
+    cache : ModelCache
         The model's cache (:func:`~ndlfd.learner._generation.demo_log_weights`).
 
     Returns
@@ -142,20 +159,28 @@ def sample_paths(
     groups, cols = est.groups_, est.column_groups_
     start = check_condition(start, "start", cols, groups)
     goal = check_condition(goal, "goal", cols, groups)
+    start, goal = orient_conditions(est, start, goal)
     n_samples = check_positive_int(n_samples, "n_samples")
     rng = check_random_state(random_state)
     all_t = times_of(times_or_demo)
-    via = check_via(via, all_t, cols, groups)
+    via = orient_via(est, check_via(via, all_t, cols, groups), cache)
+    prefix = check_observed(est, observed, all_t, start=start, via=via)
     logw, routes = demo_log_weights(est, start, goal, cache)
     logw = logw + via_log_weights(est, via, cache)
-    p = route_probabilities(routes, logw)
+    if prefix is None:
+        p = route_probabilities(routes, logw)
+    else:  # the route by every prefix sample, the blend as generate's
+        tq = est.time_bins_.normalize(all_t)
+        total = observed_log_weights(est, prefix, tq, cache, total=True)
+        p = route_probabilities(routes, logw + total)
+        logw = logw + total / prefix_rows(prefix.t.size).size
     drawn = rng.choice(p.size, size=n_samples, p=p)
     bins = np.arange(est.n_time_bins)
     out: list[Demonstration | None] = [None] * n_samples
     for route in np.unique(drawn):
         who = np.flatnonzero(drawn == route)
         lw = np.where(routes == route, logw, -np.inf)
-        model = route_model(est, lw)
+        model = route_model(est, lw, cache)
         skeletons = hmm.sample_paths(
             model, bins, who.size, start=est.start, random_state=rng
         )
@@ -166,5 +191,5 @@ def sample_paths(
             states = _seen_only(states, est.centroid_states_)
             plan = plan_from_states(est, states, np.nan, model, lw, g / g.max())
             out[k] = render(est, plan, all_t, start, goal, dense=dense,
-                            cache=cache, via=via)[0]  # fmt: skip
+                            cache=cache, via=via, prefix=prefix)[0]  # fmt: skip
     return out

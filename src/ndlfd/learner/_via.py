@@ -34,7 +34,8 @@ the robot executed so far, at the first time stamps of ``times``:
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
-  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`),
+  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`)
+  or gripper switch (:func:`~ndlfd.learner._conditioning.switch_window`),
   as :func:`~ndlfd.learner._conditioning.pin` does for a start.
 """
 
@@ -55,6 +56,8 @@ from ._conditioning import (
     contact_window,
     group_columns,
     minimum_jerk,
+    orient_condition,
+    switch_window,
 )
 from ._routes import segment_paths
 from ._spec import prepare
@@ -67,6 +70,8 @@ __all__ = [
     "continue_from",
     "demo_values_at",
     "observed_log_weights",
+    "orient_via",
+    "prefix_rows",
     "via_log_weights",
 ]
 
@@ -171,6 +176,37 @@ def demo_values_at(est, taus: np.ndarray, cache: dict) -> np.ndarray:
     return V
 
 
+def orient_via(est, via, cache: dict) -> list | None:
+    """Checked via points, their orientations on the demonstrations' side.
+
+    As for a start (:func:`~ndlfd.learner._conditioning.orient_condition`),
+    against the demonstrations' orientations at the via point's time
+    (:func:`demo_values_at`): ``-q`` is the rotation ``q``, and the offset
+    the path is shifted by must not turn it the long way round.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    via : list of (float, dict), or None
+        From :func:`check_via`.
+    cache : dict
+        See :func:`demo_values_at`.
+
+    Returns
+    -------
+    via : list of (float, dict), or None
+    """
+    if via is None or not any("orientation" in cond for _, cond in via):
+        return via
+    V = demo_values_at(est, np.array([tau for tau, _ in via]), cache)
+    cg, scaler = est.column_groups_, est.scaler_
+    out = []
+    for k, (tau, cond) in enumerate(via):
+        out.append((tau, orient_condition(cond, V[:, k], scaler, cg, f"via[{k}]")))
+    return out
+
+
 def via_log_weights(est, via, cache: dict) -> np.ndarray:
     """Every demonstration's log weight for checked via points.
 
@@ -248,8 +284,23 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
     return X
 
 
-def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
-    """Check an executed prefix against the model and the timing.
+def check_observed(
+    est, observed, all_t: np.ndarray, *, start=None, via=None
+) -> Demonstration | None:
+    """Check an executed prefix against the model, the timing and the conditions.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    observed : Demonstration or None
+        The samples executed so far.
+    all_t : ndarray of shape (n_samples,)
+        The timing (the prefix is at its first time stamps).
+    start, via : optional
+        The other conditions asked: a prefix replaces a start (its first
+        sample is where the robot started) and cannot be combined with via
+        points (a goal is fine).
 
     Returns
     -------
@@ -258,6 +309,11 @@ def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
     """
     if observed is None:
         return None
+    if start is not None or via is not None:
+        raise ValidationError(
+            "observed continues an execution from its last sample; it cannot"
+            " be combined with start or via (a goal is fine)"
+        )
     if not isinstance(observed, Demonstration):
         raise ValidationError(
             "observed must be a Demonstration of the samples executed so far;"
@@ -284,7 +340,22 @@ def check_observed(est, observed, all_t: np.ndarray) -> Demonstration | None:
     return d
 
 
-def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray:
+def prefix_rows(n: int) -> np.ndarray:
+    """The prefix samples a route is inferred from: up to :data:`PREFIX_POINTS`.
+
+    Spread evenly, the first and the last included.
+
+    Examples
+    --------
+    >>> prefix_rows(4), prefix_rows(100)
+    (array([0, 1, 2, 3]), array([ 0, 11, 22, 33, 44, 55, 66, 77, 88, 99]))
+    """
+    return np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
+
+
+def observed_log_weights(
+    est, prefix, tq: np.ndarray, cache: dict, *, total: bool = False
+) -> np.ndarray:
     """Every demonstration's log weight for an executed prefix.
 
     Parameters
@@ -297,22 +368,27 @@ def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray
         Normalized times of the whole timing.
     cache : dict
         See :func:`demo_values_at`.
+    total : bool, default=False
+        The sum instead of the mean: every prefix sample is an observation
+        of the route, so the probability of a route given the prefix
+        (:func:`~ndlfd.learner._sampling.sample_paths` draws routes by it)
+        takes the product of their kernels. The mean, a tempered weight,
+        keeps several templates of the route in the blend.
 
     Returns
     -------
     log_weights : ndarray of shape (n_demos,)
-        The mean, over up to :data:`PREFIX_POINTS` prefix samples, of the
-        kernels' logarithms.
+        The mean (or sum), over up to :data:`PREFIX_POINTS` prefix samples,
+        of the kernels' logarithms.
     """
-    n = prefix.t.size
-    rows = np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
+    rows = prefix_rows(prefix.t.size)
     U = est.scaler_.transform(prefix.X[rows], weighted=False)
     V = demo_values_at(est, tq[rows], cache)
     logw = np.zeros(V.shape[0])
     for k in range(rows.size):
         pts = V[:, k]
         logw += condition_log_weights(pts, U[k], condition_bandwidth(pts))
-    return logw / rows.size
+    return logw if total else logw / rows.size
 
 
 def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
@@ -344,6 +420,7 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     last = tq[n - 1]
     pos = group_columns(column_groups, "position")
     first = contact_window(X[n - 1 :, pos], tq[n - 1 :])[0] if pos else 1.0
+    first = min(first, switch_window(X[n - 1 :], tq[n - 1 :], column_groups)[0])
     if not first > last:
         first = 1.0
     fade = 1.0 - minimum_jerk((tq - last) / (first - last))
