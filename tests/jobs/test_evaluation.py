@@ -320,6 +320,24 @@ def test_cli_evaluate_prints_the_summary_and_writes_the_report(tmp_path, capsys)
     assert sorted(p.name for p in out.iterdir()) == ["results.csv", "summary.md"]
 
 
+def test_cli_evaluate_runs_the_via_and_prefix_protocols(tmp_path, capsys):
+    from ndlfd.cli import main
+
+    argv = ["evaluate", "--shapes", "Line", "--folds", "1", "--no-plot", "-q"]
+    argv += ["--generators", "mean", "--protocols", "via,prefix", "--out"]
+    assert main([*argv, str(tmp_path / "ev")]) == 0
+    out = capsys.readouterr().out
+    assert "### single-pattern shapes (1), protocol `via`" in out
+    assert "### single-pattern shapes (1), protocol `prefix`" in out
+    # the via point is met exactly; each protocol's own column, once
+    assert out.count("| via error/range |") == out.count("prefix jump/range") == 1
+    via = out.split("protocol `via`")[1].split("###")[0].splitlines()
+    header = next(line for line in via if line.startswith("| generator"))
+    mean = next(line for line in via if line.startswith("| mean"))
+    cells = dict(zip(header.split("|"), mean.split("|"), strict=True))
+    assert cells[" via error/range "] == " 0 (0) "
+
+
 def test_cli_evaluate_errors_are_one_line(capsys):
     from ndlfd.cli import main
 
