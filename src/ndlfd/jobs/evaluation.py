@@ -22,6 +22,7 @@ Each generated path is compared with the held-out demonstration's positions:
 ``on_route``           the DTW (as above) to the *nearest training*
                        demonstration: whether the path lies on a route
                        someone showed, whichever the held-out one took
+                       (``"prefix"``: from the same normalized time on)
 ``frechet``            :func:`~ndlfd.metrics.discrete_frechet` / range
 ``rmse``               :func:`~ndlfd.metrics.time_aligned_rmse` / range
 ``endpoint``           :func:`~ndlfd.metrics.endpoint_error` / range
@@ -322,7 +323,9 @@ class EvaluationResult:
         per group and protocol; and ``shapes/<shape>.png``, per shape, the
         training demonstrations, the held-out demonstration and each
         generator's path for the shape's first fold, one panel per protocol
-        (with a band of one standard deviation where a generator offers it).
+        (with a band of one standard deviation where a generator offers it,
+        the via point and the observed prefix marked), and a panel of paths
+        sampled from the first generator that samples (ndlfd).
 
         Parameters
         ----------
