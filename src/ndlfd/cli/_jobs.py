@@ -54,7 +54,7 @@ def _cmd_evaluate(args: argparse.Namespace) -> int:
     result = evaluate(
         split_names(args.shapes, "--shapes"),
         generators=split_names(args.generators, "--generators"),
-        protocols=protocols if protocols is not None else ("time", "time+start"),
+        protocols=protocols,
         folds=args.folds,
         n_jobs=args.n_jobs,
         progress=False if args.quiet else None,
@@ -87,9 +87,12 @@ def add_evaluate(sub) -> None:
         help="leave-one-out evaluation on LASA against ProMP, GMR, DMP and the mean",
         description=(
             "Hold out each demonstration of each LASA shape in turn, fit ndlfd and"
-            " the baselines on the others, generate for the held-out timing (and"
-            " start), and compare: DTW, Frechet, RMSE and endpoint error per shape"
-            " range, path-length and turning ratios. Prints the summary tables and"
+            " the baselines on the others, generate for the held-out timing (time),"
+            " also its start (time+start), also its start and middle position as a"
+            " via point (via), or with its first 30%% observed (prefix), and"
+            " compare: DTW, on-route distance, Frechet, RMSE and endpoint error per"
+            " shape range, path-length and turning ratios, via error, prefix jump."
+            " Prints the summary tables and"
             " writes results.csv, summary.md and figures to --out. ProMP, GMR and"
             ' DMP need pip install "ndlfd[eval]".'
         ),
@@ -100,7 +103,7 @@ def add_evaluate(sub) -> None:
     )
     p.add_argument(
         "--protocols",
-        help="comma-separated protocols: time, time+start (default: both)",
+        help="comma-separated protocols: time, time+start, via, prefix (default: all)",
     )
     p.add_argument(
         "--generators",

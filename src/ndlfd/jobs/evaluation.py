@@ -7,7 +7,11 @@ fitted on the other six and asked for a path
 
 * ``"time"``: at the held-out demonstration's time stamps only;
 * ``"time+start"``: also from the held-out start position (as a robot knows
-  where it is).
+  where it is);
+* ``"via"`` (protocol *V*): also from the held-out start and through the
+  held-out position at its middle sample, a via point;
+* ``"prefix"`` (protocol *P*): with the first 30 % of the held-out samples
+  observed (as a robot replanning during an execution), scored on the rest.
 
 Each generated path is compared with the held-out demonstration's positions:
 
@@ -18,11 +22,16 @@ Each generated path is compared with the held-out demonstration's positions:
 ``on_route``           the DTW (as above) to the *nearest training*
                        demonstration: whether the path lies on a route
                        someone showed, whichever the held-out one took
+                       (``"prefix"``: from the same normalized time on)
 ``frechet``            :func:`~ndlfd.metrics.discrete_frechet` / range
 ``rmse``               :func:`~ndlfd.metrics.time_aligned_rmse` / range
 ``endpoint``           :func:`~ndlfd.metrics.endpoint_error` / range
 ``path_length_ratio``  :func:`~ndlfd.metrics.path_length_ratio` (1 is ideal)
 ``turning_ratio``      :func:`~ndlfd.metrics.turning_ratio` (1 is ideal)
+``via_error``          ``"via"``: the distance at the via time to the via
+                       point / range
+``prefix_jump``        ``"prefix"``: the distance from the last observed
+                       sample to the first generated one / range
 ``seconds``            fitting plus generating, in seconds
 =====================  ====================================================
 
@@ -34,7 +43,9 @@ take different routes, are summarized apart (group ``"multi"``) from the 26
 single-pattern shapes (group ``"single"``).
 
 A generator that raises is recorded as a failed row with its message, never
-dropped. Folds run in parallel processes with ``n_jobs > 1``.
+dropped. Folds run in parallel processes with ``n_jobs > 1``. The protocols,
+metrics and folds are in :mod:`ndlfd.jobs._evaluation_protocols`, the figures
+in :mod:`ndlfd.jobs._evaluation_figures`.
 
 References: S. M. Khansari-Zadeh and A. Billard, "Learning stable nonlinear
 dynamical systems with Gaussian mixture models", IEEE Trans. Robotics 27(5),
@@ -46,7 +57,6 @@ benchmark).
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import io
 import math
@@ -61,23 +71,24 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import plot
 from .._errors import ValidationError
 from .._fileformat import atomic_path
 from .._registry import Registry
 from .._validation import check_positive_int
-from ..baselines import (
-    BASELINES,
-    KeypointHMMGenerator,
-)
+from ..baselines import BASELINES, KeypointHMMGenerator
 from ..datasets import LASA_SHAPES, lasa_names, load_lasa
-from ..metrics import (
-    discrete_frechet,
-    dtw_distance,
-    endpoint_error,
-    path_length_ratio,
-    time_aligned_rmse,
-    turning_ratio,
+from ._evaluation_figures import (
+    GROUPS,
+    boxplot_figure,
+    present_groups,
+    shape_figure,
+)
+from ._evaluation_protocols import (
+    METRICS,
+    PROTOCOLS,
+    ROW_KEYS,
+    run_fold,
+    shape_group,
 )
 from ._report import Report, fmt_number, image, markdown, markdown_table
 
@@ -96,168 +107,8 @@ GENERATORS.add("ndlfd", KeypointHMMGenerator)
 for _name in BASELINES:
     GENERATORS.add(_name, BASELINES.get(_name))
 
-#: The evaluation protocols.
-PROTOCOLS: Registry[bool] = Registry("protocol")
-PROTOCOLS.add("time", False)
-PROTOCOLS.add("time+start", True)
-
-#: Recorded metrics, with the labels used in tables.
-METRICS = {
-    "dtw": "DTW/range",
-    "on_route": "on-route/range",
-    "frechet": "Fréchet/range",
-    "rmse": "RMSE/range",
-    "endpoint": "endpoint/range",
-    "path_length_ratio": "length ratio",
-    "turning_ratio": "turning ratio",
-    "seconds": "seconds",
-}
-
 #: The generator whose DTW is compared with the best baseline's in summaries.
 REFERENCE = "ndlfd"
-
-GROUPS = {"single": "single-pattern shapes", "multi": "Multi_Models shapes"}
-
-_ROW_KEYS = (
-    "shape",
-    "group",
-    "fold",
-    "protocol",
-    "generator",
-    "ok",
-    "error",
-    "range",
-    *METRICS,
-)
-
-
-def shape_group(name: str) -> str:
-    """``"multi"`` for the 4 ``Multi_Models_*`` shapes, ``"single"`` otherwise.
-
-    Examples
-    --------
-    >>> shape_group("Multi_Models_2"), shape_group("GShape")
-    ('multi', 'single')
-    """
-    return "multi" if name.startswith("Multi_Models") else "single"
-
-
-def _shape_range(demos) -> float:
-    P = np.concatenate([d.get("position") for d in demos])
-    return float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
-
-
-def _message(exc: BaseException) -> str:
-    text = " ".join(str(exc).split())
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
-
-
-def _metrics(test, times, path: np.ndarray, scale: float, train) -> dict:
-    A = test.get("position")
-    B = np.asarray(path, dtype=float)
-    if B.shape != A.shape:
-        raise ValidationError(
-            f"the generator returned an array of shape {B.shape}; expected"
-            f" {A.shape} (one position per time stamp)"
-        )
-    return {
-        "dtw": dtw_distance(A, B, normalize=True) / scale,
-        # on a route someone showed: the nearest training demonstration
-        "on_route": min(
-            dtw_distance(d.get("position"), B, normalize=True) for d in train
-        )
-        / scale,
-        "frechet": discrete_frechet(A, B) / scale,
-        "rmse": time_aligned_rmse(test.t, A, times, B) / scale,
-        "endpoint": endpoint_error(A, B) / scale,
-        "path_length_ratio": path_length_ratio(A, B),
-        "turning_ratio": turning_ratio(A, B),
-    }
-
-
-def _run_fold(
-    shape: str,
-    fold: int,
-    protocols: tuple[str, ...],
-    factories: dict[str, Callable],
-    keep_paths: bool,
-) -> tuple[list[dict], dict | None]:
-    """Fit every generator on all demos but ``fold``; one row per protocol."""
-    with _single_threaded_blas():
-        return _run_fold_inner(shape, fold, protocols, factories, keep_paths)
-
-
-@contextlib.contextmanager
-def _single_threaded_blas():
-    """Limit BLAS to one thread while the baselines run, when threadpoolctl is here.
-
-    ProMP's and GMR's matrices are small (a few hundred rows): BLAS threads
-    only contend with each other and with parallel folds (ten times slower
-    measured on LASA).
-    """
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - depends on the environment
-        yield
-        return
-    with threadpool_limits(limits=1, user_api="blas"):
-        yield
-
-
-def _run_fold_inner(shape, fold, protocols, factories, keep_paths):
-    demos = load_lasa(shape)
-    test = demos[fold]
-    train = [d for i, d in enumerate(demos) if i != fold]
-    scale = _shape_range(demos)
-    times = test.t
-    start = test.get("position")[0]
-    base = {"shape": shape, "group": shape_group(shape), "fold": fold}
-    rows = []
-    example = {"fold": fold, "paths": {}, "stds": {}} if keep_paths else None
-    for name, factory in factories.items():
-        t0 = time.perf_counter()
-        try:
-            gen = factory()
-            gen.fit(train)
-            fit_error = None
-        except Exception as exc:
-            fit_error = _message(exc)
-        fit_seconds = time.perf_counter() - t0
-        for protocol in protocols:
-            row = dict.fromkeys(_ROW_KEYS, math.nan)
-            row.update(base, protocol=protocol, generator=name, range=scale)
-            row.update(ok=False, error=fit_error or "")
-            if fit_error is None:
-                t0 = time.perf_counter()
-                try:
-                    path = gen.generate(
-                        times, start=start if PROTOCOLS.get(protocol) else None
-                    )
-                    seconds = fit_seconds + time.perf_counter() - t0
-                    row.update(_metrics(test, times, path, scale, train))
-                    row.update(ok=True, seconds=seconds)
-                except Exception as exc:
-                    row["error"] = _message(exc)
-            rows.append(row)
-            if example is not None and row["ok"]:
-                example["paths"][protocol, name] = np.asarray(path, dtype=float)
-                std = _std(gen, times, start if PROTOCOLS.get(protocol) else None, path)
-                if std is not None:
-                    example["stds"][protocol, name] = std
-    return rows, example
-
-
-def _std(gen, times, start, path) -> np.ndarray | None:
-    """The generator's standard deviation when it offers one (else None)."""
-    if not getattr(gen, "has_std", False):
-        return None
-    try:
-        _, std = gen.generate(times, start=start, return_std=True)
-    except Exception:
-        return None
-    std = np.asarray(std, dtype=float)
-    ok = std.shape == np.shape(path) and np.isfinite(std).all()
-    return std if ok else None
 
 
 # ------------------------------------------------------------------------ result
@@ -322,8 +173,7 @@ class EvaluationResult:
         return [r for r in self.rows if not r["ok"]]
 
     def _groups(self) -> list[str]:
-        present = {shape_group(s) for s in self.shapes}
-        return [g for g in GROUPS if g in present]
+        return present_groups(self.shapes)
 
     def summary(self) -> list[dict]:
         """Per group, protocol and generator: medians, means and failures.
@@ -337,8 +187,10 @@ class EvaluationResult:
             metric (over successful rows), and ``dtw_ratio_to_best``: for
             ``"ndlfd"``, the median over shapes of ndlfd's median DTW divided
             by the lowest median DTW of any other generator on that shape
-            (below 1: ndlfd beats every baseline on a typical shape); NaN for
-            the other generators.
+            (below 1: ndlfd beats every baseline on a typical shape), and
+            ``dtw_ratio_of_medians``: ndlfd's median DTW over all the group's
+            folds divided by the lowest such median of any other generator,
+            named in ``best_other``; NaN (and ``""``) for the other generators.
         """
         out = []
         for group in self._groups():
@@ -347,6 +199,7 @@ class EvaluationResult:
             for protocol in self.protocols:
                 rows_p = [r for r in rows_g if r["protocol"] == protocol]
                 ratio = self._ratio_to_best(rows_p, shapes)
+                best, of_medians = self._ratio_of_medians(rows_p)
                 for gen in self.generators:
                     rows_x = [r for r in rows_p if r["generator"] == gen]
                     ok = [r for r in rows_x if r["ok"]]
@@ -361,9 +214,25 @@ class EvaluationResult:
                     for m in METRICS:
                         entry[f"{m}_median"] = _median(r[m] for r in ok)
                         entry[f"{m}_mean"] = _mean(r[m] for r in ok)
-                    entry["dtw_ratio_to_best"] = ratio if gen == REFERENCE else math.nan
+                    ref = gen == REFERENCE
+                    entry["dtw_ratio_to_best"] = ratio if ref else math.nan
+                    entry["dtw_ratio_of_medians"] = of_medians if ref else math.nan
+                    entry["best_other"] = best if ref else ""
                     out.append(entry)
         return out
+
+    def _ratio_of_medians(self, rows: list[dict]) -> tuple[str, float]:
+        """The best other generator by median DTW, and ndlfd's median over it."""
+        med = {
+            g: _median(r["dtw"] for r in rows if r["generator"] == g and r["ok"])
+            for g in self.generators
+        }
+        others = [g for g in self.generators if g != REFERENCE and np.isfinite(med[g])]
+        if REFERENCE not in med or not others:
+            return "", math.nan
+        best = min(others, key=lambda g: med[g])
+        ok = med[best] > 0 and np.isfinite(med[REFERENCE])
+        return best, med[REFERENCE] / med[best] if ok else math.nan
 
     def _ratio_to_best(self, rows: list[dict], shapes: list[str]) -> float:
         others = [g for g in self.generators if g != REFERENCE]
@@ -398,10 +267,13 @@ class EvaluationResult:
 
     def _summary_blocks(self) -> list[str]:
         summary = self.summary()
-        header = ["generator", *METRICS.values(), "failed"]
+        extra = {m for p in PROTOCOLS for m in PROTOCOLS.get(p).metrics}
         blocks = []
         for group in self._groups():
             for protocol in self.protocols:
+                own = PROTOCOLS.get(protocol).metrics
+                metrics = [m for m in METRICS if m not in extra or m in own]
+                header = ["generator", *(METRICS[m] for m in metrics), "failed"]
                 entries = [
                     e
                     for e in summary
@@ -412,7 +284,7 @@ class EvaluationResult:
                     f"### {GROUPS[group]} ({n_shapes}), protocol `{protocol}`",
                     markdown_table(
                         header,
-                        [_summary_row(e) for e in entries],
+                        [_summary_row(e, metrics) for e in entries],
                         align="l" + "r" * (len(header) - 1),
                     ),
                     _ratio_sentence(entries),
@@ -432,7 +304,7 @@ class EvaluationResult:
         path : Path
         """
         buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=_ROW_KEYS, lineterminator="\n")
+        writer = csv.DictWriter(buf, fieldnames=ROW_KEYS, lineterminator="\n")
         writer.writeheader()
         for r in self.rows:
             writer.writerow(
@@ -451,7 +323,9 @@ class EvaluationResult:
         per group and protocol; and ``shapes/<shape>.png``, per shape, the
         training demonstrations, the held-out demonstration and each
         generator's path for the shape's first fold, one panel per protocol
-        (with a band of one standard deviation where a generator offers it).
+        (with a band of one standard deviation where a generator offers it,
+        the via point and the observed prefix marked), and a panel of paths
+        sampled from the first generator that samples (ndlfd).
 
         Parameters
         ----------
@@ -468,9 +342,17 @@ class EvaluationResult:
         self.to_csv(report.folder / "results.csv")
         report.write("summary.md", self._report_blocks(plots))
         if plots:
-            report.figure(self._boxplot_figure(), "boxplot_dtw.png")
+            report.figure(
+                boxplot_figure(
+                    self.rows, self._groups(), self.protocols, self.generators
+                ),
+                "boxplot_dtw.png",
+            )
             for shape, example in self.examples.items():
-                report.figure(self._shape_figure(shape, example), f"shapes/{shape}.png")
+                report.figure(
+                    shape_figure(shape, example, self.protocols, self.generators),
+                    f"shapes/{shape}.png",
+                )
         return report.folder
 
     def _report_blocks(self, plots: bool) -> list[str]:
@@ -486,7 +368,14 @@ class EvaluationResult:
             " all its demonstrations); DTW is first divided by the number of"
             " points of both paths. Length and turning ratios compare the"
             " generated path's arc length and total turning with the held-out"
-            " demonstration's (1 is ideal). Seconds: fit plus generate.",
+            " demonstration's (1 is ideal). Seconds: fit plus generate."
+            " Protocols: `time`, the held-out time stamps; `time+start`, also its"
+            " start; `via` (V), also its start and its position at its middle"
+            " sample, a via point (via error: the distance there); `prefix` (P),"
+            " its first 30 % of samples observed, every metric on the remaining"
+            " 70 % (prefix jump: from the last observed sample to the first"
+            " generated one; on-route: to the training demonstrations from the"
+            " same normalized time on).",
             *self._summary_blocks(),
         ]
         if self.failures:
@@ -501,87 +390,38 @@ class EvaluationResult:
         if plots:
             blocks += [
                 image("boxplot_dtw.png", "DTW per generator"),
-                "Per shape, the first fold: `shapes/<shape>.png`.",
+                "Per shape, the first fold, a panel per protocol and one of 20"
+                " samples from ndlfd's model: `shapes/<shape>.png`.",
             ]
         return blocks
 
-    def _boxplot_figure(self):
-        """Box plots of DTW/range per generator, one panel per group and protocol."""
-        groups = self._groups()
-        fig, grid = plot.new_grid(
-            len(groups),
-            len(self.protocols),
-            size=(1.5 + 0.8 * len(self.generators), 3.8),
-        )
-        for (group, protocol), ax in zip(
-            [(g, p) for g in groups for p in self.protocols],
-            [ax for row in grid for ax in row],
-            strict=True,
-        ):
-            values = {
-                gen: [
-                    r["dtw"]
-                    for r in self.rows
-                    if r["group"] == group
-                    and r["protocol"] == protocol
-                    and r["generator"] == gen
-                ]
-                for gen in self.generators
-            }
-            plot.plot_boxplot(
-                values,
-                ax=ax,
-                log=True,
-                ylabel="DTW / range",
-                title=f"{GROUPS[group]}, {protocol}",
-            )
-        return fig
 
-    def _shape_figure(self, shape: str, example: dict):
-        """The shape's first fold: demonstrations and paths, a panel per protocol."""
-        demos = load_lasa(shape)
-        k = example["fold"]
-        train = [d for i, d in enumerate(demos) if i != k]
-        fig, axes = plot.new_figure(len(self.protocols), size=(5.5, 5.0))
-        for ax, protocol in zip(axes, self.protocols, strict=True):
-            paths, stds = (
-                {
-                    g: example[kind][protocol, g]
-                    for g in self.generators
-                    if (protocol, g) in example[kind]
-                }
-                for kind in ("paths", "stds")
-            )
-            plot.plot_comparison(
-                train,
-                demos[k],
-                paths,
-                stds=stds,
-                ax=ax,
-                title=f"{shape}, demo {k} held out, {protocol}",
-            )
-        return fig
-
-
-def _summary_row(entry: dict) -> list[str]:
-    """A generator's cells: median (mean) of every metric, failed/run."""
+def _summary_row(entry: dict, metrics) -> list[str]:
+    """A generator's cells: median (mean) of each metric, failed/run."""
     cells = [
         f"{fmt_number(entry[f'{m}_median'])} ({fmt_number(entry[f'{m}_mean'])})"
-        for m in METRICS
+        for m in metrics
     ]
     return [entry["generator"], *cells, f"{entry['failed']}/{entry['rows']}"]
 
 
 def _ratio_sentence(entries: list[dict]) -> str:
-    """The reference generator's DTW ratio to the best other one ("" if none)."""
+    """The reference generator's DTW ratios to the best other one ("" if none)."""
     ref = [e for e in entries if e["generator"] == REFERENCE]
     if not ref or not np.isfinite(ref[0]["dtw_ratio_to_best"]):
         return ""
-    return (
+    e = ref[0]
+    text = (
         f"{REFERENCE} DTW / best other generator's DTW (median"
         " over shapes of the ratio of per-shape medians):"
-        f" **{ref[0]['dtw_ratio_to_best']:.3g}**"
+        f" **{e['dtw_ratio_to_best']:.3g}**"
     )
+    if np.isfinite(e["dtw_ratio_of_medians"]):
+        text += (
+            f"; ratio of the medians over all folds: {e['dtw_ratio_of_medians']:.3g}"
+            f" (best other: {e['best_other']})"
+        )
+    return text
 
 
 # --------------------------------------------------------------------- evaluate
@@ -621,7 +461,7 @@ def evaluate(
     shapes: Sequence[str] | None = None,
     *,
     generators: Sequence[str] | Mapping[str, Callable] | None = None,
-    protocols: Sequence[str] = ("time", "time+start"),
+    protocols: Sequence[str] | None = None,
     folds: int | None = None,
     n_jobs: int | None = None,
     progress: bool | None = False,
@@ -636,13 +476,15 @@ def evaluate(
         Names from :data:`GENERATORS` (``"ndlfd"``, ``"mean"``, ``"promp"``,
         ``"gmr"``, ``"dmp"``; all by default), or a mapping from names to
         factories: callables without arguments that return an unfitted
-        generator with ``fit(demos)`` and ``generate(times, *, start=None)``
+        generator with ``fit(demos)`` and ``generate(times, **conditions)``
+        taking the protocols' conditions ``start``, ``via`` and ``observed``
         (see :mod:`ndlfd.baselines`), e.g.
         ``{"fine": functools.partial(KeypointHMMGenerator, levels=50)}``.
         With ``n_jobs > 1`` the factories must be picklable (classes and
         ``functools.partial`` are, lambdas are not).
-    protocols : sequence of {"time", "time+start"}, default=both
-        What a generator is given besides the training demonstrations.
+    protocols : sequence of {"time", "time+start", "via", "prefix"}, optional
+        What a generator is given besides the training demonstrations (all
+        four by default; see the module's description).
     folds : int, optional
         Hold out only the first ``folds`` demonstrations of each shape (all 7
         by default).
@@ -671,12 +513,16 @@ def evaluate(
 
     Examples
     --------
-    >>> result = evaluate(["Line"], generators=["mean", "dmp"], folds=1)
+    >>> result = evaluate(
+    ...     ["Line"], generators=["mean", "dmp"], protocols=["time", "via"], folds=1
+    ... )
     >>> result
     EvaluationResult(1 shapes x 1 folds x 2 protocols x 2 generators, 4 rows, 0 failed)
     >>> [(r["protocol"], r["generator"]) for r in result.rows]
-    [('time', 'mean'), ('time+start', 'mean'), ('time', 'dmp'), ('time+start', 'dmp')]
+    [('time', 'mean'), ('via', 'mean'), ('time', 'dmp'), ('via', 'dmp')]
     >>> row = result.rows[1]
+    >>> bool(row["via_error"] < 1e-12), bool(np.isnan(result.rows[0]["via_error"]))
+    (True, True)
     >>> bool(row["ok"]), bool(0 < row["dtw"] < 0.1), bool(row["turning_ratio"] > 0)
     (True, True, True)
     """
@@ -688,6 +534,8 @@ def evaluate(
         raise ValidationError("shapes must name at least one LASA shape")
     for s in names:
         LASA_SHAPES.check(s)
+    if protocols is None:
+        protocols = PROTOCOLS.names
     protocols = (protocols,) if isinstance(protocols, str) else tuple(protocols)
     if not protocols:
         raise ValidationError("protocols must name at least one protocol")
@@ -718,7 +566,7 @@ def evaluate(
     try:
         if jobs == 1 or len(tasks) == 1:
             for task in tasks:
-                results.append(_run_fold(*task))
+                results.append(run_fold(*task))
                 bar.update()
         else:
             try:
@@ -730,7 +578,7 @@ def evaluate(
                 ) from None
             ctx = multiprocessing.get_context("spawn")
             with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-                futures = [pool.submit(_run_fold, *task) for task in tasks]
+                futures = [pool.submit(run_fold, *task) for task in tasks]
                 for fut in as_completed(futures):
                     fut.result()
                     bar.update()
