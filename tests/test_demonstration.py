@@ -406,6 +406,35 @@ def test_velocity_of_a_line_is_exact(steps, a, b):
     np.testing.assert_allclose(d.get("velocity")[:, 0], a, rtol=0, atol=tol)
 
 
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(2, 40),
+    st.integers(1, 4),
+    st.sampled_from(["uniform", "integer", "random", "one-off"]),
+)
+def test_the_gradient_kernel_is_numpy_gradient_bit_for_bit(seed, n, d, steps):
+    # the compiled velocity against the numpy call it replaced; uniform steps
+    # (all exactly equal) take numpy's uniform formulas, others its general ones
+    from ndlfd._demo_kernels import gradient
+    from ndlfd.demonstration import JITTER_TOL
+
+    rng = np.random.default_rng(seed)
+    dt = {
+        "uniform": np.full(n - 1, rng.uniform(0.001, 2.0)),
+        "integer": np.full(n - 1, 1.0),
+        "random": rng.uniform(0.001, 2.0, n - 1),
+        "one-off": np.where(np.arange(n - 1) == n // 2, 0.3, 0.25),
+    }[steps]
+    t = rng.uniform(-5, 5) + np.concatenate([[0.0], np.cumsum(dt)])
+    P = rng.normal(0, rng.uniform(0.1, 100), (n, d))
+    V, steady = gradient(t, P, JITTER_TOL)
+    want = np.gradient(P, t, axis=0, edge_order=2 if n >= 3 else 1)
+    assert V.tobytes() == want.tobytes()
+    diffs = np.diff(t)
+    assert steady == (n < 10 or np.ptp(diffs) <= JITTER_TOL * diffs.min())
+
+
 @settings(max_examples=40, deadline=None)
 @given(
     st.integers(0, 2**31),

@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ._demo_kernels import gradient
 from ._errors import ValidationError
 from ._registry import Registry
 from ._repairs import repaired
@@ -757,11 +758,12 @@ def with_velocity(
         from scipy.signal import savgol_filter  # lazy: scipy.signal is slow to import
 
         P = savgol_filter(P, window_length, polyorder, axis=0, mode="interp")
+    V = None
+    if mode in ("auto", "none"):
+        # numpy.gradient's arithmetic in one compiled pass; steps within
+        # JITTER_TOL of the smallest cannot be jittery: skip the percentiles
+        V, steady = gradient(demo.t, P, JITTER_TOL)
     if mode == "auto":
-        dt = np.diff(demo.t)
-        # steps within JITTER_TOL of the smallest cannot be jittery: skip the
-        # percentiles (the same decision, cheaper for the common regular case)
-        steady = n < 10 or np.ptp(dt) <= JITTER_TOL * dt.min()
         jitter = 0.0 if steady else timing_jitter(demo.t)
         if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
             mode = "window"
@@ -782,8 +784,8 @@ def with_velocity(
         elif not (np.isfinite(half_width) and half_width > 0):
             raise ValidationError(f"half_width must be > 0 seconds; got {half_width!r}")
         V = window_derivative(demo.t, P, half_width)
-    else:
-        V = np.gradient(P, demo.t, axis=0, edge_order=2 if n >= 3 else 1)
+    elif V is None:
+        V, _ = gradient(demo.t, P, JITTER_TOL)
     names = default_columns("velocity", V.shape[1])
     taken = set(demo.columns) - set(
         demo.columns[j] for j in np.flatnonzero(np.array(demo.groups) == "velocity")

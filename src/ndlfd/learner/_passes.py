@@ -58,7 +58,7 @@ from ..demonstration import Demonstration
 from ..io import DemoFile
 from ._exact import scale_exponents
 from ._spec import DemoSpec, prepare, resolve_groups
-from ._stats import FitStats, RangeStats, merge_repairs
+from ._stats import DemoStats, FitStats, RangeStats, merge_repairs
 from ._templates import template_mask
 
 __all__ = ["Scan", "collect_statistics", "scan_ranges"]
@@ -301,21 +301,20 @@ def _records(log: list, i: int, item) -> tuple:
     return tuple((kind, i, text, n) for kind, (n, text) in counts.items())
 
 
-def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitStats:
-    """Normalize, reduce and encode demonstration ``j``: its statistics."""
+def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> DemoStats:
+    """Normalize, reduce and encode demonstration ``j``: its part of the statistics."""
     if d is None:
         d = spec.demo.prepared(demo)
     r = spec.demo.encode(d, n_jobs=1)
-    return FitStats.of_demo(
+    return DemoStats(
         j,
         r.values,
         r.tau,
         r.keypoints,
         r.key_states,
         r.key_bins,
-        exponents=spec.exponents,
-        n_clipped=r.n_clipped,
-        template=bool(spec.templates[j]),
+        r.n_clipped,
+        bool(spec.templates[j]),
     )
 
 
@@ -345,7 +344,7 @@ def _statistics_of(spec: _PassSpec, chunk) -> FitStats:
         for k, d in enumerate(demos):
             where = partial(_where, i, item, k, len(demos))
             parts.append(_located(where, _stats_of_one, spec, d, start + k))
-    return parts[0].merge(*parts[1:])
+    return FitStats.of_demos(parts, exponents=spec.exponents)
 
 
 def _numbered_items(source, counts: np.ndarray):

@@ -28,7 +28,7 @@ from .._registry import Registry
 from .._simplify import simplify
 from .._validation import check_positive_int
 from ..codebook import Codebook, TimeBins
-from ..demonstration import Demonstration, with_velocity
+from ..demonstration import Demonstration, unit_time, with_velocity
 from ..normalize import SCALING_MODES, GroupScaler
 
 __all__ = [
@@ -154,6 +154,8 @@ def prepare(
             f"a demonstration lacks group(s) {', '.join(missing)}; it has"
             f" {', '.join(demo.group_names)}{hint}"
         )
+    if tuple(dict.fromkeys(demo.groups)) == tuple(groups):
+        return demo  # already these groups in this order: select would copy it
     return demo.select(*groups)
 
 
@@ -393,8 +395,8 @@ class DemoSpec:
             n_points=self.n_points,
             n_jobs=n_jobs,
         )
-        tau = self.time_bins.normalize(d.t)
-        return Reduced(u, tau, idx, self.time_bins.transform(tau)[idx])
+        tau = unit_time(d.t)  # TimeBins.normalize; d.t is checked already
+        return Reduced(u, tau, idx, self.time_bins.symbols(tau[idx]))
 
     def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
         """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).

@@ -1,0 +1,173 @@
+"""Serial fit time per demonstration, split by stage, against one ``simplify`` call.
+
+The case of issue 20: ``KeypointHMM(random_state=0, n_jobs=1).fit`` on 1,000
+in-memory demonstrations of 1,000 samples of 3-D position (the noisy spirals
+of ``bench_scale``), velocity derived, so 6 learned columns. The yardstick is
+one :func:`ndlfd.simplify` call on one of the same normalized 6-D
+demonstrations with the fit's epsilon: the fit's per-demonstration work is
+reported as a multiple of it, measured in the same run (the target is 5x).
+
+The stages are timed on their own over all demonstrations, each as the fit
+runs it (the public functions of the learner's modules):
+
+* ``prepare``: velocity derived from position, the groups selected
+  (:func:`ndlfd.learner._spec.prepare`);
+* ``ranges``: per-column extremes (:meth:`RangeStats.of`);
+* ``normalize``: :meth:`GroupScaler.transform`;
+* ``simplify``: the key points (:func:`ndlfd.simplify`, the reduction);
+* ``encode``: the key points' time bins and codebook states;
+* ``statistics``: the fit statistics of all of them at once
+  (:meth:`FitStats.of_demos`: exact centroid sums, templates);
+* ``other``: the whole fit minus the stages (scheduling, merges, the HMM).
+
+Every timing is the best of ``--repeats`` rounds, the rounds interleaved (a
+fit, then each stage, then the yardstick) so that a change of load hits them
+alike. Run: ``.venv/bin/python benchmarks/bench_fit.py`` (about a minute);
+``--write`` puts the table into benchmarks/RESULTS.md between
+``<!-- fit:start -->`` and ``<!-- fit:end -->``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from bench_scale import Spirals
+
+START, END = "<!-- fit:start -->", "<!-- fit:end -->"
+COMMAND = ".venv/bin/python benchmarks/bench_fit.py --write"
+STAGES = ("prepare", "ranges", "normalize", "simplify", "encode", "statistics")
+
+
+def stage_runs(model, demos):
+    """One callable per stage, each over all demonstrations, as the fit runs it."""
+    import ndlfd
+    from ndlfd.learner._spec import DemoSpec, prepare
+    from ndlfd.learner._stats import DemoStats, FitStats, RangeStats
+
+    spec = DemoSpec.of_model(model)
+    prepared = [prepare(d, model.groups_) for d in demos]
+    U = [model.scaler_.transform(d, weighted=False) for d in prepared]
+    keys = [ndlfd.simplify(u, model.epsilon) for u in U]
+    reduced = [spec.encode(d, n_jobs=1) for d in prepared]
+    exponents = model.fit_stats_.exponents
+    kept = set(model.template_indices_.tolist())
+    parts = [
+        DemoStats(j, r.values, r.tau, r.keypoints, r.key_states, r.key_bins,
+                  r.n_clipped, j in kept)
+        for j, r in enumerate(reduced)
+    ]  # fmt: skip
+
+    def encode():
+        for d, u, k in zip(prepared, U, keys, strict=True):
+            spec.time_bins.symbols(ndlfd.demonstration.unit_time(d.t)[k])
+            spec.codebook.encode(u[k], return_n_clipped=True)
+
+    return {
+        "prepare": lambda: [prepare(d, model.groups_) for d in demos],
+        "ranges": lambda: [RangeStats.of(j, d.X) for j, d in enumerate(prepared)],
+        "normalize": lambda: [
+            model.scaler_.transform(d, weighted=False) for d in prepared
+        ],
+        "simplify": lambda: [ndlfd.simplify(u, model.epsilon) for u in U],
+        "encode": encode,
+        "statistics": lambda: FitStats.of_demos(parts, exponents=exponents),
+    }
+
+
+def measure(n_demos: int, repeats: int) -> dict:
+    import ndlfd
+    from ndlfd import KeypointHMM
+
+    demos = list(Spirals(n_demos))
+
+    def fit():
+        return KeypointHMM(random_state=0, n_jobs=1).fit(demos)
+
+    model = fit()  # warm-up: compilation, caches
+    runs = stage_runs(model, demos)
+    u = model.scaler_.transform(runs["prepare"]()[0], weighted=False)
+    one = 200
+
+    def yardstick():
+        for _ in range(one):
+            ndlfd.simplify(u, model.epsilon)
+
+    best = {k: np.inf for k in ("fit", *STAGES, "one simplify")}
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fit()
+        best["fit"] = min(best["fit"], time.perf_counter() - t0)
+        for k in STAGES:
+            t0 = time.perf_counter()
+            runs[k]()
+            best[k] = min(best[k], time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        yardstick()
+        best["one simplify"] = min(best["one simplify"], time.perf_counter() - t0)
+    ms = {k: 1e3 * v / (one if k == "one simplify" else n_demos)
+          for k, v in best.items()}  # fmt: skip
+    ms["other"] = ms["fit"] - sum(ms[k] for k in STAGES)
+    return dict(ms=ms, n_demos=n_demos, repeats=repeats,
+                keys=float(model.fit_stats_.n_keys.mean()))  # fmt: skip
+
+
+def table(res: dict) -> str:
+    ms = res["ms"]
+    ref = ms["one simplify"]
+    rows = ["| stage | ms per demonstration | × one simplify call |", "|---|---:|---:|"]
+    for k in (*STAGES, "other", "fit"):
+        name = "**whole fit**" if k == "fit" else k
+        rows.append(f"| {name} | {ms[k]:.4f} | {ms[k] / ref:.1f} |")
+    rows.append(f"| one simplify call (yardstick) | {ref:.4f} | 1.0 |")
+    return "\n".join(rows)
+
+
+def report(res: dict, load: str) -> str:
+    import numba
+
+    return "\n".join([
+        "## fit: per-demonstration work of a serial fit, by stage",
+        "",
+        f"Command: `{COMMAND}` ({time.strftime('%Y-%m-%d %H:%M')}, best of"
+        f" {res['repeats']} interleaved rounds; load average {load} on"
+        f" {os.cpu_count()} cores, shared).",
+        f"Machine: {platform.machine()}, Python {platform.python_version()},"
+        f" numpy {np.__version__}, numba {numba.__version__}.",
+        "",
+        f"`KeypointHMM(random_state=0, n_jobs=1).fit` on {res['n_demos']:,}"
+        " in-memory demonstrations of 1,000 samples of 3-D position (velocity"
+        " derived: 6 columns), against one `ndlfd.simplify` call on one of the"
+        f" same normalized 6-D demonstrations ({res['keys']:.1f} key points on"
+        " average):",
+        "",
+        table(res),
+    ])  # fmt: skip
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--demos", type=int, default=1000)
+    ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--write", action="store_true", help="update RESULTS.md")
+    args = ap.parse_args(argv)
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    res = measure(args.demos, args.repeats)
+    load = f"{load} before, {', '.join(f'{x:.2f}' for x in os.getloadavg())} after"
+    text = report(res, load)
+    print(text)
+    if args.write:
+        from bench_hmm import write_section
+
+        write_section(text, START, END)
+
+
+if __name__ == "__main__":
+    main()
