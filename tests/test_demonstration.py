@@ -263,6 +263,41 @@ def test_with_group_appends_and_replaces_in_place():
         d.with_group("force", np.ones(5), columns=["x"])
 
 
+@pytest.mark.parametrize(
+    "name, values, columns, match",
+    [
+        (
+            "force",
+            [[np.inf]] * 5,
+            None,
+            r"finite; got \[.*inf\] \(NaN or inf\) at row 0",
+        ),
+        ("force", np.ones(5), ["a,b"], "must not contain commas"),
+        ("force", np.ones(5), [" a"], "without surrounding spaces"),
+        ("bad name", np.ones(5), None, "letters, digits"),
+        ("force", np.ones(5), ["grip0"], "columns must be unique; got 'grip0'"),
+        ("orientation", [[2.0, 0, 0, 0]] * 5, None, "unit|norm"),
+    ],
+)
+def test_with_group_checks_the_new_block_as_the_constructor(
+    name, values, columns, match
+):
+    with pytest.raises(ValidationError, match=match):
+        _demo().with_group(name, values, columns=columns)
+
+
+def test_with_group_gives_what_the_constructor_gives():
+    # the new block alone is checked; the result is the constructor's
+    d = _demo(9)
+    rng = np.random.default_rng(0)
+    for name, k in (("force", 3), ("velocity", 2), ("grip", 1), ("extra-1", 2)):
+        e = d.with_group(name, rng.normal(size=(9, k)))
+        full = Demonstration(e.t, e.X, e.columns, e.groups)
+        assert e == full and e.X.tobytes() == full.X.tobytes()
+        assert not e.X.flags.writeable and not e.t.flags.writeable
+        assert e.X.flags.c_contiguous and e.X.dtype == np.float64
+
+
 def test_equality():
     assert _demo() == _demo()
     assert _demo() != _demo(6)

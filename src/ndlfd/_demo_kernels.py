@@ -5,9 +5,11 @@
 that is a dozen small numpy calls. :func:`gradient` does the same arithmetic
 (the same formulas, in the same order, so the result is the same bit for bit)
 in one loop, and also says whether the time steps are steady (the cheap test
-that lets ``with_velocity`` skip its jitter check). The kernels trust their
-input (``t`` strictly increasing with at least two samples, ``P`` of one row
-per sample, both float64); :mod:`ndlfd.demonstration` checks it.
+that lets ``with_velocity`` skip its jitter check); :func:`window_derivative`
+is the derivative of jittery time stamps (a local straight-line fit). The
+kernels trust their input (``t`` strictly increasing with at least two
+samples, ``P`` of one row per sample, both float64); :mod:`ndlfd.demonstration`
+checks it.
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["gradient"]
+__all__ = ["gradient", "window_derivative"]
 
 
 @njit(cache=True, nogil=True)
@@ -104,3 +106,70 @@ def gradient(t: np.ndarray, P: np.ndarray, tol: float) -> tuple[np.ndarray, bool
         float(tol),
     )
     return V, bool(steady)
+
+
+@njit(cache=True, nogil=True)
+def _window_slopes(t, P, lo, hi):  # pragma: no cover - compiled
+    n, d = P.shape
+    V = np.empty((n, d))
+    for i in range(n):
+        a, b = lo[i], hi[i]
+        k = b - a
+        tm = 0.0
+        for j in range(a, b):
+            tm += t[j]
+        tm /= k
+        sxx = 0.0
+        for j in range(a, b):
+            sxx += (t[j] - tm) * (t[j] - tm)
+        for c in range(d):
+            pm = 0.0
+            for j in range(a, b):
+                pm += P[j, c]
+            pm /= k
+            sxy = 0.0
+            for j in range(a, b):
+                sxy += (t[j] - tm) * (P[j, c] - pm)
+            V[i, c] = sxy / sxx
+    return V
+
+
+def window_derivative(t, P, half_width: float) -> np.ndarray:
+    """Derivative by a local straight-line fit over a time window.
+
+    At each sample the slope of the least-squares line through the samples
+    within ``half_width`` seconds on either side (and at least the immediate
+    neighbours) is the derivative: every sample in the window counts, so a
+    jittery time stamp moves it little, where a difference of neighbours
+    divides by the jittered step.
+
+    Parameters
+    ----------
+    t : ndarray of shape (n_samples,)
+        Strictly increasing time stamps (at least 2).
+    P : ndarray of shape (n_samples, n_dims)
+        Values.
+    half_width : float
+        Half the window, in the units of ``t``.
+
+    Returns
+    -------
+    V : ndarray of shape (n_samples, n_dims)
+
+    Examples
+    --------
+    >>> t = np.array([0.0, 1.0, 2.0, 3.0])
+    >>> window_derivative(t, 3.0 * t[:, None] + 1.0, 1.0).ravel()
+    array([3., 3., 3., 3.])
+    """
+    t = np.ascontiguousarray(t, dtype=np.float64)
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    n = t.size
+    idx = np.arange(n)
+    lo = np.minimum(
+        np.searchsorted(t, t - half_width, side="left"), np.maximum(idx - 1, 0)
+    )
+    hi = np.maximum(
+        np.searchsorted(t, t + half_width, side="right"), np.minimum(idx + 2, n)
+    )
+    return _window_slopes(t, P, lo.astype(np.int64), hi.astype(np.int64))

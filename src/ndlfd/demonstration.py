@@ -18,9 +18,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
-from ._demo_kernels import gradient
+from ._demo_kernels import gradient, window_derivative
 from ._errors import ValidationError
 from ._registry import Registry
 from ._repairs import repaired
@@ -510,6 +509,18 @@ class Demonstration:
         X = np.hstack([self.X[:, :lo], a, self.X[:, hi:]])
         new_columns = self.columns[:lo] + tuple(cols) + self.columns[hi:]
         new_groups = self.groups[:lo] + (name,) * a.shape[1] + self.groups[hi:]
+        if name != "orientation" and _valid_block(a, cols, name, new_columns):
+            # only the new block needs the checks: the rest is this (checked)
+            # demonstration's, and the group is appended or stays in place
+            out = object.__new__(Demonstration)
+            X.flags.writeable = False
+            for field, value in zip(
+                ("t", "X", "columns", "groups"),
+                (self.t, X, new_columns, new_groups),
+                strict=True,
+            ):
+                object.__setattr__(out, field, value)
+            return out
         return Demonstration(self.t, X, new_columns, new_groups)
 
     # ------------------------------------------------------------ dunder
@@ -558,6 +569,20 @@ JITTER_TOL = 0.1
 WINDOW_STEPS = 4.0
 
 
+def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
+    """Whether a new group's block passes every check of the constructor."""
+    try:
+        _check_names(cols, a.shape[1], "columns")
+        _check_names((name,), 1, "groups")
+    except ValidationError:
+        return False
+    return (
+        bool(_GROUP_OK.match(name))
+        and len(set(columns)) == len(columns)
+        and bool(np.isfinite(a).all())
+    )
+
+
 def _speed_roughness(P: np.ndarray, t: np.ndarray) -> float:
     """Median step-to-step change of the speed over the median speed."""
     speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(t)
@@ -597,73 +622,6 @@ def timing_jitter(t) -> float:
         return 0.0
     dt = np.diff(tt)
     return float(np.percentile(np.abs(np.diff(dt)), 90) / np.median(dt))
-
-
-@njit(cache=True, nogil=True)
-def _window_slopes(t, P, lo, hi):  # pragma: no cover - compiled
-    n, d = P.shape
-    V = np.empty((n, d))
-    for i in range(n):
-        a, b = lo[i], hi[i]
-        k = b - a
-        tm = 0.0
-        for j in range(a, b):
-            tm += t[j]
-        tm /= k
-        sxx = 0.0
-        for j in range(a, b):
-            sxx += (t[j] - tm) * (t[j] - tm)
-        for c in range(d):
-            pm = 0.0
-            for j in range(a, b):
-                pm += P[j, c]
-            pm /= k
-            sxy = 0.0
-            for j in range(a, b):
-                sxy += (t[j] - tm) * (P[j, c] - pm)
-            V[i, c] = sxy / sxx
-    return V
-
-
-def window_derivative(t, P, half_width: float) -> np.ndarray:
-    """Derivative by a local straight-line fit over a time window.
-
-    At each sample the slope of the least-squares line through the samples
-    within ``half_width`` seconds on either side (and at least the immediate
-    neighbours) is the derivative: every sample in the window counts, so a
-    jittery time stamp moves it little, where a difference of neighbours
-    divides by the jittered step.
-
-    Parameters
-    ----------
-    t : ndarray of shape (n_samples,)
-        Strictly increasing time stamps (at least 2).
-    P : ndarray of shape (n_samples, n_dims)
-        Values.
-    half_width : float
-        Half the window, in the units of ``t``.
-
-    Returns
-    -------
-    V : ndarray of shape (n_samples, n_dims)
-
-    Examples
-    --------
-    >>> t = np.array([0.0, 1.0, 2.0, 3.0])
-    >>> window_derivative(t, 3.0 * t[:, None] + 1.0, 1.0).ravel()
-    array([3., 3., 3., 3.])
-    """
-    t = np.ascontiguousarray(t, dtype=np.float64)
-    P = np.ascontiguousarray(P, dtype=np.float64)
-    n = t.size
-    idx = np.arange(n)
-    lo = np.minimum(
-        np.searchsorted(t, t - half_width, side="left"), np.maximum(idx - 1, 0)
-    )
-    hi = np.maximum(
-        np.searchsorted(t, t + half_width, side="right"), np.minimum(idx + 2, n)
-    )
-    return _window_slopes(t, P, lo.astype(np.int64), hi.astype(np.int64))
 
 
 def with_velocity(

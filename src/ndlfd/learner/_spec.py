@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numbers
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -135,14 +135,18 @@ def prepare(
     demo : Demonstration
         With exactly ``groups``.
     """
+    have = demo.group_names
     if (
         "velocity" in groups
-        and "velocity" not in demo.group_names
-        and "position" in demo.group_names
+        and "velocity" not in have
+        and "position" in have
         and derive_velocity
     ):
         demo = with_velocity(demo)
-    missing = [g for g in groups if g not in demo.group_names]
+        have = demo.group_names
+    if have == tuple(groups):
+        return demo  # already these groups in this order: select would copy it
+    missing = [g for g in groups if g not in have]
     if missing:
         hint = (
             f"; map its columns with --group {missing[0]}=NAME,... or leave it"
@@ -154,8 +158,6 @@ def prepare(
             f"a demonstration lacks group(s) {', '.join(missing)}; it has"
             f" {', '.join(demo.group_names)}{hint}"
         )
-    if tuple(dict.fromkeys(demo.groups)) == tuple(groups):
-        return demo  # already these groups in this order: select would copy it
     return demo.select(*groups)
 
 
@@ -417,4 +419,4 @@ class DemoSpec:
         states, clipped = self.codebook.encode(
             r.values[r.keypoints], return_n_clipped=True
         )
-        return replace(r, key_states=states, n_clipped=clipped)
+        return Reduced(r.values, r.tau, r.keypoints, r.key_bins, states, clipped)

@@ -176,7 +176,7 @@ class RangeStats:
             max(lengths),
             item,
             item,
-            tuple((t, item, c) for t, c in Counter(notes).items()),
+            tuple((t, item, c) for t, c in Counter(notes).items()) if notes else (),
             tuple(repairs),
         )
 
