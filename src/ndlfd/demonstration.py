@@ -510,17 +510,7 @@ class Demonstration:
         new_columns = self.columns[:lo] + tuple(cols) + self.columns[hi:]
         new_groups = self.groups[:lo] + (name,) * a.shape[1] + self.groups[hi:]
         if name != "orientation" and _valid_block(a, cols, name, new_columns):
-            # only the new block needs the checks: the rest is this (checked)
-            # demonstration's, and the group is appended or stays in place
-            out = object.__new__(Demonstration)
-            X.flags.writeable = False
-            for field, value in zip(
-                ("t", "X", "columns", "groups"),
-                (self.t, X, new_columns, new_groups),
-                strict=True,
-            ):
-                object.__setattr__(out, field, value)
-            return out
+            return _assembled(self.t, X, new_columns, new_groups)
         return Demonstration(self.t, X, new_columns, new_groups)
 
     # ------------------------------------------------------------ dunder
@@ -581,6 +571,20 @@ def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
         and len(set(columns)) == len(columns)
         and bool(np.isfinite(a).all())
     )
+
+
+def _assembled(t, X, columns, groups) -> Demonstration:
+    """A demonstration of checked parts, without checking them again.
+
+    For :meth:`Demonstration.with_group` once :func:`_valid_block` passed: the
+    rest is a checked demonstration's, and the group is appended or stays in
+    place (so its columns stay adjacent).
+    """
+    out = object.__new__(Demonstration)
+    X.flags.writeable = False
+    for name, value in (("t", t), ("X", X), ("columns", columns), ("groups", groups)):
+        object.__setattr__(out, name, value)
+    return out
 
 
 def _speed_roughness(P: np.ndarray, t: np.ndarray) -> float:
