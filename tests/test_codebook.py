@@ -295,6 +295,18 @@ def test_encode_is_the_numpy_encoding(seed, n, levels):
     assert clipped == want_clipped
 
 
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 300), st.integers(1, 60))
+def test_symbols_are_the_numpy_binning(seed, n_bins, n):
+    # the compiled binning against the numpy code it replaced
+    rng = np.random.default_rng(seed)
+    tau = np.concatenate([[0.0, 1.0], np.arange(n_bins + 1) / n_bins, rng.random(n)])
+    want = np.floor(tau * n_bins)
+    np.clip(want, 0, n_bins - 1, out=want)
+    got = TimeBins(n_bins).symbols(tau)
+    assert got.dtype == np.int64 and got.tobytes() == want.astype(np.int64).tobytes()
+
+
 def test_symbols_of_normalized_times_are_the_transform():
     t = np.cumsum(np.random.default_rng(3).uniform(0.1, 2.0, 57))
     bins = TimeBins(13)

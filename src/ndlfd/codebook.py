@@ -342,6 +342,16 @@ def _encode_rows(P, cb):  # pragma: no cover - compiled
     return states, n_clipped
 
 
+@njit(cache=True, nogil=True)
+def _bin_times(tau, n_bins):  # pragma: no cover - compiled
+    # floor(tau * N_t) clipped to 0..N_t-1 (numpy's arithmetic, one pass)
+    out = np.empty(tau.size, dtype=np.int64)
+    top = np.float64(n_bins - 1)
+    for i in range(tau.size):
+        out[i] = np.int64(min(max(np.floor(tau[i] * n_bins), 0.0), top))
+    return out
+
+
 class TimeBins:
     """Cut one demonstration's normalized time into ``n_bins`` symbols.
 
@@ -425,6 +435,5 @@ class TimeBins:
         >>> TimeBins(4).symbols(np.array([0.0, 0.3, 1.0]))
         array([0, 1, 3])
         """
-        sym = np.floor(np.asarray(tau, dtype=np.float64) * self.n_bins)
-        np.clip(sym, 0, self.n_bins - 1, out=sym)
-        return sym.astype(np.int64)
+        tau = np.ascontiguousarray(tau, dtype=np.float64)
+        return _bin_times(tau, self.n_bins)

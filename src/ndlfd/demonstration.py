@@ -506,7 +506,7 @@ class Demonstration:
             lo, hi = int(idx[0]), int(idx[-1]) + 1
         else:
             lo = hi = self.n_dims
-        X = np.hstack([self.X[:, :lo], a, self.X[:, hi:]])
+        X = np.concatenate([self.X[:, :lo], a, self.X[:, hi:]], axis=1)
         new_columns = self.columns[:lo] + tuple(cols) + self.columns[hi:]
         new_groups = self.groups[:lo] + (name,) * a.shape[1] + self.groups[hi:]
         if name != "orientation" and _valid_block(a, cols, name, new_columns):

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -367,7 +368,7 @@ class DemoSpec:
             )
         return d
 
-    @property
+    @cached_property
     def column_weights(self) -> np.ndarray | None:
         """The scaler's per-column weights for the reduction (None if all 1)."""
         w = self.scaler.column_weights_
