@@ -54,3 +54,21 @@ def test_split_limbs_hand_worked():
     q = np.array([[0.5], [0.25], [0.125]])
     got = split_limbs(np.array([[0.75], [-0.375]]), q)
     np.testing.assert_array_equal(got[:, :, 0], [[1, 0], [1, -1], [0, -1]])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 6), st.integers(1, 40))
+def test_segment_rows_are_the_searchsorted_segments(seed, n_demos, n_bins):
+    # the compiled segments against the per-demonstration numpy code they replaced
+    from ndlfd.learner._fit_kernels import segment_rows
+
+    rng = np.random.default_rng(seed)
+    n_keys = rng.integers(1, 9, n_demos)
+    bins = [np.sort(rng.integers(0, n_bins, k)) for k in n_keys]
+    states = [rng.integers(0, 1000, k) for k in n_keys]
+    ends = np.cumsum(n_keys)
+    got = segment_rows(np.concatenate(bins), np.concatenate(states), ends - n_keys,
+                       ends, n_bins)  # fmt: skip
+    for r in range(n_demos):
+        pos = np.searchsorted(bins[r], np.arange(n_bins), side="right") - 1
+        np.testing.assert_array_equal(got[r], states[r][np.maximum(pos, 0)])

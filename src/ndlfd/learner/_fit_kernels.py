@@ -8,7 +8,9 @@ them on random demonstrations):
 
 * :func:`column_extremes`: per-column minimum and maximum (pass 1);
 * :func:`split_limbs`: values split into integer limbs, the exact centroid
-  sums of :func:`ndlfd.learner._exact.to_limbs` (pass 2).
+  sums of :func:`ndlfd.learner._exact.to_limbs` (pass 2);
+* :func:`segment_rows`: every demonstration's segment state at every time
+  bin, for the segment model (:mod:`ndlfd.learner._segments`).
 
 The kernels trust their input (float64, C-contiguous, finite, at least one
 row); the wrappers here and their callers check it.
@@ -19,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["column_extremes", "split_limbs"]
+__all__ = ["column_extremes", "segment_rows", "split_limbs"]
 
 
 @njit(cache=True, nogil=True)
@@ -102,4 +104,51 @@ def split_limbs(V: np.ndarray, quanta: np.ndarray) -> np.ndarray:
     return _limbs(
         np.ascontiguousarray(V, dtype=np.float64),
         np.ascontiguousarray(quanta, dtype=np.float64),
+    )
+
+
+@njit(cache=True, nogil=True)
+def _segments(key_bins, key_states, starts, ends, n_bins):  # pragma: no cover
+    out = np.empty((starts.size, n_bins), dtype=np.int64)
+    for r in range(starts.size):
+        p, last = starts[r], ends[r] - 1
+        for b in range(n_bins):
+            while p < last and key_bins[p + 1] <= b:
+                p += 1
+            out[r, b] = key_states[p]
+    return out
+
+
+def segment_rows(key_bins, key_states, starts, ends, n_bins: int) -> np.ndarray:
+    """Per demonstration, the state of its last key point at or before each bin.
+
+    Demonstration ``r`` holds the key points ``starts[r]:ends[r]`` (at least
+    one) of the flat arrays; its bins are non-decreasing. Before its first key
+    point's bin a demonstration is in its first key point's state.
+
+    Parameters
+    ----------
+    key_bins, key_states : ndarray of shape (n_keys,), dtype int64
+        Time bin and codebook state of every key point.
+    starts, ends : ndarray of shape (n_demos,), dtype int64
+    n_bins : int
+
+    Returns
+    -------
+    states : ndarray of shape (n_demos, n_bins), dtype int64
+
+    Examples
+    --------
+    >>> segment_rows(np.array([0, 2, 2, 4, 0, 1]), np.array([7, 8, 9, 5, 1, 2]),
+    ...              np.array([0, 4]), np.array([4, 6]), 5)
+    array([[7, 7, 9, 9, 5],
+           [1, 2, 2, 2, 2]])
+    """
+    i64 = np.int64
+    return _segments(
+        np.ascontiguousarray(key_bins, dtype=i64),
+        np.ascontiguousarray(key_states, dtype=i64),
+        np.ascontiguousarray(starts, dtype=i64),
+        np.ascontiguousarray(ends, dtype=i64),
+        int(n_bins),
     )
