@@ -406,7 +406,8 @@ class Demonstration:
                 f"unknown group {group!r}; this demonstration has groups:"
                 f" {', '.join(repr(g) for g in self.group_names)}"
             )
-        return np.flatnonzero(np.array(self.groups) == group).astype(np.int64)
+        lo = self.groups.index(group)  # a group's columns are adjacent
+        return np.arange(lo, lo + self.groups.count(group), dtype=np.int64)
 
     def get(self, group: str) -> np.ndarray:
         """Return the values of one group (a read-only view).
@@ -703,7 +704,7 @@ def with_velocity(
         )
     if "velocity" in demo.groups and not overwrite:
         return demo
-    P = np.array(demo.get("position"))
+    P = demo.get("position")  # read-only; smoothing makes a new array
     n = demo.n_samples
     if n < 2:
         raise ValidationError(
@@ -749,9 +750,9 @@ def with_velocity(
     elif V is None:
         V, _ = gradient(demo.t, P, JITTER_TOL)
     names = default_columns("velocity", V.shape[1])
-    taken = set(demo.columns) - set(
-        demo.columns[j] for j in np.flatnonzero(np.array(demo.groups) == "velocity")
-    )
+    taken = set(demo.columns)
+    if "velocity" in demo.groups:  # overwritten: its own names are free
+        taken -= {demo.columns[j] for j in demo.columns_of("velocity")}
     if taken.intersection(names):
         names = tuple(f"velocity.{c}" for c in names)
     return demo.with_group("velocity", V, names)
