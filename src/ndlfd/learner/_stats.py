@@ -357,27 +357,17 @@ class FitStats:
         n_clipped: int,
         template: bool,
     ) -> FitStats:
-        """The statistics of one demonstration.
+        """The statistics of one demonstration (:meth:`of_demos` of one).
 
         Parameters
         ----------
-        index : int
-            The demonstration's index in the training set.
-        values : ndarray of shape (n_samples, n_dims)
-            Its normalized (unweighted) values.
-        tau : ndarray of shape (n_samples,)
-            Its normalized times (0 to 1).
-        keypoints : ndarray of shape (n_keys,), dtype int64
-            Key-point indices.
-        key_states, key_bins : ndarray of shape (n_keys,), dtype int64
-            Codebook state and time bin of each key point.
+        index, values, tau, keypoints, key_states, key_bins
+            The demonstration, as the fields of :class:`DemoStats`.
         exponents : ndarray of shape (n_dims,)
             Scale exponents of the centroid sums (:func:`scale_exponents`),
             the same for every demonstration of a fit.
-        n_clipped : int
-            Values the codebook clipped.
-        template : bool
-            Keep the full values and times (a blend template).
+        n_clipped, template
+            As the fields of :class:`DemoStats`.
 
         Returns
         -------
