@@ -1,11 +1,13 @@
 """The fit's kernels against the numpy code they replaced, bit for bit."""
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ndlfd import ValidationError
 from ndlfd.learner._exact import N_LIMBS, scale_exponents, to_limbs
-from ndlfd.learner._fit_kernels import column_extremes, split_limbs
+from ndlfd.learner._fit_kernels import column_extremes, segment_rows, split_limbs
 
 
 def _values(seed, n, d, zeros):
@@ -60,8 +62,6 @@ def test_split_limbs_hand_worked():
 @given(st.integers(0, 2**32 - 1), st.integers(1, 6), st.integers(1, 40))
 def test_segment_rows_are_the_searchsorted_segments(seed, n_demos, n_bins):
     # the compiled segments against the per-demonstration numpy code they replaced
-    from ndlfd.learner._fit_kernels import segment_rows
-
     rng = np.random.default_rng(seed)
     n_keys = rng.integers(1, 9, n_demos)
     bins = [np.sort(rng.integers(0, n_bins, k)) for k in n_keys]
@@ -72,3 +72,10 @@ def test_segment_rows_are_the_searchsorted_segments(seed, n_demos, n_bins):
     for r in range(n_demos):
         pos = np.searchsorted(bins[r], np.arange(n_bins), side="right") - 1
         np.testing.assert_array_equal(got[r], states[r][np.maximum(pos, 0)])
+
+
+def test_segment_rows_refuse_a_demonstration_without_key_points():
+    with pytest.raises(ValidationError, match=r"at least one key point.*got starts"):
+        segment_rows(
+            np.array([0]), np.array([3]), np.array([0, 1]), np.array([1, 1]), 4
+        )

@@ -21,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .._errors import ValidationError
+
 __all__ = ["column_extremes", "segment_rows", "split_limbs"]
 
 
@@ -145,10 +147,14 @@ def segment_rows(key_bins, key_states, starts, ends, n_bins: int) -> np.ndarray:
            [1, 2, 2, 2, 2]])
     """
     i64 = np.int64
+    starts = np.ascontiguousarray(starts, dtype=i64)
+    ends = np.ascontiguousarray(ends, dtype=i64)
+    key_states = np.ascontiguousarray(key_states, dtype=i64)
+    if np.any(ends <= starts) or np.any(starts < 0) or np.any(ends > key_states.size):
+        raise ValidationError(
+            "every demonstration needs at least one key point within the"
+            f" {key_states.size} given; got starts {starts} and ends {ends}"
+        )
     return _segments(
-        np.ascontiguousarray(key_bins, dtype=i64),
-        np.ascontiguousarray(key_states, dtype=i64),
-        np.ascontiguousarray(starts, dtype=i64),
-        np.ascontiguousarray(ends, dtype=i64),
-        int(n_bins),
+        np.ascontiguousarray(key_bins, dtype=i64), key_states, starts, ends, int(n_bins)
     )
