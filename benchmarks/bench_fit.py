@@ -26,7 +26,9 @@ core is not counted), the best of ``--repeats`` rounds, the rounds interleaved
 them alike; the wall time of the best whole fit is printed beside it.
 Run: ``.venv/bin/python benchmarks/bench_fit.py`` (about a minute);
 ``--write`` puts the table into benchmarks/RESULTS.md between
-``<!-- fit:start -->`` and ``<!-- fit:end -->``.
+``<!-- fit:start -->`` and ``<!-- fit:end -->``; ``--baseline SRC`` also
+times the whole fit (and its own yardstick) with the package at ``SRC`` in a
+subprocess, before and after the main rounds (best of 3 each).
 """
 
 from __future__ import annotations
@@ -48,7 +50,7 @@ from bench_scale import Spirals
 clock = time.process_time
 
 START, END = "<!-- fit:start -->", "<!-- fit:end -->"
-COMMAND = ".venv/bin/python benchmarks/bench_fit.py --write"
+COMMAND = ".venv/bin/python benchmarks/bench_fit.py"
 STAGES = ("prepare", "ranges", "normalize", "simplify", "encode", "statistics")
 
 
@@ -126,6 +128,43 @@ def measure(n_demos: int, repeats: int) -> dict:
                 keys=float(model.fit_stats_.n_keys.mean()))  # fmt: skip
 
 
+def measure_fit_only(n_demos: int, repeats: int) -> dict:
+    """The whole fit and the yardstick only (for a baseline: older code)."""
+    import ndlfd
+    from ndlfd import KeypointHMM
+
+    demos = list(Spirals(n_demos))
+    model = KeypointHMM(random_state=0, n_jobs=1).fit(demos)
+    d = ndlfd.with_velocity(demos[0]).select(*model.groups_)
+    u = model.scaler_.transform(d, weighted=False)
+    fit = one = np.inf
+    for _ in range(repeats):
+        t0 = clock()
+        KeypointHMM(random_state=0, n_jobs=1).fit(demos)
+        fit = min(fit, clock() - t0)
+        t0 = clock()
+        for _ in range(200):
+            ndlfd.simplify(u, model.epsilon)
+        one = min(one, clock() - t0)
+    return {"fit": 1e3 * fit / n_demos, "one simplify": 1e3 * one / 200}
+
+
+def baseline(src: str, n_demos: int, repeats: int) -> dict:
+    """:func:`measure_fit_only` with the package at ``src`` (a subprocess)."""
+    import json
+    import subprocess
+
+    out = subprocess.run(
+        [sys.executable, __file__, "--fit-only", "--demos", str(n_demos),
+         "--repeats", str(repeats), "--baseline", src],
+        check=True, capture_output=True, text=True,
+    ).stdout  # fmt: skip
+    got = json.loads(out.strip().splitlines()[-1])
+    if not got.pop("package").startswith(str(Path(src).resolve())):
+        raise RuntimeError(f"the baseline run did not import ndlfd from {src}")
+    return got
+
+
 def table(res: dict) -> str:
     ms = res["ms"]
     ref = ms["one simplify"]
@@ -135,16 +174,23 @@ def table(res: dict) -> str:
         rows.append(f"| {name} | {ms[k]:.4f} | {ms[k] / ref:.1f} |")
     rows.append(f"| one simplify call (yardstick) | {ref:.4f} | 1.0 |")
     rows.append(f"| whole fit, wall time | {ms['fit, wall']:.4f} | |")
+    if "baseline" in res:
+        b = res["baseline"]
+        rows.append(
+            f"| whole fit, baseline code ({res['baseline_name']}) | {b['fit']:.4f} |"
+            f" {b['fit'] / b['one simplify']:.1f} (its own simplify:"
+            f" {b['one simplify']:.4f} ms) |"
+        )
     return "\n".join(rows)
 
 
-def report(res: dict, load: str) -> str:
+def report(res: dict, load: str, command: str = COMMAND) -> str:
     import numba
 
     return "\n".join([
         "## fit: per-demonstration work of a serial fit, by stage",
         "",
-        f"Command: `{COMMAND}` ({time.strftime('%Y-%m-%d %H:%M')}, best of"
+        f"Command: `{command}` ({time.strftime('%Y-%m-%d %H:%M')}, best of"
         f" {res['repeats']} interleaved rounds; load average {load} on"
         f" {os.cpu_count()} cores, shared).",
         f"Machine: {platform.machine()}, Python {platform.python_version()},"
@@ -165,11 +211,35 @@ def main(argv=None) -> None:
     ap.add_argument("--demos", type=int, default=1000)
     ap.add_argument("--repeats", type=int, default=7)
     ap.add_argument("--write", action="store_true", help="update RESULTS.md")
+    ap.add_argument(
+        "--baseline",
+        metavar="SRC",
+        help="also time the whole fit with the package at SRC"
+        " (for example a checkout of main's src/), before and after",
+    )
+    ap.add_argument("--baseline-name", default="baseline")
+    ap.add_argument("--fit-only", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.fit_only:  # bench_scale put this checkout's src first: put SRC first
+        import json
+
+        assert "ndlfd" not in sys.modules
+        sys.path.insert(0, str(Path(args.baseline).resolve()))
+        import ndlfd
+
+        res = measure_fit_only(args.demos, args.repeats)
+        print(json.dumps(dict(res, package=str(Path(ndlfd.__file__).resolve()))))
+        return
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
+    base = [baseline(args.baseline, args.demos, 3)] if args.baseline else []
     res = measure(args.demos, args.repeats)
+    if args.baseline:
+        base.append(baseline(args.baseline, args.demos, 3))
+        res["baseline"] = {k: min(b[k] for b in base) for k in base[0]}
+        res["baseline_name"] = args.baseline_name
     load = f"{load} before, {', '.join(f'{x:.2f}' for x in os.getloadavg())} after"
-    text = report(res, load)
+    argv = sys.argv[1:] if argv is None else argv
+    text = report(res, load, " ".join([COMMAND, *argv]))
     print(text)
     if args.write:
         from bench_hmm import write_section
