@@ -275,6 +275,7 @@ def test_with_group_appends_and_replaces_in_place():
         ("force", np.ones(5), ["a,b"], "must not contain commas"),
         ("force", np.ones(5), [" a"], "without surrounding spaces"),
         ("bad name", np.ones(5), None, "letters, digits"),
+        ("grip\n", np.ones(5), ["g"], "groups must be non-empty str without"),
         ("force", np.ones(5), ["grip0"], "columns must be unique; got 'grip0'"),
         ("orientation", [[2.0, 0, 0, 0]] * 5, None, "unit|norm"),
     ],

@@ -119,7 +119,9 @@ def unit_time(t) -> np.ndarray:
 
 
 def _check_names(names, d: int, what: str) -> tuple[str, ...]:
-    if isinstance(names, str) or not isinstance(names, Sequence):
+    if type(names) not in (tuple, list) and (
+        isinstance(names, str) or not isinstance(names, Sequence)
+    ):
         raise ValidationError(
             f"{what} must be a sequence of str (one per column); got {names!r}"
         )
@@ -564,11 +566,11 @@ def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
     """Whether a new group's block passes every check of the constructor."""
     try:
         _check_names(cols, a.shape[1], "columns")
-        _check_names((name,), 1, "groups")
     except ValidationError:
         return False
     return (
-        bool(_GROUP_OK.match(name))
+        isinstance(name, str)
+        and _GROUP_OK.fullmatch(name) is not None  # no newline: a valid name too
         and len(set(columns)) == len(columns)
         and bool(np.isfinite(a).all())
     )
