@@ -7,7 +7,12 @@ from hypothesis import strategies as st
 
 from ndlfd import ValidationError
 from ndlfd.learner._exact import N_LIMBS, scale_exponents, to_limbs
-from ndlfd.learner._fit_kernels import column_extremes, segment_rows, split_limbs
+from ndlfd.learner._fit_kernels import (
+    column_extremes,
+    group_sums,
+    segment_rows,
+    split_limbs,
+)
 
 
 def _values(seed, n, d, zeros):
@@ -79,3 +84,14 @@ def test_segment_rows_refuse_a_demonstration_without_key_points():
         segment_rows(
             np.array([0]), np.array([3]), np.array([0, 1]), np.array([1, 1]), 4
         )
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 60), st.integers(1, 5))
+def test_group_sums_are_numpys_reduceat(seed, n, d):
+    rng = np.random.default_rng(seed)
+    limbs = rng.integers(-(2**31), 2**31, (3, n, d))
+    order = rng.permutation(n)
+    starts = np.unique(np.concatenate([[0], rng.integers(0, n, 5)]))
+    want = np.add.reduceat(limbs[:, order], starts, axis=1)
+    assert group_sums(limbs, order, starts).tobytes() == want.tobytes()

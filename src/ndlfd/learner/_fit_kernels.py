@@ -9,6 +9,8 @@ them on random demonstrations):
 * :func:`column_extremes`: per-column minimum and maximum (pass 1);
 * :func:`split_limbs`: values split into integer limbs, the exact centroid
   sums of :func:`ndlfd.learner._exact.to_limbs` (pass 2);
+* :func:`group_sums`: the limbs of the key points of each codebook state
+  added up (pass 2 and every merge of fit statistics);
 * :func:`segment_rows`: every demonstration's segment state at every time
   bin, for the segment model (:mod:`ndlfd.learner._segments`).
 
@@ -23,7 +25,7 @@ from numba import njit
 
 from .._errors import ValidationError
 
-__all__ = ["column_extremes", "segment_rows", "split_limbs"]
+__all__ = ["column_extremes", "group_sums", "segment_rows", "split_limbs"]
 
 
 @njit(cache=True, nogil=True)
@@ -157,4 +159,50 @@ def segment_rows(key_bins, key_states, starts, ends, n_bins: int) -> np.ndarray:
         )
     return _segments(
         np.ascontiguousarray(key_bins, dtype=i64), key_states, starts, ends, int(n_bins)
+    )
+
+
+@njit(cache=True, nogil=True)
+def _group_sums(limbs, order, starts):  # pragma: no cover - compiled
+    n_limbs, n, d = limbs.shape
+    out = np.zeros((n_limbs, starts.size, d), dtype=np.int64)
+    for g in range(starts.size):
+        end = starts[g + 1] if g + 1 < starts.size else n
+        for j in range(starts[g], end):
+            r = order[j]
+            for k in range(n_limbs):
+                for c in range(d):
+                    out[k, g, c] += limbs[k, r, c]
+    return out
+
+
+def group_sums(limbs, order, starts) -> np.ndarray:
+    """Sums of runs of rows: ``np.add.reduceat(limbs[:, order], starts, axis=1)``.
+
+    Integer sums, so exactly what numpy gives.
+
+    Parameters
+    ----------
+    limbs : ndarray of shape (n_limbs, n, n_dims), dtype int64
+    order : ndarray of shape (n,), dtype int64
+        The rows in run order (a permutation of ``0..n-1``).
+    starts : ndarray of shape (n_runs,), dtype int64
+        Where each run starts in ``order``: strictly increasing, the first 0.
+
+    Returns
+    -------
+    sums : ndarray of shape (n_limbs, n_runs, n_dims), dtype int64
+
+    Examples
+    --------
+    >>> L = np.arange(6).reshape(1, 3, 2)
+    >>> group_sums(L, np.array([2, 0, 1]), np.array([0, 1]))[0]
+    array([[4, 5],
+           [2, 4]])
+    """
+    i64 = np.int64
+    return _group_sums(
+        np.ascontiguousarray(limbs, dtype=i64),
+        np.ascontiguousarray(order, dtype=i64),
+        np.ascontiguousarray(starts, dtype=i64),
     )

@@ -36,7 +36,7 @@ import numpy as np
 
 from .._errors import ModelFormatError, ValidationError
 from ._exact import LIMB_BITS, N_LIMBS, from_limbs, to_limbs
-from ._fit_kernels import column_extremes
+from ._fit_kernels import column_extremes, group_sums
 
 __all__ = ["DemoStats", "FitStats", "RangeStats", "merge_repairs"]
 
@@ -69,7 +69,7 @@ def _group_sum(states, counts, limbs):
     return (
         s[starts],
         np.add.reduceat(counts[order], starts),
-        np.add.reduceat(limbs[:, order], starts, axis=1),
+        group_sums(limbs, order, starts),  # integers: the same in any order
     )
 
 
