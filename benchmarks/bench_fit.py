@@ -36,6 +36,7 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import shlex
 import sys
 import time
 from pathlib import Path
@@ -203,6 +204,15 @@ def report(res: dict, load: str, command: str = COMMAND) -> str:
         " average):",
         "",
         table(res),
+        "",
+        "The stages are compiled kernels behind their checked doorways"
+        " (velocity, extremes, normalization, codebook states, time bins, limb"
+        " split and sums, segment states); the model is bit for bit the one"
+        " before them (`tests/learner/test_learner_identity.py`). What is left"
+        " is Python: the doorways' checks, the passes' bookkeeping per"
+        " demonstration, and in `other` also counting both HMMs (`ndlfd.hmm`"
+        " checks every sequence). CPU times: the machine is shared by several"
+        " jobs, so wall times are longer and vary.",
     ])  # fmt: skip
 
 
@@ -239,7 +249,7 @@ def main(argv=None) -> None:
         res["baseline_name"] = args.baseline_name
     load = f"{load} before, {', '.join(f'{x:.2f}' for x in os.getloadavg())} after"
     argv = sys.argv[1:] if argv is None else argv
-    text = report(res, load, " ".join([COMMAND, *argv]))
+    text = report(res, load, " ".join([COMMAND, shlex.join(argv)]))
     print(text)
     if args.write:
         from bench_hmm import write_section
