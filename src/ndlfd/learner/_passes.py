@@ -246,16 +246,21 @@ def _probe_item(spec: _PassSpec, i: int, item):
 def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
-    for i, item in chunk:
-        notes: list[str] = []
-        with collecting_repairs() as log:
+    with collecting_repairs() as log:  # one log; each item's part of it
+        for i, item in chunk:
+            notes: list[str] = []
+            seen = len(log)
             arrays = _ranges_of(spec, i, item, notes)
-        repairs = _records(log, i, item)
-        if arrays:
-            parts.append(RangeStats.of(i, *arrays, notes=notes, repairs=repairs))
-        else:  # a skipped file: no demonstration, no range
-            parts.append(_skipped(i, len(spec.demo.columns), repairs))
+            parts.append(_range_part(spec, i, item, arrays, notes, log[seen:]))
     return parts[0].merge(*parts[1:])
+
+
+def _range_part(spec: _PassSpec, i: int, item, arrays, notes, log) -> RangeStats:
+    """The pass-1 statistics of item ``i`` from its value arrays and repairs."""
+    repairs = _records(log, i, item)
+    if arrays:
+        return RangeStats.of(i, *arrays, notes=notes, repairs=repairs)
+    return _skipped(i, len(spec.demo.columns), repairs)  # a skipped file
 
 
 def _ranges_of(spec: _PassSpec, i: int, item, notes: list) -> list[np.ndarray]:
