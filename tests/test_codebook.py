@@ -260,3 +260,56 @@ def test_time_bins_errors(t, match):
 def test_time_bins_bad_n(n):
     with pytest.raises(ValidationError, match=r"n_bins must be an integer >= 1"):
         TimeBins(n)
+
+
+def _numpy_encode(P, levels):
+    # the numpy code the compiled encoder replaced (ndlfd 2026-12-01)
+    cb = np.array(levels, dtype=np.int64)
+    n_clipped = int(np.count_nonzero((P < 0.0) | (P > 1.0)))
+    cbf = cb.astype(np.float64)
+    Q = np.floor(P * cbf)
+    np.clip(Q, 0.0, cbf - 1.0, out=Q)
+    Q = Q.astype(np.int64)
+    s = Q[:, 0].copy()
+    for k in range(1, cb.size):
+        s *= cb[k]
+        s += Q[:, k]
+    return s, n_clipped
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(1, 40),
+    st.lists(st.integers(1, 120), min_size=1, max_size=6),
+)
+def test_encode_is_the_numpy_encoding(seed, n, levels):
+    rng = np.random.default_rng(seed)
+    P = rng.uniform(-0.2, 1.2, (n, len(levels)))
+    P[rng.random(P.shape) < 0.2] = 1.0  # the top edge
+    P[rng.random(P.shape) < 0.1] = -0.0
+    P[:, 0] = np.array([k / levels[0] for k in range(n)])[:n] % 1.0  # level edges
+    states, clipped = Codebook(levels).encode(P, return_n_clipped=True)
+    want, want_clipped = _numpy_encode(P, levels)
+    assert states.dtype == np.int64 and states.tobytes() == want.tobytes()
+    assert clipped == want_clipped
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 300), st.integers(1, 60))
+def test_symbols_are_the_numpy_binning(seed, n_bins, n):
+    # the compiled binning against the numpy code it replaced
+    rng = np.random.default_rng(seed)
+    tau = np.concatenate([[0.0, 1.0], np.arange(n_bins + 1) / n_bins, rng.random(n)])
+    want = np.floor(tau * n_bins)
+    np.clip(want, 0, n_bins - 1, out=want)
+    got = TimeBins(n_bins).symbols(tau)
+    assert got.dtype == np.int64 and got.tobytes() == want.astype(np.int64).tobytes()
+
+
+def test_symbols_of_normalized_times_are_the_transform():
+    t = np.cumsum(np.random.default_rng(3).uniform(0.1, 2.0, 57))
+    bins = TimeBins(13)
+    np.testing.assert_array_equal(bins.symbols(bins.normalize(t)), bins.transform(t))
+    np.testing.assert_array_equal(bins.symbols(np.array([0.0, 0.5, 1.0, 1.2])),
+                                  [0, 6, 12, 12])  # fmt: skip

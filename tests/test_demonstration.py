@@ -263,6 +263,42 @@ def test_with_group_appends_and_replaces_in_place():
         d.with_group("force", np.ones(5), columns=["x"])
 
 
+@pytest.mark.parametrize(
+    "name, values, columns, match",
+    [
+        (
+            "force",
+            [[np.inf]] * 5,
+            None,
+            r"finite; got \[.*inf\] \(NaN or inf\) at row 0",
+        ),
+        ("force", np.ones(5), ["a,b"], "must not contain commas"),
+        ("force", np.ones(5), [" a"], "without surrounding spaces"),
+        ("bad name", np.ones(5), None, "letters, digits"),
+        ("grip\n", np.ones(5), ["g"], "groups must be non-empty str without"),
+        ("force", np.ones(5), ["grip0"], "columns must be unique; got 'grip0'"),
+        ("orientation", [[2.0, 0, 0, 0]] * 5, None, "unit|norm"),
+    ],
+)
+def test_with_group_checks_the_new_block_as_the_constructor(
+    name, values, columns, match
+):
+    with pytest.raises(ValidationError, match=match):
+        _demo().with_group(name, values, columns=columns)
+
+
+def test_with_group_gives_what_the_constructor_gives():
+    # the new block alone is checked; the result is the constructor's
+    d = _demo(9)
+    rng = np.random.default_rng(0)
+    for name, k in (("force", 3), ("velocity", 2), ("grip", 1), ("extra-1", 2)):
+        e = d.with_group(name, rng.normal(size=(9, k)))
+        full = Demonstration(e.t, e.X, e.columns, e.groups)
+        assert e == full and e.X.tobytes() == full.X.tobytes()
+        assert not e.X.flags.writeable and not e.t.flags.writeable
+        assert e.X.flags.c_contiguous and e.X.dtype == np.float64
+
+
 def test_equality():
     assert _demo() == _demo()
     assert _demo() != _demo(6)
@@ -404,6 +440,35 @@ def test_velocity_of_a_line_is_exact(steps, a, b):
     d = with_velocity(Demonstration.from_arrays(t, position=x))
     tol = 16 * np.finfo(float).eps * np.abs(x).max() / np.diff(t).min()
     np.testing.assert_allclose(d.get("velocity")[:, 0], a, rtol=0, atol=tol)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(2, 40),
+    st.integers(1, 4),
+    st.sampled_from(["uniform", "integer", "random", "one-off"]),
+)
+def test_the_gradient_kernel_is_numpy_gradient_bit_for_bit(seed, n, d, steps):
+    # the compiled velocity against the numpy call it replaced; uniform steps
+    # (all exactly equal) take numpy's uniform formulas, others its general ones
+    from ndlfd._demo_kernels import gradient
+    from ndlfd.demonstration import JITTER_TOL
+
+    rng = np.random.default_rng(seed)
+    dt = {
+        "uniform": np.full(n - 1, rng.uniform(0.001, 2.0)),
+        "integer": np.full(n - 1, 1.0),
+        "random": rng.uniform(0.001, 2.0, n - 1),
+        "one-off": np.where(np.arange(n - 1) == n // 2, 0.3, 0.25),
+    }[steps]
+    t = rng.uniform(-5, 5) + np.concatenate([[0.0], np.cumsum(dt)])
+    P = rng.normal(0, rng.uniform(0.1, 100), (n, d))
+    V, steady = gradient(t, P, JITTER_TOL)
+    want = np.gradient(P, t, axis=0, edge_order=2 if n >= 3 else 1)
+    assert V.tobytes() == want.tobytes()
+    diffs = np.diff(t)
+    assert steady == (n < 10 or np.ptp(diffs) <= JITTER_TOL * diffs.min())
 
 
 @settings(max_examples=40, deadline=None)

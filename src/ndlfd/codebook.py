@@ -12,6 +12,7 @@ import numbers
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+from numba import njit
 
 from ._errors import ValidationError
 from ._validation import (
@@ -214,13 +215,9 @@ class Codebook:
         """
         P = check_points(U, "U")
         self._check_width(P, "U")
-        n_clipped = int(np.count_nonzero((P < 0.0) | (P > 1.0)))
-        cbf = self._cb.astype(np.float64)
-        Q = np.floor(P * cbf)
-        np.clip(Q, 0.0, cbf - 1.0, out=Q)
-        states = self._from_levels_unchecked(Q.astype(np.int64))
+        states, n_clipped = _encode_rows(P, self._cb)
         if return_n_clipped:
-            return states, n_clipped
+            return states, int(n_clipped)
         return states
 
     def _from_levels_unchecked(self, Q: np.ndarray) -> np.ndarray:
@@ -324,6 +321,37 @@ class Codebook:
         return (Q + 0.5) / self._cb.astype(np.float64)
 
 
+@njit(cache=True, nogil=True)
+def _encode_rows(P, cb):  # pragma: no cover - compiled
+    # floor(u * CB) clipped to 0..CB-1 per column, then mixed radix; and the
+    # count of values outside [0, 1]: numpy's arithmetic in one pass
+    n, d = P.shape
+    states = np.empty(n, dtype=np.int64)
+    n_clipped = 0
+    for i in range(n):
+        s = 0
+        for k in range(d):
+            u = P[i, k]
+            if u < 0.0 or u > 1.0:
+                n_clipped += 1
+            top = np.float64(cb[k]) - 1.0
+            q = np.floor(u * np.float64(cb[k]))
+            q = min(max(q, 0.0), top)
+            s = s * cb[k] + np.int64(q) if k else np.int64(q)
+        states[i] = s
+    return states, n_clipped
+
+
+@njit(cache=True, nogil=True)
+def _bin_times(tau, n_bins):  # pragma: no cover - compiled
+    # floor(tau * N_t) clipped to 0..N_t-1 (numpy's arithmetic, one pass)
+    out = np.empty(tau.size, dtype=np.int64)
+    top = np.float64(n_bins - 1)
+    for i in range(tau.size):
+        out[i] = np.int64(min(max(np.floor(tau[i] * n_bins), 0.0), top))
+    return out
+
+
 class TimeBins:
     """Cut one demonstration's normalized time into ``n_bins`` symbols.
 
@@ -387,7 +415,25 @@ class TimeBins:
         >>> TimeBins(3).transform([0.0, 0.5, 1.0])
         array([0, 1, 2])
         """
-        tau = self.normalize(t)
-        sym = np.floor(tau * self.n_bins)
-        np.clip(sym, 0, self.n_bins - 1, out=sym)
-        return sym.astype(np.int64)
+        return self.symbols(self.normalize(t))
+
+    def symbols(self, tau) -> np.ndarray:
+        """Time symbols of normalized times (:meth:`normalize`'s output).
+
+        Parameters
+        ----------
+        tau : ndarray of shape (n_samples,)
+            Normalized times, nominally in ``[0, 1]`` (not checked).
+
+        Returns
+        -------
+        symbols : ndarray of shape (n_samples,), dtype int64
+            ``floor(tau * n_bins)`` clipped to ``0..n_bins-1``.
+
+        Examples
+        --------
+        >>> TimeBins(4).symbols(np.array([0.0, 0.3, 1.0]))
+        array([0, 1, 3])
+        """
+        tau = np.ascontiguousarray(tau, dtype=np.float64)
+        return _bin_times(tau, self.n_bins)

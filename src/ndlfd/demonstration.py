@@ -18,8 +18,8 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from ._demo_kernels import gradient, window_derivative
 from ._errors import ValidationError
 from ._registry import Registry
 from ._repairs import repaired
@@ -119,7 +119,9 @@ def unit_time(t) -> np.ndarray:
 
 
 def _check_names(names, d: int, what: str) -> tuple[str, ...]:
-    if isinstance(names, str) or not isinstance(names, Sequence):
+    if type(names) not in (tuple, list) and (
+        isinstance(names, str) or not isinstance(names, Sequence)
+    ):
         raise ValidationError(
             f"{what} must be a sequence of str (one per column); got {names!r}"
         )
@@ -406,7 +408,8 @@ class Demonstration:
                 f"unknown group {group!r}; this demonstration has groups:"
                 f" {', '.join(repr(g) for g in self.group_names)}"
             )
-        return np.flatnonzero(np.array(self.groups) == group).astype(np.int64)
+        lo = self.groups.index(group)  # a group's columns are adjacent
+        return np.arange(lo, lo + self.groups.count(group), dtype=np.int64)
 
     def get(self, group: str) -> np.ndarray:
         """Return the values of one group (a read-only view).
@@ -506,9 +509,11 @@ class Demonstration:
             lo, hi = int(idx[0]), int(idx[-1]) + 1
         else:
             lo = hi = self.n_dims
-        X = np.hstack([self.X[:, :lo], a, self.X[:, hi:]])
+        X = np.concatenate([self.X[:, :lo], a, self.X[:, hi:]], axis=1)
         new_columns = self.columns[:lo] + tuple(cols) + self.columns[hi:]
         new_groups = self.groups[:lo] + (name,) * a.shape[1] + self.groups[hi:]
+        if name != "orientation" and _valid_block(a, cols, name, new_columns):
+            return _assembled(self.t, X, new_columns, new_groups)
         return Demonstration(self.t, X, new_columns, new_groups)
 
     # ------------------------------------------------------------ dunder
@@ -557,6 +562,34 @@ JITTER_TOL = 0.1
 WINDOW_STEPS = 4.0
 
 
+def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
+    """Whether a new group's block passes every check of the constructor."""
+    try:
+        _check_names(cols, a.shape[1], "columns")
+    except ValidationError:
+        return False
+    return (
+        isinstance(name, str)
+        and _GROUP_OK.fullmatch(name) is not None  # no newline: a valid name too
+        and len(set(columns)) == len(columns)
+        and bool(np.isfinite(a).all())
+    )
+
+
+def _assembled(t, X, columns, groups) -> Demonstration:
+    """A demonstration of checked parts, without checking them again.
+
+    For :meth:`Demonstration.with_group` once :func:`_valid_block` passed: the
+    rest is a checked demonstration's, and the group is appended or stays in
+    place (so its columns stay adjacent).
+    """
+    out = object.__new__(Demonstration)
+    X.flags.writeable = False
+    for name, value in (("t", t), ("X", X), ("columns", columns), ("groups", groups)):
+        object.__setattr__(out, name, value)
+    return out
+
+
 def _speed_roughness(P: np.ndarray, t: np.ndarray) -> float:
     """Median step-to-step change of the speed over the median speed."""
     speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(t)
@@ -596,73 +629,6 @@ def timing_jitter(t) -> float:
         return 0.0
     dt = np.diff(tt)
     return float(np.percentile(np.abs(np.diff(dt)), 90) / np.median(dt))
-
-
-@njit(cache=True, nogil=True)
-def _window_slopes(t, P, lo, hi):  # pragma: no cover - compiled
-    n, d = P.shape
-    V = np.empty((n, d))
-    for i in range(n):
-        a, b = lo[i], hi[i]
-        k = b - a
-        tm = 0.0
-        for j in range(a, b):
-            tm += t[j]
-        tm /= k
-        sxx = 0.0
-        for j in range(a, b):
-            sxx += (t[j] - tm) * (t[j] - tm)
-        for c in range(d):
-            pm = 0.0
-            for j in range(a, b):
-                pm += P[j, c]
-            pm /= k
-            sxy = 0.0
-            for j in range(a, b):
-                sxy += (t[j] - tm) * (P[j, c] - pm)
-            V[i, c] = sxy / sxx
-    return V
-
-
-def window_derivative(t, P, half_width: float) -> np.ndarray:
-    """Derivative by a local straight-line fit over a time window.
-
-    At each sample the slope of the least-squares line through the samples
-    within ``half_width`` seconds on either side (and at least the immediate
-    neighbours) is the derivative: every sample in the window counts, so a
-    jittery time stamp moves it little, where a difference of neighbours
-    divides by the jittered step.
-
-    Parameters
-    ----------
-    t : ndarray of shape (n_samples,)
-        Strictly increasing time stamps (at least 2).
-    P : ndarray of shape (n_samples, n_dims)
-        Values.
-    half_width : float
-        Half the window, in the units of ``t``.
-
-    Returns
-    -------
-    V : ndarray of shape (n_samples, n_dims)
-
-    Examples
-    --------
-    >>> t = np.array([0.0, 1.0, 2.0, 3.0])
-    >>> window_derivative(t, 3.0 * t[:, None] + 1.0, 1.0).ravel()
-    array([3., 3., 3., 3.])
-    """
-    t = np.ascontiguousarray(t, dtype=np.float64)
-    P = np.ascontiguousarray(P, dtype=np.float64)
-    n = t.size
-    idx = np.arange(n)
-    lo = np.minimum(
-        np.searchsorted(t, t - half_width, side="left"), np.maximum(idx - 1, 0)
-    )
-    hi = np.maximum(
-        np.searchsorted(t, t + half_width, side="right"), np.minimum(idx + 2, n)
-    )
-    return _window_slopes(t, P, lo.astype(np.int64), hi.astype(np.int64))
 
 
 def with_velocity(
@@ -740,7 +706,7 @@ def with_velocity(
         )
     if "velocity" in demo.groups and not overwrite:
         return demo
-    P = np.array(demo.get("position"))
+    P = demo.get("position")  # read-only; smoothing makes a new array
     n = demo.n_samples
     if n < 2:
         raise ValidationError(
@@ -757,11 +723,12 @@ def with_velocity(
         from scipy.signal import savgol_filter  # lazy: scipy.signal is slow to import
 
         P = savgol_filter(P, window_length, polyorder, axis=0, mode="interp")
+    V = None
+    if mode in ("auto", "none"):
+        # numpy.gradient's arithmetic in one compiled pass; steps within
+        # JITTER_TOL of the smallest cannot be jittery: skip the percentiles
+        V, steady = gradient(demo.t, P, JITTER_TOL)
     if mode == "auto":
-        dt = np.diff(demo.t)
-        # steps within JITTER_TOL of the smallest cannot be jittery: skip the
-        # percentiles (the same decision, cheaper for the common regular case)
-        steady = n < 10 or np.ptp(dt) <= JITTER_TOL * dt.min()
         jitter = 0.0 if steady else timing_jitter(demo.t)
         if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
             mode = "window"
@@ -782,12 +749,12 @@ def with_velocity(
         elif not (np.isfinite(half_width) and half_width > 0):
             raise ValidationError(f"half_width must be > 0 seconds; got {half_width!r}")
         V = window_derivative(demo.t, P, half_width)
-    else:
-        V = np.gradient(P, demo.t, axis=0, edge_order=2 if n >= 3 else 1)
+    elif V is None:
+        V, _ = gradient(demo.t, P, JITTER_TOL)
     names = default_columns("velocity", V.shape[1])
-    taken = set(demo.columns) - set(
-        demo.columns[j] for j in np.flatnonzero(np.array(demo.groups) == "velocity")
-    )
+    taken = set(demo.columns)
+    if "velocity" in demo.groups:  # overwritten: its own names are free
+        taken -= {demo.columns[j] for j in demo.columns_of("velocity")}
     if taken.intersection(names):
         names = tuple(f"velocity.{c}" for c in names)
     return demo.with_group("velocity", V, names)

@@ -269,3 +269,34 @@ def test_counter_reference_of_key_states(per_demo):
     c = Counter(int(s) for _, r in per_demo for s in r[3])
     assert dict(zip(m.centroid_states.tolist(), m.centroid_counts.tolist(),
                     strict=True)) == c  # fmt: skip
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 8))
+def test_of_demos_is_the_merge_of_of_demo(seed, n_demos):
+    # a chunk's statistics at once == the merge of one object per demonstration
+    from ndlfd.learner._stats import DemoStats
+
+    rng = np.random.default_rng(seed)
+    parts = []
+    for j in range(n_demos):
+        n = int(rng.integers(1, 30))
+        U = rng.uniform(-0.1, 1.1, (n, 3))
+        tau = np.linspace(0.0, 1.0, n)
+        keys = np.unique(np.concatenate([[0, n - 1], rng.integers(0, n, 4)]))
+        states = rng.integers(0, 6, keys.size)  # repeated states across demos
+        bins = rng.integers(0, 5, keys.size)
+        clipped, template = int(rng.integers(0, 3)), bool(rng.random() < 0.5)
+        parts.append(
+            DemoStats(3 * j + 1, U, tau, keys, states, bins, clipped, template)
+        )
+    E = scale_exponents(np.full(3, 1.1))
+    one_by_one = [
+        FitStats.of_demo(
+            *p[:6], exponents=E, n_clipped=p.n_clipped, template=p.template
+        )
+        for p in parts
+    ]
+    want = one_by_one[0].merge(*one_by_one[1:])
+    assert FitStats.of_demos(parts, exponents=E) == want
+    assert FitStats.of_demos(parts[::-1], exponents=E) == want

@@ -12,6 +12,8 @@ module                 what it holds
 ``_passes``            the fit's two passes (ranges; statistics)
 ``_stats``             the fit statistics (:class:`RangeStats`, :class:`FitStats`)
 ``_exact``             exact sums (integer limbs)
+``_fit_kernels``       compiled per-demonstration work of a fit (extremes,
+                       limbs, segment states), bit for bit the numpy code
 ``_templates``         which demonstrations are kept whole (templates)
 ``_segments``          the key-point HMM and the segment model
 ``_decoding``          decoders (:data:`DECODERS`)

@@ -9,6 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._errors import ValidationError
+from ._fit_kernels import split_limbs
+
 __all__ = [
     "LIMB_BITS",
     "MIN_EXPONENT",
@@ -86,12 +89,13 @@ def to_limbs(values, exponents) -> np.ndarray:
     array([0.75])
     """
     r = np.asarray(values, dtype=np.float64)
-    out = np.empty((N_LIMBS, *r.shape), dtype=np.int64)
-    for k, q in enumerate(_quanta(exponents)):
-        a = np.trunc(r / q)
-        out[k] = a
-        r = r - a * q
-    return out
+    q = np.array(_quanta(exponents)).reshape(N_LIMBS, -1)
+    if r.ndim != 2 or r.shape[1] != q.shape[1]:
+        raise ValidationError(
+            f"values must have shape (n, {q.shape[1]}), one column per exponent;"
+            f" got shape {r.shape}"
+        )
+    return split_limbs(r, q)  # compiled: trunc(r / q), r - a q, limb by limb
 
 
 def from_limbs(limbs, exponents) -> np.ndarray:

@@ -58,7 +58,7 @@ from ..demonstration import Demonstration
 from ..io import DemoFile
 from ._exact import scale_exponents
 from ._spec import DemoSpec, prepare, resolve_groups
-from ._stats import FitStats, RangeStats, merge_repairs
+from ._stats import DemoStats, FitStats, RangeStats, merge_repairs
 from ._templates import template_mask
 
 __all__ = ["Scan", "collect_statistics", "scan_ranges"]
@@ -246,16 +246,21 @@ def _probe_item(spec: _PassSpec, i: int, item):
 def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
     parts = []
-    for i, item in chunk:
-        notes: list[str] = []
-        with collecting_repairs() as log:
+    with collecting_repairs() as log:  # one log; each item's part of it
+        for i, item in chunk:
+            notes: list[str] = []
+            seen = len(log)
             arrays = _ranges_of(spec, i, item, notes)
-        repairs = _records(log, i, item)
-        if arrays:
-            parts.append(RangeStats.of(i, *arrays, notes=notes, repairs=repairs))
-        else:  # a skipped file: no demonstration, no range
-            parts.append(_skipped(i, len(spec.demo.columns), repairs))
+            parts.append(_range_part(spec, i, item, arrays, notes, log[seen:]))
     return parts[0].merge(*parts[1:])
+
+
+def _range_part(spec: _PassSpec, i: int, item, arrays, notes, log) -> RangeStats:
+    """The pass-1 statistics of item ``i`` from its value arrays and repairs."""
+    repairs = _records(log, i, item)
+    if arrays:
+        return RangeStats.of(i, *arrays, notes=notes, repairs=repairs)
+    return _skipped(i, len(spec.demo.columns), repairs)  # a skipped file
 
 
 def _ranges_of(spec: _PassSpec, i: int, item, notes: list) -> list[np.ndarray]:
@@ -301,21 +306,20 @@ def _records(log: list, i: int, item) -> tuple:
     return tuple((kind, i, text, n) for kind, (n, text) in counts.items())
 
 
-def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> FitStats:
-    """Normalize, reduce and encode demonstration ``j``: its statistics."""
+def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> DemoStats:
+    """Normalize, reduce and encode demonstration ``j``: its part of the statistics."""
     if d is None:
         d = spec.demo.prepared(demo)
     r = spec.demo.encode(d, n_jobs=1)
-    return FitStats.of_demo(
+    return DemoStats(
         j,
         r.values,
         r.tau,
         r.keypoints,
         r.key_states,
         r.key_bins,
-        exponents=spec.exponents,
-        n_clipped=r.n_clipped,
-        template=bool(spec.templates[j]),
+        r.n_clipped,
+        bool(spec.templates[j]),
     )
 
 
@@ -345,7 +349,7 @@ def _statistics_of(spec: _PassSpec, chunk) -> FitStats:
         for k, d in enumerate(demos):
             where = partial(_where, i, item, k, len(demos))
             parts.append(_located(where, _stats_of_one, spec, d, start + k))
-    return parts[0].merge(*parts[1:])
+    return FitStats.of_demos(parts, exponents=spec.exponents)
 
 
 def _numbered_items(source, counts: np.ndarray):

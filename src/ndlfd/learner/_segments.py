@@ -16,6 +16,7 @@ import itertools
 import numpy as np
 
 from .. import hmm
+from ._fit_kernels import segment_rows
 
 __all__ = ["estimate", "learned_from_stats", "segment_model", "segment_states"]
 
@@ -45,8 +46,8 @@ def segment_states(key_bins: np.ndarray, key_states: np.ndarray, n_bins: int):
     >>> segment_states(np.array([0, 2, 2, 4]), np.array([7, 8, 9, 5]), 5)
     array([7, 7, 9, 9, 5])
     """
-    pos = np.searchsorted(key_bins, np.arange(n_bins), side="right") - 1
-    return np.asarray(key_states, np.int64)[np.maximum(pos, 0)]
+    n = len(key_bins)
+    return segment_rows(key_bins, key_states, [0], [n], n_bins)[0]
 
 
 def estimate(
@@ -111,14 +112,12 @@ def segment_model(
     """
     ends = np.cumsum(stats.n_keys)
     starts = ends - stats.n_keys
-    bins, states = stats.key_bins, stats.key_states
+    demos = np.asarray(demos, dtype=np.int64)
+    rows = segment_rows(
+        stats.key_bins, stats.key_states, starts[demos], ends[demos], n_bins
+    )  # segment_states of every demonstration, in one pass
     return estimate(
-        (
-            segment_states(
-                bins[starts[j] : ends[j]], states[starts[j] : ends[j]], n_bins
-            )
-            for j in demos
-        ),
+        iter(rows),
         itertools.repeat(np.arange(n_bins), len(demos)),
         n_states,
         n_bins,

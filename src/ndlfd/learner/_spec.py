@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import numbers
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -28,7 +29,7 @@ from .._registry import Registry
 from .._simplify import simplify
 from .._validation import check_positive_int
 from ..codebook import Codebook, TimeBins
-from ..demonstration import Demonstration, with_velocity
+from ..demonstration import Demonstration, unit_time, with_velocity
 from ..normalize import SCALING_MODES, GroupScaler
 
 __all__ = [
@@ -135,14 +136,18 @@ def prepare(
     demo : Demonstration
         With exactly ``groups``.
     """
+    have = demo.group_names
     if (
         "velocity" in groups
-        and "velocity" not in demo.group_names
-        and "position" in demo.group_names
+        and "velocity" not in have
+        and "position" in have
         and derive_velocity
     ):
         demo = with_velocity(demo)
-    missing = [g for g in groups if g not in demo.group_names]
+        have = demo.group_names
+    if have == tuple(groups):
+        return demo  # already these groups in this order: select would copy it
+    missing = [g for g in groups if g not in have]
     if missing:
         hint = (
             f"; map its columns with --group {missing[0]}=NAME,... or leave it"
@@ -363,7 +368,7 @@ class DemoSpec:
             )
         return d
 
-    @property
+    @cached_property
     def column_weights(self) -> np.ndarray | None:
         """The scaler's per-column weights for the reduction (None if all 1)."""
         w = self.scaler.column_weights_
@@ -393,8 +398,8 @@ class DemoSpec:
             n_points=self.n_points,
             n_jobs=n_jobs,
         )
-        tau = self.time_bins.normalize(d.t)
-        return Reduced(u, tau, idx, self.time_bins.transform(tau)[idx])
+        tau = unit_time(d.t)  # TimeBins.normalize; d.t is checked already
+        return Reduced(u, tau, idx, self.time_bins.symbols(tau[idx]))
 
     def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
         """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).
@@ -415,4 +420,4 @@ class DemoSpec:
         states, clipped = self.codebook.encode(
             r.values[r.keypoints], return_n_clipped=True
         )
-        return replace(r, key_states=states, n_clipped=clipped)
+        return Reduced(r.values, r.tau, r.keypoints, r.key_bins, states, clipped)

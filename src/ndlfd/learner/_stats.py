@@ -28,14 +28,17 @@ choice in :mod:`ndlfd.learner._templates`.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from .._errors import ModelFormatError, ValidationError
 from ._exact import LIMB_BITS, N_LIMBS, from_limbs, to_limbs
+from ._fit_kernels import column_extremes, group_sums
 
-__all__ = ["FitStats", "RangeStats", "merge_repairs"]
+__all__ = ["DemoStats", "FitStats", "RangeStats", "merge_repairs"]
 
 # ----------------------------------------------------------------- ragged helpers
 
@@ -66,7 +69,7 @@ def _group_sum(states, counts, limbs):
     return (
         s[starts],
         np.add.reduceat(counts[order], starts),
-        np.add.reduceat(limbs[:, order], starts, axis=1),
+        group_sums(limbs, order, starts),  # integers: the same in any order
     )
 
 
@@ -157,10 +160,11 @@ class RangeStats:
         ``repairs`` the item's (kind, item, label, count) records.
         """
         if len(arrays) == 1:
-            lo, hi = arrays[0].min(axis=0), arrays[0].max(axis=0)
+            lo, hi = column_extremes(arrays[0])
         else:
-            lo = np.min([a.min(axis=0) for a in arrays], axis=0)
-            hi = np.max([a.max(axis=0) for a in arrays], axis=0)
+            ends = [column_extremes(a) for a in arrays]
+            lo = np.min([e[0] for e in ends], axis=0)
+            hi = np.max([e[1] for e in ends], axis=0)
         lengths = [a.shape[0] for a in arrays]
         return cls(
             lo,
@@ -172,7 +176,7 @@ class RangeStats:
             max(lengths),
             item,
             item,
-            tuple((t, item, c) for t, c in Counter(notes).items()),
+            tuple((t, item, c) for t, c in Counter(notes).items()) if notes else (),
             tuple(repairs),
         )
 
@@ -222,6 +226,36 @@ def merge_repairs(*groups) -> tuple:
 
 
 # ----------------------------------------------------------------- pass 2
+
+
+class DemoStats(NamedTuple):
+    """One demonstration's part of the fit statistics (:meth:`FitStats.of_demos`).
+
+    Attributes
+    ----------
+    index : int
+        The demonstration's index in the training set.
+    values : ndarray of shape (n_samples, n_dims)
+        Its normalized (unweighted) values.
+    tau : ndarray of shape (n_samples,)
+        Its normalized times (0 to 1).
+    keypoints, key_states, key_bins : ndarray of shape (n_keys,), dtype int64
+        Key-point indices, and the codebook state and time bin of each.
+    n_clipped : int
+        Values the codebook clipped.
+    template : bool
+        Keep the full values and times (a blend template).
+    """
+
+    index: int
+    values: np.ndarray
+    tau: np.ndarray
+    keypoints: np.ndarray
+    key_states: np.ndarray
+    key_bins: np.ndarray
+    n_clipped: int = 0
+    template: bool = False
+
 
 #: FitStats fields: name → (dtype, kind) where kind says what the first axis
 #: runs over: "demo" (one row per demonstration), "key" (one per key point),
@@ -323,59 +357,75 @@ class FitStats:
         n_clipped: int,
         template: bool,
     ) -> FitStats:
-        """The statistics of one demonstration.
+        """The statistics of one demonstration (:meth:`of_demos` of one).
 
         Parameters
         ----------
-        index : int
-            The demonstration's index in the training set.
-        values : ndarray of shape (n_samples, n_dims)
-            Its normalized (unweighted) values.
-        tau : ndarray of shape (n_samples,)
-            Its normalized times (0 to 1).
-        keypoints : ndarray of shape (n_keys,), dtype int64
-            Key-point indices.
-        key_states, key_bins : ndarray of shape (n_keys,), dtype int64
-            Codebook state and time bin of each key point.
+        index, values, tau, keypoints, key_states, key_bins
+            The demonstration, as the fields of :class:`DemoStats`.
         exponents : ndarray of shape (n_dims,)
             Scale exponents of the centroid sums (:func:`scale_exponents`),
             the same for every demonstration of a fit.
-        n_clipped : int
-            Values the codebook clipped.
-        template : bool
-            Keep the full values and times (a blend template).
+        n_clipped, template
+            As the fields of :class:`DemoStats`.
 
         Returns
         -------
         stats : FitStats
         """
-        values = np.asarray(values, dtype=np.float64)
-        n, d = values.shape
-        key_states = np.asarray(key_states, dtype=np.int64)
-        ids, counts, sums = _group_sum(
-            key_states,
-            np.ones(key_states.size, dtype=np.int64),
-            to_limbs(values[keypoints], exponents),
+        part = DemoStats(
+            index, values, tau, keypoints, key_states, key_bins, n_clipped, template
         )
-        return cls(
+        return cls.of_demos([part], exponents=exponents)
+
+    @classmethod
+    def of_demos(cls, demos: Sequence[DemoStats], *, exponents) -> FitStats:
+        """The statistics of several demonstrations at once (a chunk of a pass).
+
+        The same as merging their :meth:`of_demo` (bit for bit), with the
+        per-demonstration overhead of one object instead of one each.
+
+        Parameters
+        ----------
+        demos : sequence of DemoStats
+            At least one; each demonstration once.
+        exponents : ndarray of shape (n_dims,)
+            Scale exponents of the centroid sums.
+
+        Returns
+        -------
+        stats : FitStats
+        """
+        if not demos:
+            raise ValidationError("of_demos needs at least one demonstration; got none")
+        cat = np.concatenate
+        values = [np.asarray(r.values, dtype=np.float64) for r in demos]
+        keys = [np.asarray(r.keypoints, dtype=np.int64) for r in demos]
+        states = cat([np.asarray(r.key_states, dtype=np.int64) for r in demos])
+        kept = [(r, v) for r, v in zip(demos, values, strict=True) if r.template]
+        d = values[0].shape[1]
+        raw = cls(  # one row per key point in the centroids: merge groups them
             exponents=exponents,
-            demo_index=[index],
-            n_samples=[n],
-            n_keys=[keypoints.size],
-            first=values[:1],
-            last=values[-1:],
-            keypoints=keypoints,
-            key_states=key_states,
-            key_bins=key_bins,
-            centroid_states=ids,
-            centroid_counts=counts,
-            centroid_limbs=sums,
-            template_index=[index] if template else np.zeros(0),
-            template_counts=[n] if template else np.zeros(0),
-            template_values=values if template else np.zeros((0, d)),
-            template_tau=tau if template else np.zeros(0),
-            n_clipped=n_clipped,
+            demo_index=[r.index for r in demos],
+            n_samples=[v.shape[0] for v in values],
+            n_keys=[k.size for k in keys],
+            first=cat([v[:1] for v in values]),
+            last=cat([v[-1:] for v in values]),
+            keypoints=cat(keys),
+            key_states=states,
+            key_bins=cat([r.key_bins for r in demos]),
+            centroid_states=states,
+            centroid_counts=np.ones(states.size, dtype=np.int64),
+            centroid_limbs=to_limbs(
+                cat([v[k] for v, k in zip(values, keys, strict=True)]), exponents
+            ),
+            template_index=[r.index for r, _ in kept],
+            template_counts=[v.shape[0] for _, v in kept],
+            template_values=cat([v for _, v in kept]) if kept else np.zeros((0, d)),
+            template_tau=cat([r.tau for r, _ in kept]) if kept else np.zeros(0),
+            n_clipped=sum(int(r.n_clipped) for r in demos),
         )
+        return raw.merge()
 
     # ------------------------------------------------------------ reading
     @property

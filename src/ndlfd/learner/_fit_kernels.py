@@ -1,0 +1,208 @@
+"""Compiled kernels of the fit's per-demonstration work, on plain arrays.
+
+A fit touches every demonstration twice (:mod:`ndlfd.learner._passes`); on a
+short demonstration the numpy calls of a pass cost more in overhead than in
+arithmetic. These kernels do the same arithmetic in one loop each, with the
+same results bit for bit as the numpy code they replaced (the tests compare
+them on random demonstrations):
+
+* :func:`column_extremes`: per-column minimum and maximum (pass 1);
+* :func:`split_limbs`: values split into integer limbs, the exact centroid
+  sums of :func:`ndlfd.learner._exact.to_limbs` (pass 2);
+* :func:`group_sums`: the limbs of the key points of each codebook state
+  added up (pass 2 and every merge of fit statistics);
+* :func:`segment_rows`: every demonstration's segment state at every time
+  bin, for the segment model (:mod:`ndlfd.learner._segments`).
+
+The kernels trust their input (float64, C-contiguous, finite, at least one
+row); the wrappers here and their callers check it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .._errors import ValidationError
+
+__all__ = ["column_extremes", "group_sums", "segment_rows", "split_limbs"]
+
+
+@njit(cache=True, nogil=True)
+def _extremes(X):  # pragma: no cover - compiled
+    n, d = X.shape
+    lo = X[0].copy()
+    hi = X[0].copy()
+    for i in range(1, n):
+        for c in range(d):
+            x = X[i, c]
+            if x < lo[c]:
+                lo[c] = x
+            elif x > hi[c]:
+                hi[c] = x
+    return lo, hi
+
+
+def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(X.min(axis=0), X.max(axis=0))`` of finite values, in one pass.
+
+    When an extreme is zero, numpy's reduction decides whether it is ``0.0``
+    or ``-0.0``; the result is then numpy's, so it is the same bit for bit.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_dims), float64
+        Finite values, at least one row.
+
+    Returns
+    -------
+    lo, hi : ndarray of shape (n_dims,)
+
+    Examples
+    --------
+    >>> column_extremes(np.array([[1.0, 5.0], [-2.0, 7.0], [3.0, 6.0]]))
+    (array([-2.,  5.]), array([3., 7.]))
+    """
+    lo, hi = _extremes(np.ascontiguousarray(X, dtype=np.float64))
+    if not (lo.all() and hi.all()):  # a zero extreme: numpy's sign of zero
+        return X.min(axis=0), X.max(axis=0)
+    return lo, hi
+
+
+@njit(cache=True, nogil=True)
+def _limbs(V, quanta):  # pragma: no cover - compiled
+    n, d = V.shape
+    n_limbs = quanta.shape[0]
+    out = np.empty((n_limbs, n, d), dtype=np.int64)
+    for i in range(n):
+        for c in range(d):
+            r = V[i, c]
+            for k in range(n_limbs):
+                q = quanta[k, c]
+                a = np.trunc(r / q)
+                out[k, i, c] = np.int64(a)
+                r = r - a * q
+    return out
+
+
+def split_limbs(V: np.ndarray, quanta: np.ndarray) -> np.ndarray:
+    """Integer limbs ``a_k = trunc(r_k / q_k)``, ``r_{k+1} = r_k - a_k q_k``.
+
+    Parameters
+    ----------
+    V : ndarray of shape (n, n_dims), float64
+        Values (``|v| <= 2**E`` per column, see
+        :func:`~ndlfd.learner._exact.scale_exponents`).
+    quanta : ndarray of shape (n_limbs, n_dims), float64
+        The powers of two ``q_k`` of each column.
+
+    Returns
+    -------
+    limbs : ndarray of shape (n_limbs, n, n_dims), dtype int64
+
+    Examples
+    --------
+    >>> split_limbs(np.array([[0.75]]), np.array([[0.5], [0.25]]))[:, 0, 0]
+    array([1, 1])
+    """
+    return _limbs(
+        np.ascontiguousarray(V, dtype=np.float64),
+        np.ascontiguousarray(quanta, dtype=np.float64),
+    )
+
+
+@njit(cache=True, nogil=True)
+def _segments(key_bins, key_states, starts, ends, n_bins):  # pragma: no cover
+    out = np.empty((starts.size, n_bins), dtype=np.int64)
+    for r in range(starts.size):
+        p, last = starts[r], ends[r] - 1
+        for b in range(n_bins):
+            while p < last and key_bins[p + 1] <= b:
+                p += 1
+            out[r, b] = key_states[p]
+    return out
+
+
+def segment_rows(key_bins, key_states, starts, ends, n_bins: int) -> np.ndarray:
+    """Per demonstration, the state of its last key point at or before each bin.
+
+    Demonstration ``r`` holds the key points ``starts[r]:ends[r]`` (at least
+    one) of the flat arrays; its bins are non-decreasing. Before its first key
+    point's bin a demonstration is in its first key point's state.
+
+    Parameters
+    ----------
+    key_bins, key_states : ndarray of shape (n_keys,), dtype int64
+        Time bin and codebook state of every key point.
+    starts, ends : ndarray of shape (n_demos,), dtype int64
+    n_bins : int
+
+    Returns
+    -------
+    states : ndarray of shape (n_demos, n_bins), dtype int64
+
+    Examples
+    --------
+    >>> segment_rows(np.array([0, 2, 2, 4, 0, 1]), np.array([7, 8, 9, 5, 1, 2]),
+    ...              np.array([0, 4]), np.array([4, 6]), 5)
+    array([[7, 7, 9, 9, 5],
+           [1, 2, 2, 2, 2]])
+    """
+    i64 = np.int64
+    starts = np.ascontiguousarray(starts, dtype=i64)
+    ends = np.ascontiguousarray(ends, dtype=i64)
+    key_states = np.ascontiguousarray(key_states, dtype=i64)
+    if np.any(ends <= starts) or np.any(starts < 0) or np.any(ends > key_states.size):
+        raise ValidationError(
+            "every demonstration needs at least one key point within the"
+            f" {key_states.size} given; got starts {starts} and ends {ends}"
+        )
+    return _segments(
+        np.ascontiguousarray(key_bins, dtype=i64), key_states, starts, ends, int(n_bins)
+    )
+
+
+@njit(cache=True, nogil=True)
+def _group_sums(limbs, order, starts):  # pragma: no cover - compiled
+    n_limbs, n, d = limbs.shape
+    out = np.zeros((n_limbs, starts.size, d), dtype=np.int64)
+    for g in range(starts.size):
+        end = starts[g + 1] if g + 1 < starts.size else n
+        for j in range(starts[g], end):
+            r = order[j]
+            for k in range(n_limbs):
+                for c in range(d):
+                    out[k, g, c] += limbs[k, r, c]
+    return out
+
+
+def group_sums(limbs, order, starts) -> np.ndarray:
+    """Sums of runs of rows: ``np.add.reduceat(limbs[:, order], starts, axis=1)``.
+
+    Integer sums, so exactly what numpy gives.
+
+    Parameters
+    ----------
+    limbs : ndarray of shape (n_limbs, n, n_dims), dtype int64
+    order : ndarray of shape (n,), dtype int64
+        The rows in run order (a permutation of ``0..n-1``).
+    starts : ndarray of shape (n_runs,), dtype int64
+        Where each run starts in ``order``: strictly increasing, the first 0.
+
+    Returns
+    -------
+    sums : ndarray of shape (n_limbs, n_runs, n_dims), dtype int64
+
+    Examples
+    --------
+    >>> L = np.arange(6).reshape(1, 3, 2)
+    >>> group_sums(L, np.array([2, 0, 1]), np.array([0, 1]))[0]
+    array([[4, 5],
+           [2, 4]])
+    """
+    i64 = np.int64
+    return _group_sums(
+        np.ascontiguousarray(limbs, dtype=i64),
+        np.ascontiguousarray(order, dtype=i64),
+        np.ascontiguousarray(starts, dtype=i64),
+    )

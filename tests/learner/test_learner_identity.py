@@ -1,0 +1,283 @@
+"""Fitted models stay bit for bit what they were (issue 20: "no result changes").
+
+A small fixed data set (made here from a seeded generator, so that changes
+elsewhere cannot move it) is fitted with a few parameter sets that reach
+every per-demonstration stage of a fit: velocity given and derived (with
+regular and jittery time stamps), orientation, a gripper, the group,
+per-dimension and no normalization, weights, the ``line``, ``segment`` and
+``sed`` distances, a key-point budget, more demonstrations than templates and
+the paper's generation. The saved model file's every array and its metadata,
+and a generated path, are digested; the known answers were made with the code
+of ``main`` before the fit's per-demonstration work went into kernels.
+"""
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+
+from ndlfd import NdlfdWarning
+from ndlfd._fileformat import load_npz
+from ndlfd.demonstration import Demonstration
+from ndlfd.learner import KeypointHMM
+
+
+def _digest(a) -> str:
+    a = np.ascontiguousarray(a)
+    h = hashlib.sha256(f"{a.dtype.str}{a.shape}".encode())
+    h.update(a.tobytes())
+    return h.hexdigest()[:16]
+
+
+def _arm(n_demos=14, seed=11):
+    """3-D reaches with a turning orientation and a gripper closing mid-way.
+
+    Lengths 300 to 1,000 samples; every third has jittery time stamps (the
+    velocity is then derived by the window fit), one has a pause.
+    """
+    rng = np.random.default_rng(seed)
+    demos = []
+    for k in range(n_demos):
+        n = int(rng.integers(300, 1001))
+        dt = np.full(n - 1, rng.uniform(0.004, 0.012))
+        if k % 3 == 2:
+            dt *= rng.uniform(0.6, 1.4, n - 1)  # logging jitter
+        t = np.concatenate([[rng.uniform(0.0, 5.0)], np.cumsum(dt)])
+        t[1:] += t[0]
+        s = (t - t[0]) / (t[-1] - t[0])
+        s = s**3 * (10 - 15 * s + 6 * s**2)  # minimum jerk
+        if k == 5:
+            s = np.where(s > 0.5, np.maximum(s, 0.5), s)  # a pause
+        a = np.array([0.4, -0.2, 0.3]) + rng.normal(0, 0.02, 3)
+        b = np.array([0.9, 0.35, 0.1]) + rng.normal(0, 0.02, 3)
+        bow = np.outer(np.sin(np.pi * s), [0.0, 0.0, rng.uniform(0.05, 0.2)])
+        P = a + s[:, None] * (b - a) + bow + rng.normal(0, 0.002, (n, 3))
+        half = 0.5 * (0.9 * s + rng.normal(0, 0.01, n))
+        q = np.column_stack(
+            [np.cos(half), np.sin(half) * 0.6, np.sin(half) * 0.8, 0 * half]
+        )
+        if k % 2:
+            q = -q  # the same rotations, sign-aligned on construction
+        grip = (s > rng.uniform(0.4, 0.6)).astype(float)
+        demos.append(
+            Demonstration.from_arrays(t, position=P, orientation=q, gripper=grip)
+        )
+    return demos
+
+
+def _loops(n_demos=10, seed=4):
+    """2-D loops with given velocity, 120 to 200 samples, variable speed."""
+    rng = np.random.default_rng(seed)
+    demos = []
+    for _ in range(n_demos):
+        n = int(rng.integers(120, 201))
+        t = np.linspace(0.0, rng.uniform(1.5, 2.5), n)
+        s = t / t[-1]
+        s = s + 0.1 * np.sin(2 * np.pi * s) / (2 * np.pi)
+        r = 1.0 + rng.normal(0, 0.03)
+        P = np.column_stack([r * np.cos(2 * np.pi * s), 0.5 * np.sin(4 * np.pi * s)])
+        P += rng.normal(0, 0.01, P.shape)
+        V = np.gradient(P, t, axis=0) + rng.normal(0, 0.05, P.shape)
+        demos.append(Demonstration.from_arrays(t, position=P, velocity=V))
+    return demos
+
+
+#: name -> (data, parameters, generation keywords)
+CASES = {
+    "arm": (
+        _arm,
+        dict(epsilon=0.03, n_time_bins=40, max_templates=6, random_state=3),
+        dict(start={"position": [0.41, -0.19, 0.31]}),
+    ),
+    "arm-segment-weights": (
+        _arm,
+        dict(
+            epsilon=0.05,
+            distance="segment",
+            weights={"velocity": 0.5, "orientation": 2.0},
+            levels={"position": 30, "velocity": 8},
+            n_time_bins=25,
+        ),
+        dict(goal={"position": [0.9, 0.35, 0.1]}),
+    ),
+    "loops-sed-budget": (
+        _loops,
+        dict(distance="sed", n_points=12, normalization="per-dimension"),
+        dict(),
+    ),
+    "loops-none": (
+        _loops,
+        dict(epsilon=0.2, normalization="none", n_time_bins=15, random_state=9),
+        dict(),
+    ),
+    "loops-paper": (
+        _loops,
+        dict(epsilon=0.04, generation="paper", n_time_bins=30),
+        dict(),
+    ),
+}
+
+
+def fit_digests(name: str, tmp_path) -> dict[str, str]:
+    """Digest of every array and of the metadata of the saved model, and of a path."""
+    data, params, gen = CASES[name]
+    demos = data()
+    if data is _arm:
+        with pytest.warns(NdlfdWarning, match="jittery"):
+            model = KeypointHMM(**params).fit(demos)
+    else:
+        model = KeypointHMM(**params).fit(demos)
+    path = tmp_path / f"{name}.npz"
+    model.save(path)
+    arrays, meta = load_npz(path, kind="KeypointHMM", version=4)
+    out = {k: _digest(v) for k, v in sorted(arrays.items()) if k != "__metadata__"}
+    out["metadata"] = hashlib.sha256(
+        json.dumps(meta, sort_keys=True).encode()
+    ).hexdigest()[:16]
+    times = np.linspace(0.0, demos[0].duration, 157)
+    if params.get("generation") == "paper":
+        path = model.generate(demos[1], **gen)
+    else:
+        path = model.generate(times, dense=True, **gen)
+    out["path_t"] = _digest(path.t)
+    out["path_X"] = _digest(path.X)
+    return out
+
+
+#: Made with the code of main at 236076e (before the kernels of issue 20).
+KNOWN = {
+    "arm": {
+        "levels": "5592826e066ab9dd",
+        "metadata": "630ab416e5447dd8",
+        "path_X": "077cbbc513590617",
+        "path_t": "6bd512c94f06d691",
+        "scaler_max": "87608c841d35f4b2",
+        "scaler_min": "816b7231b8a541a9",
+        "stats_centroid_counts": "93997babab63699f",
+        "stats_centroid_limbs": "6b8eee7f04cbb376",
+        "stats_centroid_states": "1aba4aa6d8f2f6f5",
+        "stats_demo_index": "c94d993214252fa5",
+        "stats_exponents": "93c93ef0834eee92",
+        "stats_first": "f375a24d0fb71340",
+        "stats_key_bins": "2d8515c6ac48e299",
+        "stats_key_states": "abaa620e51347119",
+        "stats_keypoints": "ca2b363d8a662101",
+        "stats_last": "3049552cb67d378d",
+        "stats_n_clipped": "ba553f9413e2fef9",
+        "stats_n_keys": "ce6864b0c9612f91",
+        "stats_n_samples": "2aff6a008aab989c",
+        "stats_template_counts": "81828dac13af1228",
+        "stats_template_index": "5cdcfb5f51a81abd",
+        "stats_template_tau": "b0b43df4aefe61c6",
+        "stats_template_values": "36c8b983f2709db7",
+    },
+    "arm-segment-weights": {
+        "levels": "ed5bcc4dfb38dae6",
+        "metadata": "8ffc3fb481fd6517",
+        "path_X": "eba6e2b3151ecccd",
+        "path_t": "6bd512c94f06d691",
+        "scaler_max": "87608c841d35f4b2",
+        "scaler_min": "816b7231b8a541a9",
+        "stats_centroid_counts": "d02bcb73a4125b9b",
+        "stats_centroid_limbs": "28e290dd10f95dfb",
+        "stats_centroid_states": "cb213e0b641b8b1a",
+        "stats_demo_index": "c94d993214252fa5",
+        "stats_exponents": "93c93ef0834eee92",
+        "stats_first": "f375a24d0fb71340",
+        "stats_key_bins": "e293df6fb042de6b",
+        "stats_key_states": "102cb67b96a488ee",
+        "stats_keypoints": "89483442283a6975",
+        "stats_last": "3049552cb67d378d",
+        "stats_n_clipped": "ba553f9413e2fef9",
+        "stats_n_keys": "3669f131e7dfc888",
+        "stats_n_samples": "2aff6a008aab989c",
+        "stats_template_counts": "2aff6a008aab989c",
+        "stats_template_index": "c94d993214252fa5",
+        "stats_template_tau": "a155094d7cef94ec",
+        "stats_template_values": "25023a119ac7e95e",
+    },
+    "loops-none": {
+        "levels": "792106b82d551d65",
+        "metadata": "eaedcbcf6cf3aa15",
+        "path_X": "68155d117e76eefc",
+        "path_t": "089f2fcb5a2fc37d",
+        "scaler_max": "38a2dac65eada0dc",
+        "scaler_min": "15cd8b7cd8b89d38",
+        "stats_centroid_counts": "abff6de1ffafed98",
+        "stats_centroid_limbs": "b78bf3a601187df9",
+        "stats_centroid_states": "7113583549a91cbd",
+        "stats_demo_index": "9216519031b05e39",
+        "stats_exponents": "a08a9d65b09a4193",
+        "stats_first": "79751a96b034148a",
+        "stats_key_bins": "03d9ff79b58753e1",
+        "stats_key_states": "d37d0edc483ce46b",
+        "stats_keypoints": "4de9545129fb2a06",
+        "stats_last": "6773df822659fff9",
+        "stats_n_clipped": "550532c09a2a6850",
+        "stats_n_keys": "44028309966344a7",
+        "stats_n_samples": "1d543663ae7e718f",
+        "stats_template_counts": "1d543663ae7e718f",
+        "stats_template_index": "9216519031b05e39",
+        "stats_template_tau": "af5c391f3ad0f39b",
+        "stats_template_values": "02ee244115ce77e4",
+    },
+    "loops-paper": {
+        "levels": "792106b82d551d65",
+        "metadata": "bbc18c976e5bd589",
+        "path_X": "ae4f6fbf59ffcc42",
+        "path_t": "ba384e32f1d7e751",
+        "scaler_max": "fcf06f708090494f",
+        "scaler_min": "39c5246347b58bea",
+        "stats_centroid_counts": "ead132360a52d568",
+        "stats_centroid_limbs": "8e03e618e0ba1e7b",
+        "stats_centroid_states": "e7de8ebb8a618350",
+        "stats_demo_index": "9216519031b05e39",
+        "stats_exponents": "0db1af0d3b40e816",
+        "stats_first": "c97c72754e037f90",
+        "stats_key_bins": "cab27e9914534c1c",
+        "stats_key_states": "5d43b9d485ef8dc6",
+        "stats_keypoints": "189c52b72bc2780a",
+        "stats_last": "29b6909a944f0bf1",
+        "stats_n_clipped": "ba553f9413e2fef9",
+        "stats_n_keys": "380090802220c028",
+        "stats_n_samples": "1d543663ae7e718f",
+        "stats_template_counts": "1d543663ae7e718f",
+        "stats_template_index": "9216519031b05e39",
+        "stats_template_tau": "af5c391f3ad0f39b",
+        "stats_template_values": "c5208dfe1071317d",
+    },
+    "loops-sed-budget": {
+        "levels": "792106b82d551d65",
+        "metadata": "beb4d0027c742327",
+        "path_X": "8ada2ea9d196370b",
+        "path_t": "089f2fcb5a2fc37d",
+        "scaler_max": "1ef73a5339fa336b",
+        "scaler_min": "7c47a99cb6da902c",
+        "stats_centroid_counts": "31c05151788ccc11",
+        "stats_centroid_limbs": "fc5fd5066ac2a84b",
+        "stats_centroid_states": "459ea1d0b2a6cbfb",
+        "stats_demo_index": "9216519031b05e39",
+        "stats_exponents": "d3013e50da562789",
+        "stats_first": "77cc3bf3d09080d9",
+        "stats_key_bins": "f5844300c2e94f31",
+        "stats_key_states": "e023026efa68e1e6",
+        "stats_keypoints": "b2dc191e3ac1b0a2",
+        "stats_last": "daef13db14cbcdfb",
+        "stats_n_clipped": "ba553f9413e2fef9",
+        "stats_n_keys": "9e1ab5518f0b1578",
+        "stats_n_samples": "1d543663ae7e718f",
+        "stats_template_counts": "1d543663ae7e718f",
+        "stats_template_index": "9216519031b05e39",
+        "stats_template_tau": "af5c391f3ad0f39b",
+        "stats_template_values": "1f23ce369a4e705a",
+    },
+}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_fitted_models_are_bit_identical_to_the_known_answer(name, tmp_path):
+    got = fit_digests(name, tmp_path)
+    want = KNOWN[name]
+    changed = sorted(k for k in set(got) | set(want) if got.get(k) != want.get(k))
+    assert not changed, f"{name}: changed {changed}"
