@@ -16,8 +16,8 @@ import numpy as np
 from ._errors import ValidationError
 from ._validation import (
     check_int_sequence,
+    check_n_symbols,
     check_points,
-    check_positive_int,
     check_times,
 )
 from .demonstration import unit_time
@@ -333,7 +333,8 @@ class TimeBins:
     Parameters
     ----------
     n_bins : int
-        Number of time symbols ``N_t`` (>= 1).
+        Number of time symbols ``N_t``, in ``1..MAX_SYMBOLS`` (268,435,455:
+        the decoders index the emissions by symbol).
 
     Examples
     --------
@@ -342,7 +343,7 @@ class TimeBins:
     """
 
     def __init__(self, n_bins: int) -> None:
-        self.n_bins = check_positive_int(n_bins, "n_bins")
+        self.n_bins = check_n_symbols(n_bins, "n_bins")
 
     def __repr__(self) -> str:
         return f"TimeBins(n_bins={self.n_bins})"

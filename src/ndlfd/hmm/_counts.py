@@ -20,8 +20,10 @@ import scipy.sparse as sp
 from .._errors import ValidationError
 from .._validation import (
     check_int_sequence,
+    check_n_symbols,
     check_nonnegative_scalar,
     check_positive_int,
+    check_work_size,
 )
 
 __all__ = [
@@ -302,11 +304,18 @@ def check_params(
     m, n_t : int
     p, r : float
         ``p`` is ``1 / m`` when ``pseudo_transition`` is ``None``.
+
+    Raises
+    ------
+    ValidationError
+        A value out of its range; :class:`~ndlfd.ResourceLimitError` (a
+        subclass) for ``n_symbols`` above
+        :data:`~ndlfd._validation.MAX_SYMBOLS`.
     """
     m = check_positive_int(n_states, "n_states")
     if m > np.iinfo(np.int64).max:
         raise ValidationError(f"n_states must fit in int64; got {m}")
-    nt = check_positive_int(n_symbols, "n_symbols")
+    nt = check_n_symbols(n_symbols, "n_symbols")
     if pseudo_transition is None:
         p = 1.0 / m
     else:
@@ -368,6 +377,10 @@ def count(
                 f" {a.shape[0]} and {b.shape[0]}"
             )
     lengths = np.array([a.shape[0] for a in seq_s], dtype=np.int64)
+    n_total = int(lengths.sum())
+    check_work_size(
+        8 * n_total, f"counting {len(seq_s)} sequence(s) of {n_total:,} steps in all"
+    )
     all_s = np.concatenate(seq_s)
     all_o = np.concatenate(seq_o)
     seen, loc = np.unique(all_s, return_inverse=True)

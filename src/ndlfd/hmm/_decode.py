@@ -24,7 +24,7 @@ import numpy as np
 
 from .._errors import DecodeError, ValidationError
 from .._registry import Registry
-from .._validation import check_int_sequence
+from .._validation import check_int_sequence, check_work_size
 from ._counts import Counts, Table
 from ._kernels import sample_backward, viterbi_sparse
 
@@ -255,6 +255,16 @@ def viterbi_path(
     """
     mode, obs = check_symbols(symbols, tables.n_symbols, start)
     tb = tables
+    n_seen = tb.gid.shape[0] - 1
+    if tb.emit_all:  # every state is a candidate at every step
+        n_cand = obs.shape[0] * (n_seen + int(tb.has_unseen))
+    else:  # the states that emitted the step's symbol in training
+        n_cand = int(np.diff(tb.em_indptr)[obs].sum())
+    check_work_size(
+        4 * n_cand,
+        f"Viterbi back-pointers for {obs.shape[0]:,} steps over {n_seen:,} seen states",
+        "Decode fewer steps at once, or use pseudo_emission=0.",
+    )
     s_base, s_idx, s_logp = tb.starts[mode]
     path, logp, fail = viterbi_sparse(
         obs, tb.gid, tb.has_unseen, tb.in_indptr, tb.in_src, tb.in_logp,
@@ -345,6 +355,11 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
     base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
     delta_t = delta.T.tocsr()
     n_steps, n_seen = obs.size, pi.size
+    check_work_size(  # alpha, and the emissions of every step
+        8 * n_steps * (n_seen + 1),
+        f"the forward pass of {n_steps:,} steps over {n_seen:,} seen states",
+        "Pass fewer steps at once.",
+    )
     alpha = np.empty((n_steps, n_seen))
     alpha_u = np.empty(n_steps)  # total over the unseen class
     scale = np.empty(n_steps)
@@ -477,6 +492,11 @@ def ffbs(counts: Counts, symbols, n_samples: int, start: str, rng) -> np.ndarray
     True
     """
     mode, obs = check_symbols(symbols, counts.n_symbols, start)
+    check_work_size(
+        8 * int(n_samples) * obs.shape[0],
+        f"{int(n_samples):,} sampled paths of {obs.shape[0]:,} steps",
+        "Draw fewer samples per call.",
+    )
     fw = _forward(counts, obs, mode)
     n_steps, n_seen = fw.alpha.shape
     # per step the baseline weights of every predecessor, the unseen class last

@@ -22,6 +22,7 @@ import numpy as np
 
 from .._errors import ModelFormatError
 from .._fileformat import load_npz, save_npz
+from .._validation import MAX_SYMBOLS
 from ._counts import Counts, row_sums
 
 __all__ = [
@@ -158,6 +159,8 @@ def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
     m, nt, n_seq = (int(v) for v in sizes)
     if m < 1 or nt < 1 or n_seq < 1:
         raise bad(f"sizes (n_states, n_symbols, n_sequences) must be >= 1; got {sizes}")
+    if nt > MAX_SYMBOLS:
+        raise bad(f"n_symbols must be at most {MAX_SYMBOLS:,}; got {nt:,}")
     p_param, r = float(pseudo[0]), float(pseudo[1])
     if not (np.isnan(p_param) or (np.isfinite(p_param) and p_param >= 0)):
         raise bad(f"pseudo_transition must be NaN (default) or >= 0; got {p_param}")
