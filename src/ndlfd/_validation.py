@@ -41,8 +41,9 @@ MAX_WORK_BYTES = 2 * 2**30
 #: channels): its float64 copy is one work array.
 MAX_VALUES = MAX_WORK_BYTES // 8
 
-#: The most time symbols (``n_symbols``, ``n_time_bins``, ``n_bins``): the
-#: decoders index the emissions by symbol, ``n_symbols + 1`` int64 entries.
+#: The most time bins (``n_time_bins``, ``TimeBins(n_bins)``): a generation
+#: works on every bin at once (the paper's generation decodes each bin, the
+#: band takes the posterior of each), 8 bytes per bin at the least.
 MAX_SYMBOLS = MAX_WORK_BYTES // 8 - 1
 
 
@@ -283,8 +284,8 @@ def check_positive_int(
     return int(value)
 
 
-def check_n_symbols(value, name: str = "n_symbols") -> int:
-    """Return a number of time symbols in ``1..MAX_SYMBOLS``.
+def check_n_symbols(value, name: str = "n_time_bins") -> int:
+    """Return a number of time bins in ``1..MAX_SYMBOLS``.
 
     Examples
     --------
@@ -295,7 +296,7 @@ def check_n_symbols(value, name: str = "n_symbols") -> int:
     ...
     ndlfd._errors.ResourceLimitError: n_time_bins must be at most 268,435,455 ...
     """
-    why = "the decoders index the emissions by symbol, 8 bytes per symbol"
+    why = "a generation works on every time bin at once, 8 bytes per bin"
     return check_positive_int(value, name, maximum=MAX_SYMBOLS, why=why)
 
 

@@ -333,8 +333,8 @@ class TimeBins:
     Parameters
     ----------
     n_bins : int
-        Number of time symbols ``N_t``, in ``1..MAX_SYMBOLS`` (268,435,455:
-        the decoders index the emissions by symbol).
+        Number of time symbols ``N_t``, in ``1..MAX_SYMBOLS`` (268,435,455: a
+        generation works on every time bin at once).
 
     Examples
     --------

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import ndlfd
-from ndlfd import KeypointHMM, ModelFormatError, ResourceLimitError, TimeBins, hmm
+from ndlfd import KeypointHMM, ResourceLimitError, TimeBins, hmm
 from ndlfd._validation import MAX_SYMBOLS, MAX_VALUES, MAX_WORK_BYTES
 
 
@@ -61,26 +61,31 @@ def test_sampled_paths_are_bounded(wide_model):
     assert f"{n:,} sampled paths of 1 steps" in msg
 
 
-def test_time_symbols_are_bounded(tmp_path):
+def test_time_bins_are_bounded():
     for call in (
-        lambda: hmm.estimate([0], [0], 1, MAX_SYMBOLS + 1),
         lambda: TimeBins(MAX_SYMBOLS + 1),
         lambda: KeypointHMM(n_time_bins=MAX_SYMBOLS + 1).fit(["never read"]),
     ):
         assert f"at most {MAX_SYMBOLS:,}" in _refused(call)
         assert f"got {MAX_SYMBOLS + 1:,}" in _refused(call)
     assert TimeBins(MAX_SYMBOLS).n_bins == MAX_SYMBOLS  # the bound itself is in
-    assert hmm.estimate([0], [0], 1, MAX_SYMBOLS).n_symbols == MAX_SYMBOLS
-    # a model file claiming more symbols is refused as a file
-    path = tmp_path / "hmm.npz"
-    hmm.estimate([0], [0], 1, 2).save(path)
-    with np.load(path, allow_pickle=False) as z:
-        arrays = {k: z[k] for k in z.files}
-    arrays["sizes"] = np.array([1, MAX_SYMBOLS + 1, 1])
-    with open(path, "wb") as fh:
-        np.savez(fh, **arrays)
-    with pytest.raises(ModelFormatError, match="n_symbols must be at most"):
-        hmm.DiscreteHMM.load(path)
+
+
+def test_hmm_memory_does_not_follow_n_symbols():
+    """An HMM over 2**62 symbols decodes in memory of the symbols emitted."""
+    nt = 2**62
+    obs = [0, 2**61, nt - 1]
+    model = hmm.estimate([[0, 1, 2]], [obs], 3, nt, pseudo_emission=0.5)
+    tracemalloc.start()
+    try:
+        path, _ = hmm.viterbi(model, obs)
+        post = hmm.posterior(model, [*obs, 12345])  # 12345: never emitted
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 2**20
+    assert path.tolist() == [0, 1, 2]
+    assert post.probabilities.shape == (4, 3)
 
 
 def test_points_and_samples_are_bounded():

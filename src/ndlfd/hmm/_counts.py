@@ -20,7 +20,6 @@ import scipy.sparse as sp
 from .._errors import ValidationError
 from .._validation import (
     check_int_sequence,
-    check_n_symbols,
     check_nonnegative_scalar,
     check_positive_int,
     check_work_size,
@@ -308,19 +307,34 @@ def check_params(
     Raises
     ------
     ValidationError
-        A value out of its range; :class:`~ndlfd.ResourceLimitError` (a
-        subclass) for ``n_symbols`` above
-        :data:`~ndlfd._validation.MAX_SYMBOLS`.
+        A value out of its range, or a pseudo-count so large that a
+        denominator ``width * pseudo`` overflows.
     """
     m = check_positive_int(n_states, "n_states")
     if m > np.iinfo(np.int64).max:
         raise ValidationError(f"n_states must fit in int64; got {m}")
-    nt = check_n_symbols(n_symbols, "n_symbols")
+    nt = check_positive_int(n_symbols, "n_symbols")
+    if nt > np.iinfo(np.int64).max:
+        raise ValidationError(f"n_symbols must fit in int64; got {nt}")
     if pseudo_transition is None:
         p = 1.0 / m
     else:
         p = check_nonnegative_scalar(pseudo_transition, "pseudo_transition")
     r = check_nonnegative_scalar(pseudo_emission, "pseudo_emission")
+    for name, pseudo, width, wname in (
+        ("pseudo_transition", p, m, "n_states"),
+        ("pseudo_emission", r, nt, "n_symbols"),
+    ):  # every row's denominator total + width * pseudo must stay finite
+        if 0 < pseudo < np.finfo(float).tiny:
+            raise ValidationError(
+                f"{name} must be 0 or at least {np.finfo(float).tiny:.3g} (a"
+                f" normal float64); got {pseudo!r}"
+            )
+        if not np.isfinite(float(width) * pseudo * 2.0):
+            raise ValidationError(
+                f"{name} * {wname} must stay below {np.finfo(float).max / 2:.3g};"
+                f" got {pseudo!r} * {width} (use a smaller pseudo-count)"
+            )
     return m, nt, p, r
 
 

@@ -17,12 +17,12 @@ There is one version so far (:data:`FORMAT_VERSION` 1, read by
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 
 import numpy as np
 
 from .._errors import ModelFormatError
 from .._fileformat import load_npz, save_npz
-from .._validation import MAX_SYMBOLS
 from ._counts import Counts, row_sums
 
 __all__ = [
@@ -136,11 +136,20 @@ def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
     def bad(msg: str):
         return ModelFormatError(f"invalid DiscreteHMM arrays: {msg}")
 
+    if not isinstance(arrays, Mapping) or not isinstance(prefix, str):
+        raise bad(
+            "expected a mapping of names to arrays and a str prefix; got"
+            f" {type(arrays).__name__} and {type(prefix).__name__}"
+        )
+
     def get(key: str, kind: str, ndim: int = 1) -> np.ndarray:
         full = prefix + key
         if full not in arrays:
             raise bad(f"missing array {full!r}")
-        a = np.asarray(arrays[full])
+        try:
+            a = np.asarray(arrays[full])
+        except (ValueError, TypeError):  # ragged nested lists
+            raise bad(f"{full!r} must be an array; got a ragged sequence") from None
         if a.dtype.kind != kind or a.ndim != ndim:
             want = {"i": "integer", "f": "float"}[kind]
             raise bad(
@@ -159,8 +168,6 @@ def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
     m, nt, n_seq = (int(v) for v in sizes)
     if m < 1 or nt < 1 or n_seq < 1:
         raise bad(f"sizes (n_states, n_symbols, n_sequences) must be >= 1; got {sizes}")
-    if nt > MAX_SYMBOLS:
-        raise bad(f"n_symbols must be at most {MAX_SYMBOLS:,}; got {nt:,}")
     p_param, r = float(pseudo[0]), float(pseudo[1])
     if not (np.isnan(p_param) or (np.isfinite(p_param) and p_param >= 0)):
         raise bad(f"pseudo_transition must be NaN (default) or >= 0; got {p_param}")
