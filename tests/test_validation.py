@@ -9,12 +9,12 @@ import ndlfd
 from ndlfd import NdlfdError, OptionError, ResourceLimitError, ValidationError
 from ndlfd._registry import Registry
 from ndlfd._validation import (
-    MAX_SYMBOLS,
+    MAX_TIME_BINS,
     MAX_VALUES,
     MAX_WORK_BYTES,
     as_float_array,
     check_int_sequence,
-    check_n_symbols,
+    check_n_time_bins,
     check_nonnegative_scalar,
     check_points,
     check_positive_int,
@@ -193,7 +193,7 @@ def test_resource_limit_error_is_a_validation_error():
 def test_bounds_follow_from_the_work_array_bound():
     assert MAX_WORK_BYTES == 2 * 2**30
     assert MAX_VALUES * 8 == MAX_WORK_BYTES
-    assert (MAX_SYMBOLS + 1) * 8 == MAX_WORK_BYTES
+    assert (MAX_TIME_BINS + 1) * 8 == MAX_WORK_BYTES
 
 
 def test_check_work_size_at_and_above_the_bound():
@@ -222,11 +222,11 @@ def test_arrays_above_max_values_are_refused_before_the_copy(check):
     assert np.asarray(check(ok)).size == 1000
 
 
-def test_check_n_symbols_bound():
-    assert check_n_symbols(MAX_SYMBOLS, "n_bins") == MAX_SYMBOLS
+def test_check_n_time_bins_bound():
+    assert check_n_time_bins(MAX_TIME_BINS, "n_bins") == MAX_TIME_BINS
     with pytest.raises(ResourceLimitError, match=r"n_bins must be at most 268,435,455"):
-        check_n_symbols(MAX_SYMBOLS + 1, "n_bins")
+        check_n_time_bins(MAX_TIME_BINS + 1, "n_bins")
     with pytest.raises(ValidationError, match=r">= 1; got 0"):
-        check_n_symbols(0, "n_bins")
+        check_n_time_bins(0, "n_bins")
     with pytest.raises(ResourceLimitError, match=r"n_points must be at most 5 \(w\)"):
         check_positive_int(6, "n_points", maximum=5, why="w")

@@ -14,12 +14,12 @@ import numpy as np
 from ._errors import ResourceLimitError, ValidationError
 
 __all__ = [
-    "MAX_SYMBOLS",
+    "MAX_TIME_BINS",
     "MAX_VALUES",
     "MAX_WORK_BYTES",
     "as_float_array",
     "check_int_sequence",
-    "check_n_symbols",
+    "check_n_time_bins",
     "check_nonnegative_scalar",
     "check_points",
     "check_positive_int",
@@ -44,7 +44,7 @@ MAX_VALUES = MAX_WORK_BYTES // 8
 #: The most time bins (``n_time_bins``, ``TimeBins(n_bins)``): a generation
 #: works on every bin at once (the paper's generation decodes each bin, the
 #: band takes the posterior of each), 8 bytes per bin at the least.
-MAX_SYMBOLS = MAX_WORK_BYTES // 8 - 1
+MAX_TIME_BINS = MAX_WORK_BYTES // 8 - 1
 
 
 def check_work_size(n_bytes: int, what: str, hint: str = "") -> None:
@@ -284,20 +284,20 @@ def check_positive_int(
     return int(value)
 
 
-def check_n_symbols(value, name: str = "n_time_bins") -> int:
-    """Return a number of time bins in ``1..MAX_SYMBOLS``.
+def check_n_time_bins(value, name: str = "n_time_bins") -> int:
+    """Return a number of time bins in ``1..MAX_TIME_BINS``.
 
     Examples
     --------
-    >>> check_n_symbols(50, "n_time_bins")
+    >>> check_n_time_bins(50, "n_time_bins")
     50
-    >>> check_n_symbols(2**40, "n_time_bins")
+    >>> check_n_time_bins(2**40, "n_time_bins")
     Traceback (most recent call last):
     ...
     ndlfd._errors.ResourceLimitError: n_time_bins must be at most 268,435,455 ...
     """
     why = "a generation works on every time bin at once, 8 bytes per bin"
-    return check_positive_int(value, name, maximum=MAX_SYMBOLS, why=why)
+    return check_positive_int(value, name, maximum=MAX_TIME_BINS, why=why)
 
 
 def check_weights(weights, n: int, name: str = "weights") -> np.ndarray:

@@ -16,7 +16,7 @@ import numpy as np
 from ._errors import ValidationError
 from ._validation import (
     check_int_sequence,
-    check_n_symbols,
+    check_n_time_bins,
     check_points,
     check_times,
 )
@@ -333,7 +333,7 @@ class TimeBins:
     Parameters
     ----------
     n_bins : int
-        Number of time symbols ``N_t``, in ``1..MAX_SYMBOLS`` (268,435,455: a
+        Number of time symbols ``N_t``, in ``1..MAX_TIME_BINS`` (268,435,455: a
         generation works on every time bin at once).
 
     Examples
@@ -343,7 +343,7 @@ class TimeBins:
     """
 
     def __init__(self, n_bins: int) -> None:
-        self.n_bins = check_n_symbols(n_bins, "n_bins")
+        self.n_bins = check_n_time_bins(n_bins, "n_bins")
 
     def __repr__(self) -> str:
         return f"TimeBins(n_bins={self.n_bins})"

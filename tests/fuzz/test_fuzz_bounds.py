@@ -11,7 +11,7 @@ import pytest
 
 import ndlfd
 from ndlfd import KeypointHMM, ResourceLimitError, TimeBins, hmm
-from ndlfd._validation import MAX_SYMBOLS, MAX_VALUES, MAX_WORK_BYTES
+from ndlfd._validation import MAX_TIME_BINS, MAX_VALUES, MAX_WORK_BYTES
 
 
 def _refused(fn, *args, **kwargs):
@@ -63,12 +63,12 @@ def test_sampled_paths_are_bounded(wide_model):
 
 def test_time_bins_are_bounded():
     for call in (
-        lambda: TimeBins(MAX_SYMBOLS + 1),
-        lambda: KeypointHMM(n_time_bins=MAX_SYMBOLS + 1).fit(["never read"]),
+        lambda: TimeBins(MAX_TIME_BINS + 1),
+        lambda: KeypointHMM(n_time_bins=MAX_TIME_BINS + 1).fit(["never read"]),
     ):
-        assert f"at most {MAX_SYMBOLS:,}" in _refused(call)
-        assert f"got {MAX_SYMBOLS + 1:,}" in _refused(call)
-    assert TimeBins(MAX_SYMBOLS).n_bins == MAX_SYMBOLS  # the bound itself is in
+        assert f"at most {MAX_TIME_BINS:,}" in _refused(call)
+        assert f"got {MAX_TIME_BINS + 1:,}" in _refused(call)
+    assert TimeBins(MAX_TIME_BINS).n_bins == MAX_TIME_BINS  # the bound itself is in
 
 
 def test_hmm_memory_does_not_follow_n_symbols():
