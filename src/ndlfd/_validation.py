@@ -42,8 +42,8 @@ MAX_WORK_BYTES = 2 * 2**30
 MAX_VALUES = MAX_WORK_BYTES // 8
 
 #: The most time bins (``n_time_bins``, ``TimeBins(n_bins)``): a generation
-#: works on every bin at once (the paper's generation decodes each bin, the
-#: band takes the posterior of each), 8 bytes per bin at the least.
+#: works on every bin at once (the blend decodes each bin on its segment
+#: model, the band takes the posterior of each), 8 bytes per bin at the least.
 MAX_TIME_BINS = MAX_WORK_BYTES // 8 - 1
 
 
