@@ -1,4 +1,9 @@
-"""One fitted model used from several threads at once gives what serial calls give."""
+"""One fitted model used from several threads at once gives what serial calls give.
+
+8 threads, each making the same 200 mixed calls (generate with and without
+start, goal, via and band; key points; sample with a seed) in its own order,
+on one fitted model whose caches they fill together.
+"""
 
 import threading
 
@@ -8,25 +13,41 @@ import pytest
 from ndlfd import KeypointHMM, synth
 
 
-def _calls(test, rng, n):
-    """``n`` mixed generate calls: timing only, start, goal, both, band, key points."""
+def _calls(test, rng, n, generation):
+    """``n`` mixed calls: timing only, start, goal, both, band, key points, and
+    (blend) a via point and ``sample`` with a seed."""
     P = test.get("position")
+    kinds = 8 if generation == "blend" else 6
     calls = []
     for _ in range(n):
-        k = int(rng.integers(0, 6))
+        k = int(rng.integers(0, kinds))
         kw: dict = {"dense": bool(k != 5)}
         if k in (1, 3):
             kw["start"] = {"position": P[0] + rng.normal(0.0, 0.3, P.shape[1])}
         if k in (2, 3):
             kw["goal"] = {"position": P[-1] + rng.normal(0.0, 0.3, P.shape[1])}
-        if k == 4:
+        if k == 4 and generation == "blend":
             kw["return_std"] = True
         m = int(rng.integers(20, test.n_samples + 1))
-        calls.append((np.sort(rng.choice(test.t, m, replace=False)), kw))
+        t = np.sort(rng.choice(test.t, m, replace=False))
+        if k == 6:
+            mid = m // 2
+            kw["via"] = [(t[mid], {"position": P[mid] + rng.normal(0.0, 0.1, 2)})]
+        if k == 7:
+            kw = {"n_samples": 2, "random_state": int(rng.integers(1000))}
+        calls.append((t, kw))
     return calls
 
 
+def _call(model, t, kw):
+    if "n_samples" in kw:
+        return model.sample(t, **kw)
+    return model.generate(t, **kw)
+
+
 def _arrays(out):
+    if isinstance(out, list):  # sampled paths
+        return tuple(a for path in out for a in (path.t, path.X))
     if isinstance(out, tuple):
         path, std = out
         return (path.t, path.X, std)
@@ -37,16 +58,11 @@ def _arrays(out):
 def test_concurrent_generate_equals_serial(generation):
     train, test = synth.make_dataset("square", n_demos=12, random_state=0)
     kw = dict(epsilon=0.1, n_time_bins=30, generation=generation, n_jobs=2)
-    calls = _calls(test, np.random.default_rng(1), 200)
-    if generation == "paper":
-        calls = [
-            (t, {k: v for k, v in c.items() if k != "return_std"}) for t, c in calls
-        ]
-    serial = [
-        _arrays(KeypointHMM(**kw).fit(train).generate(t, **c)) for t, c in calls[:1]
-    ]
+    calls = _calls(test, np.random.default_rng(1), 200, generation)
+    # the reference: the same calls made one after another on another fit
+    ref = KeypointHMM(**kw).fit(train)
+    serial = [_arrays(_call(ref, t, c)) for t, c in calls]
     model = KeypointHMM(**kw).fit(train)  # fresh: its caches are filled by the threads
-    serial = [_arrays(KeypointHMM(**kw).fit(train).generate(t, **c)) for t, c in calls]
     results: dict = {}
     errors: list = []
     barrier = threading.Barrier(8)
@@ -55,8 +71,7 @@ def test_concurrent_generate_equals_serial(generation):
         order = np.random.default_rng(100 + w).permutation(len(calls))
         try:
             barrier.wait()
-            results[w] = {i: _arrays(model.generate(calls[i][0], **calls[i][1]))
-                          for i in order}  # fmt: skip
+            results[w] = {i: _arrays(_call(model, *calls[i])) for i in order}
         except Exception as exc:
             errors.append(exc)
 

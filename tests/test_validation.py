@@ -1,18 +1,27 @@
+import tracemalloc
+
 import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ndlfd import NdlfdError, OptionError, ValidationError
+import ndlfd
+from ndlfd import NdlfdError, OptionError, ResourceLimitError, ValidationError
 from ndlfd._registry import Registry
 from ndlfd._validation import (
+    MAX_TIME_BINS,
+    MAX_VALUES,
+    MAX_WORK_BYTES,
+    as_float_array,
     check_int_sequence,
+    check_n_time_bins,
     check_nonnegative_scalar,
     check_points,
     check_positive_int,
     check_random_state,
     check_times,
     check_weights,
+    check_work_size,
 )
 
 
@@ -160,3 +169,64 @@ def test_registry_lists_choices():
         r.get(3)
     with pytest.raises(KeyError):
         r.add("line", 3)
+
+
+# ------------------------------------------------------------------ resource bounds
+
+
+def _peak_bytes(fn, *args, **kwargs):
+    """Peak traced allocation of a call that raises ResourceLimitError."""
+    tracemalloc.start()
+    try:
+        with pytest.raises(ResourceLimitError) as info:
+            fn(*args, **kwargs)
+        return tracemalloc.get_traced_memory()[1], str(info.value)
+    finally:
+        tracemalloc.stop()
+
+
+def test_resource_limit_error_is_a_validation_error():
+    assert issubclass(ResourceLimitError, ValidationError)
+    assert ndlfd.ResourceLimitError is ResourceLimitError
+
+
+def test_bounds_follow_from_the_work_array_bound():
+    assert MAX_WORK_BYTES == 2 * 2**30
+    assert MAX_VALUES * 8 == MAX_WORK_BYTES
+    assert (MAX_TIME_BINS + 1) * 8 == MAX_WORK_BYTES
+
+
+def test_check_work_size_at_and_above_the_bound():
+    check_work_size(MAX_WORK_BYTES, "exactly the bound")  # accepted
+    with pytest.raises(ResourceLimitError, match=r"x would need 2,048 MiB, above"):
+        check_work_size(MAX_WORK_BYTES + 1, "x")
+    with pytest.raises(ResourceLimitError, match=r"bound of 2,048 MiB.* Do less\.$"):
+        check_work_size(10**30, "huge", "Do less.")  # Python ints: no overflow
+
+
+@pytest.mark.parametrize(
+    "check",
+    [
+        lambda a: as_float_array(a, "X"),
+        lambda a: check_points(a, "points"),
+        lambda a: check_int_sequence(a[:, 0], "states", low=0, high=2),
+    ],
+)
+def test_arrays_above_max_values_are_refused_before_the_copy(check):
+    # a zero-stride view: the input itself costs nothing, its copy would be 2 GiB
+    big = np.broadcast_to(np.int64(0), (MAX_VALUES + 1, 1))
+    peak, msg = _peak_bytes(check, big)
+    assert peak < 2**20
+    assert f"at most {MAX_VALUES:,} values" in msg and f"got {MAX_VALUES + 1:,}" in msg
+    ok = np.broadcast_to(np.int64(0), (1000, 1))  # far below: converted
+    assert np.asarray(check(ok)).size == 1000
+
+
+def test_check_n_time_bins_bound():
+    assert check_n_time_bins(MAX_TIME_BINS, "n_bins") == MAX_TIME_BINS
+    with pytest.raises(ResourceLimitError, match=r"n_bins must be at most 268,435,455"):
+        check_n_time_bins(MAX_TIME_BINS + 1, "n_bins")
+    with pytest.raises(ValidationError, match=r">= 1; got 0"):
+        check_n_time_bins(0, "n_bins")
+    with pytest.raises(ResourceLimitError, match=r"n_points must be at most 5 \(w\)"):
+        check_positive_int(6, "n_points", maximum=5, why="w")

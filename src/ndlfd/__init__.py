@@ -28,6 +28,7 @@ from ._errors import (
     NotFittedError,
     OptionError,
     ParallelError,
+    ResourceLimitError,
     ValidationError,
 )
 from ._parallel import keep_workers, shutdown
@@ -57,6 +58,7 @@ __all__ = [
     "NotFittedError",
     "OptionError",
     "ParallelError",
+    "ResourceLimitError",
     "TimeBins",
     "ValidationError",
     "__version__",

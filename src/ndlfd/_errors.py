@@ -15,6 +15,7 @@ __all__ = [
     "NotFittedError",
     "OptionError",
     "ParallelError",
+    "ResourceLimitError",
     "ValidationError",
 ]
 
@@ -25,6 +26,14 @@ class NdlfdError(ValueError):
 
 class ValidationError(NdlfdError):
     """An argument has the wrong shape, dtype, range or value."""
+
+
+class ResourceLimitError(ValidationError):
+    """An input is larger than a documented bound (see ``docs/robustness.md``).
+
+    Raised before anything of the refused size is allocated; the message states
+    the bound and the value got.
+    """
 
 
 class OptionError(NdlfdError):

@@ -11,19 +11,87 @@ import numbers
 
 import numpy as np
 
-from ._errors import ValidationError
+from ._errors import ResourceLimitError, ValidationError
 
 __all__ = [
+    "MAX_TIME_BINS",
+    "MAX_VALUES",
+    "MAX_WORK_BYTES",
     "as_float_array",
     "check_int_sequence",
+    "check_n_time_bins",
     "check_nonnegative_scalar",
     "check_points",
     "check_positive_int",
     "check_random_state",
     "check_times",
     "check_weights",
+    "check_work_size",
     "first_nonfinite_row",
 ]
+
+
+#: The largest work array (in bytes) one call allocates: 2 GiB. A call that
+#: would need a larger one is refused with :class:`~ndlfd.ResourceLimitError`
+#: before anything of that size is allocated (never a ``MemoryError`` from deep
+#: inside). The bounds below follow from it; ``docs/robustness.md`` lists them.
+MAX_WORK_BYTES = 2 * 2**30
+
+#: The most values one input array may hold (points x dimensions, samples x
+#: channels): its float64 copy is one work array.
+MAX_VALUES = MAX_WORK_BYTES // 8
+
+#: The most time bins (``n_time_bins``, ``TimeBins(n_bins)``): a generation
+#: works on every bin at once (the blend decodes each bin on its segment
+#: model, the band takes the posterior of each), 8 bytes per bin at the least.
+MAX_TIME_BINS = MAX_WORK_BYTES // 8 - 1
+
+
+def check_work_size(n_bytes: int, what: str, hint: str = "") -> None:
+    """Refuse a call whose work array would exceed :data:`MAX_WORK_BYTES`.
+
+    Call it before allocating, with the size computed in Python integers (no
+    overflow).
+
+    Parameters
+    ----------
+    n_bytes : int
+        Bytes the call would allocate at once.
+    what : str
+        What would be allocated, for the message (e.g. "the posterior of 10
+        steps over 5 seen states").
+    hint : str, default=""
+        What to do instead, appended to the message.
+
+    Raises
+    ------
+    ResourceLimitError
+        Stating the bound and the size got.
+
+    Examples
+    --------
+    >>> check_work_size(8 * 10**6, "a small array")
+    >>> check_work_size(2**40, "one TiB")
+    Traceback (most recent call last):
+    ...
+    ndlfd._errors.ResourceLimitError: one TiB would need 1,048,576 MiB, above the ...
+    """
+    if int(n_bytes) > MAX_WORK_BYTES:
+        raise ResourceLimitError(
+            f"{what} would need {int(n_bytes) / 2**20:,.0f} MiB, above the bound"
+            f" of {MAX_WORK_BYTES / 2**20:,.0f} MiB per work array"
+            f" (ndlfd._validation.MAX_WORK_BYTES).{' ' + hint if hint else ''}"
+        )
+
+
+def _check_n_values(a: np.ndarray, name: str) -> None:
+    """Refuse an array of more than :data:`MAX_VALUES` values before its copy."""
+    if a.size > MAX_VALUES:
+        raise ResourceLimitError(
+            f"{name} must hold at most {MAX_VALUES:,} values (a 64-bit copy of at"
+            f" most {MAX_WORK_BYTES / 2**30:g} GiB); got {a.size:,} values, shape"
+            f" {a.shape}. Split the demonstration or downsample it first."
+        )
 
 
 def _describe(a: np.ndarray) -> str:
@@ -51,6 +119,7 @@ def as_float_array(values, name: str) -> np.ndarray:
         raise ValidationError(
             f"{name} must hold real numbers (int or float); got {_describe(a)}"
         )
+    _check_n_values(a, name)
     # ascontiguousarray makes a 0-d array 1-d: keep the shape, so a scalar is
     # refused where an array is expected instead of passing as one sample
     return np.ascontiguousarray(a, dtype=np.float64).reshape(a.shape)
@@ -186,8 +255,13 @@ def check_nonnegative_scalar(value, name: str) -> float:
     return v
 
 
-def check_positive_int(value, name: str, *, minimum: int = 1) -> int:
+def check_positive_int(
+    value, name: str, *, minimum: int = 1, maximum: int | None = None, why: str = ""
+) -> int:
     """Return ``value`` as an ``int`` >= ``minimum`` or raise an error.
+
+    With ``maximum``, a larger value raises :class:`~ndlfd.ResourceLimitError`
+    stating the bound and ``why`` it holds.
 
     Examples
     --------
@@ -202,7 +276,28 @@ def check_positive_int(value, name: str, *, minimum: int = 1) -> int:
         raise ValidationError(f"{name} must be an integer >= {minimum}; got {value!r}")
     if int(value) < minimum:
         raise ValidationError(f"{name} must be an integer >= {minimum}; got {value!r}")
+    if maximum is not None and int(value) > maximum:
+        because = f" ({why})" if why else ""
+        raise ResourceLimitError(
+            f"{name} must be at most {maximum:,}{because}; got {int(value):,}"
+        )
     return int(value)
+
+
+def check_n_time_bins(value, name: str = "n_time_bins") -> int:
+    """Return a number of time bins in ``1..MAX_TIME_BINS``.
+
+    Examples
+    --------
+    >>> check_n_time_bins(50, "n_time_bins")
+    50
+    >>> check_n_time_bins(2**40, "n_time_bins")
+    Traceback (most recent call last):
+    ...
+    ndlfd._errors.ResourceLimitError: n_time_bins must be at most 268,435,455 ...
+    """
+    why = "a generation works on every time bin at once, 8 bytes per bin"
+    return check_positive_int(value, name, maximum=MAX_TIME_BINS, why=why)
 
 
 def check_weights(weights, n: int, name: str = "weights") -> np.ndarray:
@@ -258,6 +353,7 @@ def check_int_sequence(values, name: str, *, low: int, high: int) -> np.ndarray:
         raise ValidationError(
             f"{name} must be a 1-D array of integers; got shape {a.shape}"
         )
+    _check_n_values(a, name)
     if a.dtype.kind == "f":
         if not np.all(np.isfinite(a)) or np.any(a != np.round(a)):
             raise ValidationError(

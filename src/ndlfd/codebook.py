@@ -17,8 +17,8 @@ from numba import njit
 from ._errors import ValidationError
 from ._validation import (
     check_int_sequence,
+    check_n_time_bins,
     check_points,
-    check_positive_int,
     check_times,
 )
 from .demonstration import unit_time
@@ -361,7 +361,8 @@ class TimeBins:
     Parameters
     ----------
     n_bins : int
-        Number of time symbols ``N_t`` (>= 1).
+        Number of time symbols ``N_t``, in ``1..MAX_TIME_BINS`` (268,435,455: a
+        generation works on every time bin at once).
 
     Examples
     --------
@@ -370,7 +371,7 @@ class TimeBins:
     """
 
     def __init__(self, n_bins: int) -> None:
-        self.n_bins = check_positive_int(n_bins, "n_bins")
+        self.n_bins = check_n_time_bins(n_bins, "n_bins")
 
     def __repr__(self) -> str:
         return f"TimeBins(n_bins={self.n_bins})"

@@ -19,10 +19,10 @@ def finite_or_nasty(nasty_rate=0.3):
 
 
 @st.composite
-def arrays_2d(draw, max_rows=12, max_cols=4, nasty=True):
+def arrays_2d(draw, max_rows=12, max_cols=4, nasty=True, min_rows=0, min_cols=0):
     """``(n, d)`` float arrays with n, d from 0, NaN/inf/1e300 or constant rows."""
-    n = draw(st.integers(0, max_rows))
-    d = draw(st.integers(0, max_cols))
+    n = draw(st.integers(min_rows, max_rows))
+    d = draw(st.integers(min_cols, max_cols))
     kind = draw(st.sampled_from(["values", "constant", "tiny-range", "huge"]))
     elems = finite_or_nasty() if nasty else finite_or_nasty(0)
     X = np.array(draw(st.lists(elems, min_size=n * d, max_size=n * d)), float)

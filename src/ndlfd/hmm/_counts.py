@@ -22,6 +22,7 @@ from .._validation import (
     check_int_sequence,
     check_nonnegative_scalar,
     check_positive_int,
+    check_work_size,
 )
 
 __all__ = [
@@ -302,16 +303,38 @@ def check_params(
     m, n_t : int
     p, r : float
         ``p`` is ``1 / m`` when ``pseudo_transition`` is ``None``.
+
+    Raises
+    ------
+    ValidationError
+        A value out of its range, or a pseudo-count so large that a
+        denominator ``width * pseudo`` overflows.
     """
     m = check_positive_int(n_states, "n_states")
     if m > np.iinfo(np.int64).max:
         raise ValidationError(f"n_states must fit in int64; got {m}")
     nt = check_positive_int(n_symbols, "n_symbols")
+    if nt > np.iinfo(np.int64).max:
+        raise ValidationError(f"n_symbols must fit in int64; got {nt}")
     if pseudo_transition is None:
         p = 1.0 / m
     else:
         p = check_nonnegative_scalar(pseudo_transition, "pseudo_transition")
     r = check_nonnegative_scalar(pseudo_emission, "pseudo_emission")
+    for name, pseudo, width, wname in (
+        ("pseudo_transition", p, m, "n_states"),
+        ("pseudo_emission", r, nt, "n_symbols"),
+    ):  # every row's denominator total + width * pseudo must stay finite
+        if 0 < pseudo < np.finfo(float).tiny:
+            raise ValidationError(
+                f"{name} must be 0 or at least {np.finfo(float).tiny:.3g} (a"
+                f" normal float64); got {pseudo!r}"
+            )
+        if not np.isfinite(float(width) * pseudo * 2.0):
+            raise ValidationError(
+                f"{name} * {wname} must stay below {np.finfo(float).max / 2:.3g};"
+                f" got {pseudo!r} * {width} (use a smaller pseudo-count)"
+            )
     return m, nt, p, r
 
 
@@ -368,6 +391,10 @@ def count(
                 f" {a.shape[0]} and {b.shape[0]}"
             )
     lengths = np.array([a.shape[0] for a in seq_s], dtype=np.int64)
+    n_total = int(lengths.sum())
+    check_work_size(
+        8 * n_total, f"counting {len(seq_s)} sequence(s) of {n_total:,} steps in all"
+    )
     all_s = np.concatenate(seq_s)
     all_o = np.concatenate(seq_o)
     seen, loc = np.unique(all_s, return_inverse=True)

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._errors import DecodeError, ValidationError
 from .._registry import Registry
-from .._validation import check_int_sequence
+from .._validation import check_int_sequence, check_work_size
 from ._counts import Counts, Table
 from ._kernels import sample_backward, viterbi_sparse
 
@@ -47,6 +47,9 @@ STARTS.add("learned", "learned")
 STARTS.add("state1", "state1")
 
 _NEG_INF = -np.inf
+#: The smallest scale of a forward step (the smallest normal float64 over
+#: 2**20, so the backward step's division by it stays finite).
+_TINY = float(np.finfo(np.float64).tiny) * 2.0**20
 
 
 class Posterior(NamedTuple):
@@ -144,12 +147,34 @@ def _log_table(table: Table, n_cols: int):
     )
 
 
+def _emitted_symbols(table: Table) -> tuple[np.ndarray, Table]:
+    """The distinct emitted symbols, and the emission table over their ranks.
+
+    Column ``k`` of the returned table is symbol ``symbols[k]``; column
+    ``len(symbols)`` stands for every symbol never emitted (it has no counted
+    entry). The width (``n_symbols``, in the denominators) is kept, and nothing
+    of size ``n_symbols`` is allocated.
+    """
+    symbols = np.unique(table.columns)
+    return symbols, table._replace(columns=np.searchsorted(symbols, table.columns))
+
+
+def _symbol_ranks(symbols: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """Rank of each symbol of ``obs`` among ``symbols`` (``len(symbols)``: absent)."""
+    n = symbols.shape[0]
+    pos = np.searchsorted(symbols, obs)
+    hit = symbols[np.minimum(pos, n - 1)] == obs if n else np.zeros(obs.shape, bool)
+    return np.where(hit, pos, n).astype(np.int64)
+
+
 class LogTables(NamedTuple):
     """The log tables of the Viterbi kernel (:func:`~._kernels.viterbi_sparse`).
 
     The fields from ``gid`` to ``emit_all`` are the kernel's arguments of the
     same names; ``starts`` maps each start mode to ``(start_base, start_idx,
-    start_logp)``.
+    start_logp)``. The emission columns are the ranks of the emitted symbols
+    ``em_symbols`` (:func:`_emitted_symbols`), so the tables never grow with
+    ``n_symbols``.
     """
 
     n_symbols: int
@@ -167,6 +192,7 @@ class LogTables(NamedTuple):
     unseen_emit: float
     emit_all: bool
     starts: dict
+    em_symbols: np.ndarray
 
 
 def log_tables(counts: Counts) -> LogTables:
@@ -189,8 +215,9 @@ def log_tables(counts: Counts) -> LogTables:
     n_seen = seen.shape[0]
     trans = counts.transitions()
     la, row_base, unseen_trans, in_indptr, in_src, in_logp = _log_table(trans, n_seen)
+    em_symbols, em_table = _emitted_symbols(counts.emissions())
     _, em_base, unseen_emit, em_indptr, em_state, em_logp = _log_table(
-        counts.emissions(), nt
+        em_table, em_symbols.shape[0] + 1
     )
     lowest_unseen = counts.lowest_unseen_state()
     has_unseen = lowest_unseen is not None
@@ -214,7 +241,7 @@ def log_tables(counts: Counts) -> LogTables:
     return LogTables(
         nt, gid, has_unseen, in_indptr, in_src, in_logp, row_base, unseen_trans,
         em_indptr, em_state, em_logp, em_base, unseen_emit, r > 0,
-        {"learned": (s_base, s_idx, s_logp), "state1": s1},
+        {"learned": (s_base, s_idx, s_logp), "state1": s1}, em_symbols,
     )  # fmt: skip
 
 
@@ -255,15 +282,27 @@ def viterbi_path(
     """
     mode, obs = check_symbols(symbols, tables.n_symbols, start)
     tb = tables
+    n_seen = tb.gid.shape[0] - 1
+    ranks = _symbol_ranks(tb.em_symbols, obs)  # the kernel's emission columns
+    if tb.emit_all:  # every state is a candidate at every step
+        n_cand = obs.shape[0] * (n_seen + int(tb.has_unseen))
+    else:  # the states that emitted the step's symbol in training
+        n_cand = int(np.diff(tb.em_indptr)[ranks].sum())
+    check_work_size(
+        4 * n_cand,
+        f"Viterbi back-pointers for {obs.shape[0]:,} steps over {n_seen:,} seen states",
+        "Decode fewer steps at once, or use pseudo_emission=0.",
+    )
     s_base, s_idx, s_logp = tb.starts[mode]
     path, logp, fail = viterbi_sparse(
-        obs, tb.gid, tb.has_unseen, tb.in_indptr, tb.in_src, tb.in_logp,
+        ranks, tb.gid, tb.has_unseen, tb.in_indptr, tb.in_src, tb.in_logp,
         tb.row_base, tb.unseen_trans, tb.em_indptr, tb.em_state, tb.em_logp,
         tb.em_base, tb.unseen_emit, tb.emit_all, s_base, s_idx, s_logp,
     )  # fmt: skip
     if fail >= 0:
         o = int(obs[fail])
-        never = not tb.emit_all and tb.em_indptr[o + 1] == tb.em_indptr[o]
+        k = ranks[fail]
+        never = not tb.emit_all and tb.em_indptr[k + 1] == tb.em_indptr[k]
         why = (
             "it was never emitted in training and pseudo_emission is 0"
             if never
@@ -303,8 +342,8 @@ def _probability_tables(counts: Counts, start: str):
     else:  # "state1" from an unseen state 0: a uniform row
         pi = np.full(n_seen, unseen_row)
         pi_unseen = n_unseen * unseen_row
-    em = counts.emissions()
-    emis = em.csr(nt, em.counted(em.rows())).tocsc()
+    em_symbols, em = _emitted_symbols(counts.emissions())
+    emis = em.csr(em_symbols.shape[0] + 1, em.counted(em.rows())).tocsc()
     emis_unseen = 1.0 / nt if r > 0 else 0.0
     return (
         base,
@@ -313,15 +352,19 @@ def _probability_tables(counts: Counts, start: str):
         n_unseen,
         pi,
         pi_unseen,
-        (emis, em.baseline(), emis_unseen),
+        (emis, em.baseline(), emis_unseen, em_symbols),
     )
 
 
-def _emissions(em, symbol: int) -> tuple[np.ndarray, float]:
-    """``B[j, symbol]`` for the seen states and for one unseen state."""
-    emis, emis_base, emis_unseen = em
+def _emissions(em, rank: int) -> tuple[np.ndarray, float]:
+    """``B[j, o]`` for the seen states and for one unseen state.
+
+    ``rank`` is the symbol's rank among the emitted symbols
+    (:func:`_symbol_ranks`).
+    """
+    emis, emis_base, emis_unseen, _ = em
     e = emis_base.copy()
-    lo, hi = emis.indptr[symbol], emis.indptr[symbol + 1]
+    lo, hi = emis.indptr[rank], emis.indptr[rank + 1]
     e[emis.indices[lo:hi]] += emis.data[lo:hi]
     return e, emis_unseen
 
@@ -345,10 +388,15 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
     base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
     delta_t = delta.T.tocsr()
     n_steps, n_seen = obs.size, pi.size
+    check_work_size(  # alpha, and the emissions of every step
+        8 * n_steps * (n_seen + 1),
+        f"the forward pass of {n_steps:,} steps over {n_seen:,} seen states",
+        "Pass fewer steps at once.",
+    )
     alpha = np.empty((n_steps, n_seen))
     alpha_u = np.empty(n_steps)  # total over the unseen class
     scale = np.empty(n_steps)
-    emis = [_emissions(em, int(o)) for o in obs]
+    emis = [_emissions(em, int(k)) for k in _symbol_ranks(em[3], obs)]
     a, au = pi, pi_u
     for t in range(n_steps):
         if t:
@@ -365,6 +413,13 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
                 f"the symbols have probability zero: no state can emit symbol"
                 f" {int(obs[t])} at step {t} after the steps before it"
                 f" (start={mode!r})"
+            )
+        if c < _TINY:  # dividing by a subnormal scale overflows
+            raise DecodeError(
+                f"the probability of symbol {int(obs[t])} at step {t} given the"
+                f" steps before it is {c:.3g}, below the float64 range of the"
+                " forward pass (pseudo-counts near zero); viterbi works in log"
+                " space"
             )
         alpha[t], alpha_u[t], scale[t] = a / c, au / c, c
     return _Forward(obs, alpha, alpha_u, scale, base, delta, unseen_row, n_unseen, emis)
@@ -413,15 +468,22 @@ def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posteri
     gamma = np.empty_like(alpha)
     gamma_u = np.empty(n_steps)
     gamma[-1], gamma_u[-1] = alpha[-1], alpha_u[-1]
-    for t in range(n_steps - 2, -1, -1):
-        e, eu = emis[t + 1]
-        f = e * beta
-        fu = eu * beta_u
-        total = float(f.sum()) + n_unseen * fu
-        beta = (base * total + delta @ f) / scale[t + 1]
-        beta_u = unseen_row * total / scale[t + 1]
-        gamma[t] = alpha[t] * beta
-        gamma_u[t] = alpha_u[t] * beta_u
+    with np.errstate(over="ignore", invalid="ignore"):  # checked below
+        for t in range(n_steps - 2, -1, -1):
+            e, eu = emis[t + 1]
+            f = e * beta
+            fu = eu * beta_u
+            total = float(f.sum()) + n_unseen * fu
+            beta = (base * total + delta @ f) / scale[t + 1]
+            beta_u = unseen_row * total / scale[t + 1]
+            gamma[t] = alpha[t] * beta
+            gamma_u[t] = alpha_u[t] * beta_u
+    if not (np.isfinite(gamma).all() and np.isfinite(gamma_u).all()):
+        raise DecodeError(
+            "the posterior of these symbols leaves the float64 range in the"
+            " backward pass (probabilities near 1e-308, from pseudo-counts near"
+            f" zero; start={mode!r}); viterbi works in log space"
+        )
     return Posterior(counts.states.copy(), gamma, gamma_u, float(np.log(scale).sum()))
 
 
@@ -477,6 +539,11 @@ def ffbs(counts: Counts, symbols, n_samples: int, start: str, rng) -> np.ndarray
     True
     """
     mode, obs = check_symbols(symbols, counts.n_symbols, start)
+    check_work_size(
+        8 * int(n_samples) * obs.shape[0],
+        f"{int(n_samples):,} sampled paths of {obs.shape[0]:,} steps",
+        "Draw fewer samples per call.",
+    )
     fw = _forward(counts, obs, mode)
     n_steps, n_seen = fw.alpha.shape
     # per step the baseline weights of every predecessor, the unseen class last

@@ -17,6 +17,7 @@ There is one version so far (:data:`FORMAT_VERSION` 1, read by
 from __future__ import annotations
 
 import os
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -135,11 +136,20 @@ def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
     def bad(msg: str):
         return ModelFormatError(f"invalid DiscreteHMM arrays: {msg}")
 
+    if not isinstance(arrays, Mapping) or not isinstance(prefix, str):
+        raise bad(
+            "expected a mapping of names to arrays and a str prefix; got"
+            f" {type(arrays).__name__} and {type(prefix).__name__}"
+        )
+
     def get(key: str, kind: str, ndim: int = 1) -> np.ndarray:
         full = prefix + key
         if full not in arrays:
             raise bad(f"missing array {full!r}")
-        a = np.asarray(arrays[full])
+        try:
+            a = np.asarray(arrays[full])
+        except (ValueError, TypeError):  # ragged nested lists
+            raise bad(f"{full!r} must be an array; got a ragged sequence") from None
         if a.dtype.kind != kind or a.ndim != ndim:
             want = {"i": "integer", "f": "float"}[kind]
             raise bad(

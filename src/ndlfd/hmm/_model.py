@@ -552,7 +552,15 @@ def merge(models) -> DiscreteHMM:
     >>> (merged.transition_counts_ != both.transition_counts_).nnz
     0
     """
-    models = list(models) if not isinstance(models, DiscreteHMM) else [models]
+    if isinstance(models, DiscreteHMM):
+        models = [models]
+    try:
+        models = list(models)
+    except TypeError:
+        raise ValidationError(
+            "models must be a sequence of fitted DiscreteHMM; got"
+            f" {type(models).__name__}"
+        ) from None
     if not models:
         raise ValidationError("merge needs at least one fitted DiscreteHMM; got none")
     for k, mod in enumerate(models):
@@ -672,8 +680,11 @@ def viterbi(
     candidates are the seen states that emitted the step's symbol (``r == 0``)
     or all seen states plus the unseen class (``r > 0``). Back-pointers take
     4 bytes per candidate and step, so with ``r > 0`` decoding holds
-    ``n_steps * (n_seen + 1)`` of them; the symbol index takes
-    ``n_symbols + 1`` integers. Nothing of size ``n_states`` is allocated.
+    ``n_steps * (n_seen + 1)`` of them; the emission index takes one
+    integer per distinct emitted symbol. Nothing of size ``n_states`` or
+    ``n_symbols`` is allocated; a call whose back-pointers would pass
+    :data:`~ndlfd._validation.MAX_WORK_BYTES` is refused
+    (:class:`~ndlfd.ResourceLimitError`) before decoding.
 
     Examples
     --------

@@ -8,7 +8,11 @@ import numpy as np
 
 from .._errors import ValidationError
 from .._simplify import DISTANCES
-from .._validation import check_nonnegative_scalar, check_positive_int
+from .._validation import (
+    check_n_time_bins,
+    check_nonnegative_scalar,
+    check_positive_int,
+)
 from ._decoding import DECODERS, STARTS
 from ._generation import GENERATIONS
 from ._spec import NORMALIZATIONS
@@ -69,7 +73,7 @@ def check_params(p: Mapping) -> None:
         check_nonnegative_scalar(p["epsilon"], "epsilon")
     else:
         check_positive_int(p["n_points"], "n_points", minimum=2)
-    check_positive_int(p["n_time_bins"], "n_time_bins")
+    check_n_time_bins(p["n_time_bins"], "n_time_bins")
     if p["pseudo_transition"] is not None:
         check_nonnegative_scalar(p["pseudo_transition"], "pseudo_transition")
     check_nonnegative_scalar(p["pseudo_emission"], "pseudo_emission")
