@@ -40,6 +40,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._dp_tree import tree_begin, tree_keep, tree_next, tree_split, tree_workspace
+
 __all__ = [
     "MODE_LINE",
     "MODE_PAPER",
@@ -195,18 +197,22 @@ def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
 
 
 @njit(cache=True, nogil=True)
-def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
+def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode Douglas–Peucker on ``P[a0..b0]`` for any mode and ``d``.
 
     Marks kept interior indices in ``keep`` (uint8, length ``n``); the
     endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
-    Returns the number of distance evaluations.
+    Segments longer than ``tree[7]`` points are scanned through the box tree
+    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is built (by
+    :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
+    was built before). Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
     if b0 - a0 < 2:
         return 0
     u = np.empty(P.shape[1])
+    ws, ts_stack = tree_workspace(P.shape[1], P.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -219,10 +225,23 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
-        work += b - a - 1
+        if b - a > tree[7] and tree[2].shape[0] > 0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
+        else:
+            far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
+            work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
+            tree = tree_split(tree, ws, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -520,12 +539,13 @@ def scan_cols_range(cols, segment, a, b, utol2, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
+def dp_cols(cols, segment, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
     See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
-    for ``"segment"`` with ``2 <= d <= 8``. Explicit stack, no recursion.
-    Returns the number of distance evaluations.
+    for ``"segment"`` with ``2 <= d <= 8``. Explicit stack, no recursion;
+    ``tree`` as in :func:`dp_generic`. Returns the number of distance
+    evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -536,6 +556,7 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
+    ws, ts_stack = tree_workspace(d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -548,12 +569,27 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_line_cols(
-            cols, segment, a, b, utol2, a + 1, b, buf, bits, u, pa
-        )
-        work += b - a - 1
+        if b - a > tree[7] and tree[2].shape[0] > 0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = scan_line_cols(
+                    cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa
+                )
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
+        else:
+            far, q, S = scan_line_cols(
+                cols, segment, a, b, utol2, a + 1, b, buf, bits, u, pa
+            )
+            work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
+            tree = tree_split(tree, ws, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -566,6 +602,16 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
 
 
 @njit(cache=True, nogil=True)
+def _scan_kind(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
+    """The line-mode scan of :func:`dp_line`'s ``kind``, with its workspaces."""
+    if kind == 2:
+        return scan_line2(x, y, a, b, utol2, lo, hi, buf, bits)
+    if kind == 3:
+        return scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits)
+    return scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa)
+
+
+@njit(cache=True, nogil=True)
 def scan_line_range(kind, x, y, z, Pt, a, b, utol2, lo, hi):
     """Line-mode scan of one chunk ``lo..hi-1`` of segment ``(a, b)``.
 
@@ -574,25 +620,19 @@ def scan_line_range(kind, x, y, z, Pt, a, b, utol2, lo, hi):
     """
     buf = np.empty(BLOCK)
     bits = buf.view(np.int64)
-    if kind == 2:
-        return scan_line2(x, y, a, b, utol2, lo, hi, buf, bits)
-    if kind == 3:
-        return scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits)
     d = Pt.shape[0]
-    return scan_lineN(
-        Pt, a, b, utol2, lo, hi, buf, bits, np.empty(BLOCK), np.empty(d), np.empty(d)
-    )
+    vu, u, pa = np.empty(BLOCK), np.empty(d), np.empty(d)
+    return _scan_kind(kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa)
 
 
 @njit(cache=True, nogil=True)
-def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
+def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode line Douglas–Peucker on ``[a0, b0]``.
 
     ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
     ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``. Unused
-    arrays may be empty. Explicit stack, no recursion; each kind has its own
-    loop so that the scan is called directly. Returns the number of distance
-    evaluations.
+    arrays may be empty. Explicit stack, no recursion; ``tree`` as in
+    :func:`dp_generic`. Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -604,6 +644,7 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
+    ws, ts_stack = tree_workspace(d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -616,15 +657,27 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if kind == 2:
-            far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
-        elif kind == 3:
-            far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+        if b - a > tree[7] and tree[2].shape[0] > 0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = _scan_kind(
+                    kind, x, y, z, Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa
+                )
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
         else:
-            far, q, S = scan_lineN(Pt, a, b, utol2, a + 1, b, buf, bits, vu, u, pa)
-        work += b - a - 1
+            far, q, S = _scan_kind(
+                kind, x, y, z, Pt, a, b, utol2, a + 1, b, buf, bits, vu, u, pa
+            )
+            work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
+            tree = tree_split(tree, ws, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far

@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _dp_kernels as K
+from ._dp_tree import TREE_LINE, TREE_SED, TREE_SEGMENT, make_tree
 from ._errors import ValidationError
 from ._parallel import thread_pool
 from ._registry import Registry
@@ -117,6 +118,7 @@ class _Job:
     eps2: float
     k: int
     utol2: float
+    m: float
 
 
 def _checked_points(points, name):
@@ -185,7 +187,7 @@ def _prepare(
         if ts != 1.0:
             t = t * ts
     utol = _UTOL_ULPS * _EPS * m
-    return _Job(P, t, mode.code, eps * eps, k, utol * utol)
+    return _Job(P, t, mode.code, eps * eps, k, utol * utol, m)
 
 
 #: Below this many points one trajectory is simplified serially.
@@ -204,6 +206,30 @@ SEGMENT_DIMS = range(2, 9)
 PENDING_PER_WORKER = 4
 #: Dimensions handled by the column-tuple kernels (one compiled version each).
 COLS_DIMS = range(4, 9)
+
+
+#: Segments longer than this are scanned through a tree of bounding boxes
+#: (:mod:`ndlfd._dp_tree`), which skips the blocks that cannot hold the
+#: farthest point; shorter ones are scanned plainly.
+TREE_MIN = 4096
+#: The tree is built once lopsided splits of long segments (a zigzag: each
+#: split peels one point off) have cost this many scans of the whole input;
+#: 0 builds it at once.
+TREE_BUDGET = 4
+#: The tree's bound for each distance mode ("paper" is not a distance).
+_TREE_KINDS = {
+    K.MODE_LINE: TREE_LINE,
+    K.MODE_SEGMENT: TREE_SEGMENT,
+    K.MODE_SED: TREE_SED,
+}
+
+
+def _tree(job: _Job):
+    """The (unbuilt) box tree for ``job``, built by the kernel when needed."""
+    n = job.P.shape[0]
+    kind = _TREE_KINDS.get(job.mode) if n > TREE_MIN else None
+    budget = TREE_BUDGET * n
+    return make_tree(job.P, job.t, kind, job.m, TREE_MIN, budget, build=budget == 0)
 
 
 def _line_layout(P, pool=None, workers=1, segment=False):
@@ -240,7 +266,7 @@ def _gather(pool, calls):
     return [first, *(f.result() for f in futures)]
 
 
-def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
+def _line_parallel(P, eps2, utol2, keep, workers, tree, segment=False):
     """Line-mode DP on two or more threads; same result as the serial kernel.
 
     The top of the split tree is built level by level: while there are few
@@ -256,6 +282,7 @@ def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
+    lopsided = 0
     pool = thread_pool(workers)
     dp, scan_range, args = _line_layout(P, pool, workers, segment)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
@@ -291,10 +318,14 @@ def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
             if q > eps2 * S:
                 keep[far] = 1
                 pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
+                if min(far - a, b - far) * 16 < b - a:
+                    lopsided += b - a
+        if lopsided > TREE_BUDGET * n:
+            break  # a zigzag: the kernels' tree peels it faster
     pending.sort(key=lambda seg: seg[0] - seg[1])
     list(
         pool.map(
-            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1]),
+            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1], tree),
             pending,
         )
     )
@@ -304,6 +335,7 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
     P = job.P
     n = P.shape[0]
     keep = np.zeros(n, np.uint8)
+    tree = None if job.k else _tree(job)
     if job.k:
         K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
     elif job.mode == K.MODE_LINE or (
@@ -315,12 +347,12 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
         else:
             workers = n_jobs
         if workers > 1 and n > 2:
-            _line_parallel(P, job.eps2, job.utol2, keep, workers, segment)
+            _line_parallel(P, job.eps2, job.utol2, keep, workers, tree, segment)
         else:
             dp, _, args = _line_layout(P, segment=segment)
-            dp(*args, job.eps2, job.utol2, keep, 0, n - 1)
+            dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
     else:
-        K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
+        K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
     return keep.view(np.bool_)
 
 
