@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _dp_kernels as K
+from ._dp_budget import dp_budget
 from ._dp_tree import TREE_LINE, TREE_SED, TREE_SEGMENT, make_tree
 from ._errors import ValidationError
 from ._parallel import thread_pool
@@ -200,12 +201,12 @@ CHUNK_MIN = 200_000
 SPLIT_MIN = 20_000
 
 
-#: Dimensions where "segment" mode uses the vectorized column-tuple kernels.
-SEGMENT_DIMS = range(2, 9)
 #: The top of the tree is split until there are this many segments per thread.
 PENDING_PER_WORKER = 4
-#: Dimensions handled by the column-tuple kernels (one compiled version each).
-COLS_DIMS = range(4, 9)
+#: Dimensions handled by the column-tuple kernels (one compiled version each):
+#: ``"line"`` from 4 (2 and 3 have their own), ``"segment"`` and ``"sed"``
+#: from 1; above, the transposed-array kernel.
+COLS_DIMS = range(1, 9)
 
 
 #: Segments longer than this are scanned through a tree of bounding boxes
@@ -232,13 +233,14 @@ def _tree(job: _Job):
     return make_tree(job.P, job.t, kind, job.m, TREE_MIN, budget, build=budget == 0)
 
 
-def _line_layout(P, pool=None, workers=1, segment=False):
-    """The line-mode kernels for ``P``: ``(dp, scan_range, args)``.
+def _line_layout(P, t, mode, pool=None, workers=1):
+    """The column-major kernels for ``P``: ``(dp, scan_range, args)``.
 
-    ``dp(*args, eps2, utol2, keep, a, b)`` simplifies one segment and
-    ``scan_range(*args, a, b, utol2, lo, hi)`` scans one chunk of one. The
-    data are laid out column by column (structure of arrays); with a thread
-    ``pool`` the transposition is shared among ``workers`` threads.
+    ``dp(*args, eps2, utol2, keep, a, b, tree)`` simplifies one segment and
+    ``scan_range(*args, a, b, utol2, lo, hi)`` scans one chunk of one, in
+    ``mode`` (any but ``"paper"``; ``t`` the times). The data are laid out
+    column by column (structure of arrays); with a thread ``pool`` the
+    transposition is shared among ``workers`` threads.
     """
     n, d = P.shape
     Pt = np.empty((d, n))
@@ -248,15 +250,15 @@ def _line_layout(P, pool=None, workers=1, segment=False):
         cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()
         parts = itertools.pairwise(cuts)
         _gather(pool, [(K.transpose, (P, Pt, lo, hi)) for lo, hi in parts])
-    if segment:
-        return K.dp_cols, K.scan_cols_range, (tuple(Pt), True)
-    if d in (2, 3):
+    line = mode == K.MODE_LINE
+    if line and d in (2, 3):
         z = Pt[2] if d == 3 else _EMPTY_TIMES
-        return K.dp_line, K.scan_line_range, (d, Pt[0], Pt[1], z, np.zeros((d, 0)))
-    if d in COLS_DIMS:
-        return K.dp_cols, K.scan_cols_range, (tuple(Pt), False)
+        args = (d, Pt[0], Pt[1], z, np.zeros((d, 0)), t, mode)
+        return K.dp_line, K.scan_line_range, args
+    if d in COLS_DIMS and (d >= 4 or not line):
+        return K.dp_cols, K.scan_cols_range, (tuple(Pt), t, mode)
     e = _EMPTY_TIMES
-    return K.dp_line, K.scan_line_range, (0, e, e, e, Pt)
+    return K.dp_line, K.scan_line_range, (0, e, e, e, Pt, t, mode)
 
 
 def _gather(pool, calls):
@@ -266,8 +268,8 @@ def _gather(pool, calls):
     return [first, *(f.result() for f in futures)]
 
 
-def _line_parallel(P, eps2, utol2, keep, workers, tree, segment=False):
-    """Line-mode DP on two or more threads; same result as the serial kernel.
+def _line_parallel(job, keep, workers, tree):
+    """Epsilon-mode DP on two or more threads; same result as the serial kernel.
 
     The top of the split tree is built level by level: while there are few
     long segments, the longest are scanned at the same time (one thread
@@ -278,13 +280,14 @@ def _line_parallel(P, eps2, utol2, keep, workers, tree, segment=False):
     segment interiors are disjoint, so threads write disjoint ``keep``
     entries).
     """
+    eps2, utol2 = job.eps2, job.utol2
     n = keep.shape[0]
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
     lopsided = 0
     pool = thread_pool(workers)
-    dp, scan_range, args = _line_layout(P, pool, workers, segment)
+    dp, scan_range, args = _line_layout(job.P, job.t, job.mode, pool, workers)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
         pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
         longest = pending[0][1] - pending[0][0]
@@ -337,19 +340,16 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
     keep = np.zeros(n, np.uint8)
     tree = None if job.k else _tree(job)
     if job.k:
-        K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
-    elif job.mode == K.MODE_LINE or (
-        job.mode == K.MODE_SEGMENT and P.shape[1] in SEGMENT_DIMS
-    ):
-        segment = job.mode == K.MODE_SEGMENT
+        dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
+    elif job.mode != K.MODE_PAPER:
         if n_jobs is None:
             workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
         else:
             workers = n_jobs
         if workers > 1 and n > 2:
-            _line_parallel(P, job.eps2, job.utol2, keep, workers, tree, segment)
+            _line_parallel(job, keep, workers, tree)
         else:
-            dp, _, args = _line_layout(P, segment=segment)
+            dp, _, args = _line_layout(P, job.t, job.mode)
             dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
     else:
         K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
@@ -428,10 +428,9 @@ def simplify(
     return_mask : bool, default=False
         Return a boolean mask of length ``n_samples`` instead of indices.
     n_jobs : int, optional
-        Threads for one long trajectory (``"line"`` mode, and ``"segment"``
-        mode in 2 to 8 dimensions). ``None`` uses all
-        cores above a size threshold; ``1`` is serial. The result does not
-        depend on it.
+        Threads for one long trajectory (every mode but ``"paper"``).
+        ``None`` uses all cores above a size threshold; ``1`` is serial. The
+        result does not depend on it.
 
     Returns
     -------
