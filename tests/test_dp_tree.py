@@ -57,8 +57,9 @@ def test_node_bound_is_above_every_points_distance(case, mode, data):
     b = data.draw(st.integers(a + 1, n - 1))
     times = times if mode == "sed" else None
     job = _simplify._prepare(P, 0.0, mode, None, times, None)
-    tree = T.make_tree(job.P, job.t, KINDS[mode], job.m, 1, 0, build=True)
-    ws, stack = T.tree_workspace(d, n)
+    tree = T.make_tree(job.P, job.t, KINDS[mode], job.m, 1)
+    T.fill_tree(job.P, tree[2], tree[3], tree[4])
+    ws, stack, _ = T.tree_workspace(tree, d, n)
     T.tree_begin(tree, a, b, job.utol2, ws, stack)
     _, _, bmin, bmax, offs, *_ = tree
     dist = DISTANCE_FUNCTIONS[mode](job.P, a, b, job.t)  # points a+1..b-1

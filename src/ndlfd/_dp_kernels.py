@@ -202,16 +202,16 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
     Marks kept interior indices in ``keep`` (uint8, length ``n``); the
     endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
     Segments longer than ``tree[7]`` points are scanned through the box tree
-    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is built (by
+    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is filled (by
     :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
-    was built before). Returns the number of distance evaluations.
+    was filled before). Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
     if b0 - a0 < 2:
         return 0
     u = np.empty(P.shape[1])
-    ws, ts_stack = tree_workspace(P.shape[1], P.shape[0])
+    ws, ts_stack, flags = tree_workspace(tree, P.shape[1], P.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -224,7 +224,7 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if b - a > tree[7] and tree[2].shape[0] > 0:
+        if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
@@ -240,7 +240,8 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
             work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
-            tree = tree_split(tree, ws, a, b, far)
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -516,11 +517,31 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
                     r = D * (cols[k][i] - pa[k]) - s * u[k]
                     q += r * r
                 buf[j] = q
+        elif mode == MODE_SEGMENT:
+            # "segment" and "line" each have their own flat loop on purpose:
+            # the three keys of every point in one vectorized pass
+            for j in range(m):
+                i = np.uint64(i0 + j)
+                vu = 0.0
+                for k in range(d):
+                    vu += (cols[k][i] - pa[k]) * u[k]
+                qa = 0.0
+                qb = 0.0
+                qr = 0.0
+                for k in range(d):
+                    ra = cols[k][i] - pa[k]
+                    rb = cols[k][i] - cols[k][b]
+                    rr = U * (cols[k][i] - pa[k]) - vu * u[k]
+                    qa += ra * ra
+                    qb += rb * rb
+                    qr += rr * rr
+                q = qr
+                if vu <= 0.0:
+                    q = qa * UU
+                if vu >= U:
+                    q = qb * UU
+                buf[j] = q
         else:
-            # the line's key for every point; "segment" counts the points
-            # whose projection falls outside the segment, rare on long
-            # segments, and recomputes theirs below
-            outside = 0
             for j in range(m):
                 i = np.uint64(i0 + j)
                 vu = 0.0
@@ -531,20 +552,6 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
                     r = U * (cols[k][i] - pa[k]) - vu * u[k]
                     q += r * r
                 buf[j] = q
-                outside += (vu <= 0.0) | (vu >= U)
-            if mode == MODE_SEGMENT and outside > 0:
-                for j in range(m):
-                    i = np.uint64(i0 + j)
-                    vu = 0.0
-                    for k in range(d):
-                        vu += (cols[k][i] - pa[k]) * u[k]
-                    if vu <= 0.0 or vu >= U:
-                        e = a if vu <= 0.0 else b
-                        q = 0.0
-                        for k in range(d):
-                            r = cols[k][i] - cols[k][e]
-                            q += r * r
-                        buf[j] = q * UU
         # block max, written out in each scan on purpose (see the note on the
         # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
@@ -591,7 +598,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
-    ws, ts_stack = tree_workspace(d, keep.shape[0])
+    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -604,7 +611,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if b - a > tree[7] and tree[2].shape[0] > 0:
+        if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
@@ -624,7 +631,8 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
             work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
-            tree = tree_split(tree, ws, a, b, far)
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -678,7 +686,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
-    ws, ts_stack = tree_workspace(d, keep.shape[0])
+    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -691,7 +699,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if b - a > tree[7] and tree[2].shape[0] > 0:
+        if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
@@ -721,29 +729,20 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
                 far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                 work += hi - lo
         else:
-            far, q, S = _scan_kind(
-                kind,
-                x,
-                y,
-                z,
-                Pt,
-                t,
-                mode,
-                a,
-                b,
-                utol2,
-                a + 1,
-                b,
-                buf,
-                bits,
-                vu,
-                u,
-                pa,
-            )
+            # the scans called directly: through _scan_kind, 2-D ran 1.5x slower
             work += b - a - 1
+            if kind == 2:
+                far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
+            elif kind == 3:
+                far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+            else:
+                far, q, S = scan_lineN(
+                    Pt, t, mode, a, b, utol2, a + 1, b, buf, bits, vu, u, pa
+                )
         if q > eps2 * S:
             keep[far] = 1
-            tree = tree_split(tree, ws, a, b, far)
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far

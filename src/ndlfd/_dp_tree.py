@@ -7,7 +7,7 @@ and a plain scan pays ``n²/2`` distance evaluations for it.
 
 The points are grouped into blocks of consecutive indices (:data:`LEAF`
 points), and blocks into a binary tree; every node holds the axis-aligned
-bounding box of its points (:func:`build_tree`). For one segment, the walk
+bounding box of its points (:func:`fill_tree`). For one segment, the walk
 (:func:`tree_begin`, :func:`tree_next`) visits the nodes overlapping the
 segment's interior depth first, left to right, computes an upper bound of the
 distance of any point in the node's box, and skips the node when that bound
@@ -48,11 +48,12 @@ __all__ = [
     "TREE_POINT",
     "TREE_SED",
     "TREE_SEGMENT",
-    "build_tree",
+    "fill_tree",
     "make_tree",
     "node_bound",
     "tree_begin",
     "tree_keep",
+    "tree_levels",
     "tree_next",
     "tree_split",
     "tree_workspace",
@@ -70,109 +71,115 @@ TREE_POINT = 3
 _WIDEN = 1e-8
 
 
-@njit(cache=True, nogil=True)
-def build_tree(P):
-    """Bounding boxes of blocks of :data:`LEAF` consecutive rows of ``P``.
+def tree_levels(n):
+    """``offs``: level ``l`` (0 = leaves) holds the nodes ``offs[l]..offs[l+1]-1``.
 
-    Returns ``(bmin, bmax, offs)``: level ``l`` (0 = leaves) holds the nodes
-    ``offs[l] .. offs[l + 1] - 1``; node ``j`` of level ``l`` covers the rows
-    ``j · LEAF · 2**l`` up to the next node's first row (or ``n``), and its
-    box is ``bmin[offs[l] + j] .. bmax[offs[l] + j]`` (shape ``(d,)`` each).
+    Node ``j`` of level ``l`` covers the rows ``j · LEAF · 2**l`` up to the
+    next node's first row (or ``n``).
     """
-    n, d = P.shape
-    sizes = [max(1, (n + LEAF - 1) // LEAF)]
+    sizes = [max(1, -(-n // LEAF))]
     while sizes[-1] > 1:
         sizes.append((sizes[-1] + 1) // 2)
-    offs = np.zeros(len(sizes) + 1, np.int64)
-    for lv in range(len(sizes)):
-        offs[lv + 1] = offs[lv] + sizes[lv]
-    total = offs[-1]
-    bmin = np.empty((total, d))
-    bmax = np.empty((total, d))
-    for j in range(sizes[0]):
+    return np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+
+
+@njit(cache=True, nogil=True)
+def fill_tree(P, bmin, bmax, offs):
+    """Fill the bounding boxes ``bmin[node] .. bmax[node]`` (shape ``(d,)``).
+
+    Every entry is written once, with its final value: kernels on other
+    threads that share the tree and have filled it already may read it
+    meanwhile (see :func:`tree_split`).
+    """
+    n, d = P.shape
+    for j in range(offs[1]):
         s = j * LEAF
         e = min(n, s + LEAF)
         for k in range(d):
-            bmin[j, k] = P[s, k]
-            bmax[j, k] = P[s, k]
-        for i in range(s + 1, e):
-            for k in range(d):
+            lo = P[s, k]
+            hi = P[s, k]
+            for i in range(s + 1, e):
                 x = P[i, k]
-                if x < bmin[j, k]:
-                    bmin[j, k] = x
-                if x > bmax[j, k]:
-                    bmax[j, k] = x
-    for lv in range(1, len(sizes)):
-        for j in range(sizes[lv]):
+                lo = min(lo, x)
+                hi = max(hi, x)
+            bmin[j, k] = lo
+            bmax[j, k] = hi
+    for lv in range(1, offs.shape[0] - 1):
+        for j in range(offs[lv + 1] - offs[lv]):
             node = offs[lv] + j
             c0 = offs[lv - 1] + 2 * j
             c1 = min(c0 + 1, offs[lv] - 1)
             for k in range(d):
                 bmin[node, k] = min(bmin[c0, k], bmin[c1, k])
                 bmax[node, k] = max(bmax[c0, k], bmax[c1, k])
-    return bmin, bmax, offs
 
 
-def make_tree(P, t, kind, m, tree_min, budget=0, build=False):
-    """The tuple the kernels take (see :func:`tree_split`).
+def make_tree(P, t, kind, m, tree_min, budget=0):
+    """The tree tuple the kernels take.
 
-    ``(P, t, bmin, bmax, offs, kind, m, tree_min, budget)``: once built,
-    segments longer than ``tree_min`` points are scanned through the tree.
-    With ``build`` it is built now; otherwise the kernel builds it when the
-    work spent on long lopsided splits passes ``budget`` point evaluations.
-    ``kind=None`` never builds one.
+    ``(P, t, bmin, bmax, offs, kind, m, tree_min, budget)``. The boxes are
+    allocated here and filled by a kernel (:func:`tree_split`) once the work
+    spent on long lopsided splits passes ``budget`` point evaluations (``0``:
+    at its start); then segments longer than ``tree_min`` points are scanned
+    through the tree. ``kind=None`` never fills one.
     """
     n, d = P.shape
     if kind is None:
-        kind, tree_min, budget, build = 0, n, -1, False
-    if build:
-        bmin, bmax, offs = build_tree(P)
-    else:
-        bmin, bmax, offs = np.zeros((0, d)), np.zeros((0, d)), np.zeros(2, np.int64)
+        e = np.zeros((0, d))
+        return (P, t, e, e, np.zeros(2, np.int64), 0, float(m), n, -1)
+    offs = tree_levels(n)
+    bmin, bmax = np.empty((offs[-1], d)), np.empty((offs[-1], d))
     return (P, t, bmin, bmax, offs, int(kind), float(m), int(tree_min), int(budget))
 
 
 @njit(cache=True, nogil=True)
-def tree_split(tree, ws, a, b, far):
-    """Account for the split of ``(a, b)`` at ``far``; returns the tree.
+def tree_workspace(tree, d, n):
+    """``(ws, stack, flags)``: the walk's workspaces, and the kernel's flags.
+
+    ``flags[0] > 0`` once this kernel call has filled the tree (at once when
+    the budget is 0), ``flags[1]`` is the work of its lopsided splits.
+    """
+    levels = max(1, math.ceil(math.log2(max(2, n) / LEAF)) + 2)
+    flags = np.zeros(2)
+    if tree[8] == 0 and tree[2].shape[0] > 0:
+        fill_tree(tree[0], tree[2], tree[3], tree[4])
+        flags[0] = 1.0
+    return np.zeros(5 * d + 8), np.empty(4 * (levels + 4), np.int64), flags
+
+
+@njit(cache=True, nogil=True)
+def tree_split(tree, flags, a, b, far):
+    """Account for the split of ``(a, b)`` at ``far``.
 
     A split of a segment longer than ``tree_min`` that leaves a child of
     less than a sixteenth of it is lopsided: a zigzag makes only such splits,
     each one point shorter, and scanning them plainly costs ``n²/2``. Their
-    work is summed in ``ws``; past the budget the tree is built (once per
-    kernel call) and returned, otherwise ``tree`` is returned as it is.
+    work is summed in ``flags[1]``; past the budget this kernel call fills
+    the tree and sets ``flags[0]``. Kernels on other threads may fill the
+    same tree at the same time: each writes the same final values.
     """
-    P, t, bmin, _, _, kind, m, tree_min, budget = tree
-    if bmin.shape[0] > 0 or budget < 0 or b - a <= tree_min:
-        return tree
+    P, _, bmin, bmax, offs, _, _, tree_min, budget = tree
+    if flags[0] > 0.0 or budget < 0 or b - a <= tree_min:
+        return
     if min(far - a, b - far) * 16 >= b - a:
-        return tree
-    lop = 5 * P.shape[1] + _LOP
-    ws[lop] += b - a
-    if ws[lop] <= budget:
-        return tree
-    bmin, bmax, offs = build_tree(P)
-    return (P, t, bmin, bmax, offs, kind, m, tree_min, budget)
-
-
-@njit(cache=True, nogil=True)
-def tree_workspace(d, n):
-    """``(ws, stack)``: the walk's float and int workspaces."""
-    levels = max(1, math.ceil(math.log2(max(2, n) / LEAF)) + 2)
-    return np.zeros(5 * d + 8), np.empty(4 * (levels + 4), np.int64)
+        return
+    flags[1] += b - a
+    if flags[1] > budget:
+        fill_tree(P, bmin, bmax, offs)
+        flags[0] = 1.0
 
 
 # workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
 # ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars
-_U, _KIND, _DT, _UN, _R, _TA, _N, _LOP = 0, 1, 2, 3, 4, 5, 6, 7
+_U, _KIND, _DT, _UN, _R, _TA, _N = 0, 1, 2, 3, 4, 5, 6
 
 
 @njit(cache=True, nogil=True)
 def tree_begin(tree, a, b, utol2, ws, stack):
     """Start the walk for segment ``(a, b)``; returns the stack size.
 
-    ``tree`` is :func:`make_tree`'s tuple, built; ``ws`` and ``stack`` come from
-    :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
+    ``tree`` is :func:`make_tree`'s tuple, filled; ``ws`` and ``stack`` come
+    from :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
     for ``"sed"``) are bounded by the distance to ``P_a``.
     """
     P, t, _, _, offs, kind, m, _, _ = tree

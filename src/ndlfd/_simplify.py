@@ -229,8 +229,7 @@ def _tree(job: _Job):
     """The (unbuilt) box tree for ``job``, built by the kernel when needed."""
     n = job.P.shape[0]
     kind = _TREE_KINDS.get(job.mode) if n > TREE_MIN else None
-    budget = TREE_BUDGET * n
-    return make_tree(job.P, job.t, kind, job.m, TREE_MIN, budget, build=budget == 0)
+    return make_tree(job.P, job.t, kind, job.m, TREE_MIN, TREE_BUDGET * n)
 
 
 def _line_layout(P, t, mode, pool=None, workers=1):
