@@ -112,3 +112,27 @@ def test_zigzag_builds_the_tree_and_scans_little(mode):
     work = K.dp_generic(*args)
     assert keep.all()
     assert work < n * n / 100  # a plain scan: n²/2
+
+
+def test_the_tree_is_given_up_where_ties_keep_every_node():
+    # a zigzag of constant height: every corner at the same distance, so no
+    # bound can beat the first one and every point is scanned anyway
+    tree = T.make_tree(np.zeros((5000, 2)), np.zeros(0), T.TREE_LINE, 1.0, 100)
+    flags = np.array([1.0, 0.0, 0.0, 0.0])
+    T.tree_done(tree, flags, 999, 1000)  # all scanned, but too few to judge
+    assert flags[0] == 1.0
+    flags = np.array([1.0, 0.0, 0.0, 0.0])
+    for _ in range(3):
+        T.tree_done(tree, flags, 50, 1000)  # pruned well: kept
+    assert flags[0] == 1.0
+    T.tree_done(tree, flags, 1000, 1000)  # 1150 of 4000 scanned
+    assert flags[0] == 1.0
+    T.tree_done(tree, flags, 2000, 2000)  # 3150 of 6000: given up
+    assert flags[0] == -1.0
+
+
+def test_a_flat_zigzag_keeps_every_corner_with_the_tree_given_up():
+    n = 30_000
+    P = np.column_stack([np.arange(n, dtype=float), (np.arange(n) % 2) * 1.0])
+    assert simplify(P, 0.5, n_jobs=1).tolist() == list(range(n))
+    assert simplify(P, 0.5, distance="segment").tolist() == list(range(n))

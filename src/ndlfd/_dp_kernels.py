@@ -40,7 +40,14 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._dp_tree import tree_begin, tree_keep, tree_next, tree_split, tree_workspace
+from ._dp_tree import (
+    tree_begin,
+    tree_done,
+    tree_keep,
+    tree_next,
+    tree_split,
+    tree_workspace,
+)
 
 __all__ = [
     "MODE_LINE",
@@ -227,6 +234,7 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
         if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
@@ -235,6 +243,7 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
                 f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
                 far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                 work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
         else:
             far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
             work += b - a - 1
@@ -614,6 +623,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
         if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
@@ -624,6 +634,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
                 )
                 far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                 work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
         else:
             far, q, S = scan_line_cols(
                 cols, t, mode, a, b, utol2, a + 1, b, buf, bits, u, pa
@@ -702,6 +713,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
         if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
@@ -728,6 +740,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
                 )
                 far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                 work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
         else:
             # the scans called directly: through _scan_kind, 2-D ran 1.5x slower
             work += b - a - 1

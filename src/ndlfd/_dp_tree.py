@@ -52,6 +52,7 @@ __all__ = [
     "make_tree",
     "node_bound",
     "tree_begin",
+    "tree_done",
     "tree_keep",
     "tree_levels",
     "tree_next",
@@ -137,10 +138,12 @@ def tree_workspace(tree, d, n):
     """``(ws, stack, flags)``: the walk's workspaces, and the kernel's flags.
 
     ``flags[0] > 0`` once this kernel call has filled the tree (at once when
-    the budget is 0), ``flags[1]`` is the work of its lopsided splits.
+    the budget is 0) and ``< 0`` once it gave up on it (:func:`tree_done`),
+    ``flags[1]`` is the work of its lopsided splits, ``flags[2:4]`` the points
+    scanned through the tree and the segments' lengths.
     """
     levels = max(1, math.ceil(math.log2(max(2, n) / LEAF)) + 2)
-    flags = np.zeros(2)
+    flags = np.zeros(4)
     if tree[8] == 0 and tree[2].shape[0] > 0:
         fill_tree(tree[0], tree[2], tree[3], tree[4])
         flags[0] = 1.0
@@ -159,7 +162,7 @@ def tree_split(tree, flags, a, b, far):
     same tree at the same time: each writes the same final values.
     """
     P, _, bmin, bmax, offs, _, _, tree_min, budget = tree
-    if flags[0] > 0.0 or budget < 0 or b - a <= tree_min:
+    if flags[0] != 0.0 or budget < 0 or b - a <= tree_min:
         return
     if min(far - a, b - far) * 16 >= b - a:
         return
@@ -299,6 +302,23 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2):
         stack[2 * sp + 1] = c
         sp += 1
     return -1, -1, 0
+
+
+@njit(cache=True, nogil=True)
+def tree_done(tree, flags, scanned, length):
+    """Account for a segment of ``length`` points scanned through the tree.
+
+    Where the bounds cannot prune (exact ties: a zigzag of constant height
+    has every corner at the same distance, and an equal key at a later
+    index never wins, so no node can be skipped) the tree only adds the cost
+    of its bounds; once the segments through it sum to 16 ``tree_min`` and
+    more than half of their points were scanned, this kernel call stops
+    using it (``flags[0] = -1``).
+    """
+    flags[2] += scanned
+    flags[3] += length
+    if flags[3] >= 16 * tree[7] and flags[2] > 0.5 * flags[3]:
+        flags[0] = -1.0
 
 
 @njit(cache=True, nogil=True)
