@@ -51,7 +51,8 @@ def integer_times(draw, n):
 
 @st.composite
 def cases(draw, modes=MODES):
-    P = draw(integer_paths())
+    # every kernel family: 2-D, 3-D, column tuples (1-8), transposed (9-16)
+    P = draw(integer_paths(max_d=16))
     mode = draw(st.sampled_from(modes))
     times = integer_times(draw, P.shape[0]) if mode == "sed" else None
     return P, mode, times
@@ -280,7 +281,7 @@ def test_weights_known_answer():
     assert simplify(P, 6.0, weights=[0.0, 3.0]).tolist() == [0, 3]
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9, 16])
 @pytest.mark.parametrize("mode", MODES)
 def test_long_integer_walks_cross_block_boundaries(d, mode):
     # several blocks of the vectorized scans, many exact ties across blocks
@@ -322,18 +323,20 @@ def block_crossing_paths(draw, d):
     return P
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9, 16])
 @settings(max_examples=8, deadline=None)
 @given(
     data=st.data(),
     eps=st.sampled_from([0.5, 1.0, 1.5, 2.5]),
-    mode=st.sampled_from(["line", "segment"]),
+    mode=st.sampled_from(["line", "segment", "sed"]),
 )
 def test_ties_across_blocks_go_to_the_first_index(d, data, eps, mode):
     # equal distances in different blocks of a scan: the first index wins
     P = data.draw(block_crossing_paths(d), label="P")
-    got = simplify(P, eps, distance=mode, n_jobs=1)
-    assert got.tolist() == dp_reference(P, eps, mode).tolist()
+    # integer times (a step of 1 or 2): "sed" keys stay exact integers too
+    t = np.cumsum(np.arange(len(P)) % 3 // 2 + 1.0) if mode == "sed" else None
+    got = simplify(P, eps, distance=mode, times=t, n_jobs=1)
+    assert got.tolist() == dp_reference(P, eps, mode, t).tolist()
 
 
 def _loop(n, d, radius, centre, angle, rng):
@@ -576,15 +579,17 @@ def test_extreme_scales_are_exact():
 # ----------------------------------------------------------------- parallel
 
 
-@pytest.mark.parametrize("mode", ["line", "segment"])
-@pytest.mark.parametrize("d", [2, 3, 5])
+@pytest.mark.parametrize("mode", ["line", "segment", "sed"])
+@pytest.mark.parametrize("d", [2, 3, 5, 13])
 def test_parallel_equals_serial_on_a_long_random_walk(d, mode):
     rng = np.random.default_rng(d)
     P = np.cumsum(rng.normal(size=(150_000, d)), axis=0)
-    serial = simplify(P, 5.0, distance=mode, n_jobs=1)
+    t = np.cumsum(rng.uniform(0.5, 1.5, size=len(P))) if mode == "sed" else None
+    eps = 3.5 * np.sqrt(d)  # a step's length grows like sqrt(d)
+    serial = simplify(P, eps, distance=mode, times=t, n_jobs=1)
     assert 100 < len(serial) < len(P) // 10
     for n_jobs in (2, 3):
-        got = simplify(P, 5.0, distance=mode, n_jobs=n_jobs)
+        got = simplify(P, eps, distance=mode, times=t, n_jobs=n_jobs)
         assert got.tolist() == serial.tolist()
 
 
@@ -593,15 +598,16 @@ def test_parallel_equals_serial_on_a_long_random_walk(d, mode):
     integer_paths(min_n=3),
     st.sampled_from(EPSILONS),
     st.integers(2, 4),
-    st.sampled_from(["line", "segment"]),
+    st.sampled_from(["line", "segment", "sed"]),
 )
 def test_parallel_chunked_scans_keep_the_first_maximum(
     monkeypatch_module, P, eps, n_jobs, mode
 ):
     # tiny thresholds so that even short integer paths, full of ties, go
     # through the chunked scans and the thread pool
-    got = simplify(P, eps, distance=mode, n_jobs=n_jobs)
-    assert got.tolist() == dp_reference(P, eps, mode).tolist()
+    t = np.arange(len(P), dtype=float) if mode == "sed" else None
+    got = simplify(P, eps, distance=mode, times=t, n_jobs=n_jobs)
+    assert got.tolist() == dp_reference(P, eps, mode, t).tolist()
 
 
 @pytest.fixture(scope="module")

@@ -40,12 +40,20 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._dp_tree import (
+    tree_begin,
+    tree_done,
+    tree_keep,
+    tree_next,
+    tree_split,
+    tree_workspace,
+)
+
 __all__ = [
     "MODE_LINE",
     "MODE_PAPER",
     "MODE_SED",
     "MODE_SEGMENT",
-    "dp_budget",
     "dp_cols",
     "dp_generic",
     "dp_line",
@@ -195,18 +203,22 @@ def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
 
 
 @njit(cache=True, nogil=True)
-def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
+def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode Douglas–Peucker on ``P[a0..b0]`` for any mode and ``d``.
 
     Marks kept interior indices in ``keep`` (uint8, length ``n``); the
     endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
-    Returns the number of distance evaluations.
+    Segments longer than ``tree[7]`` points are scanned through the box tree
+    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is filled (by
+    :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
+    was filled before). Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
     if b0 - a0 < 2:
         return 0
     u = np.empty(P.shape[1])
+    ws, ts_stack, flags = tree_workspace(tree, P.shape[1], P.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -219,10 +231,26 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
-        work += b - a - 1
+        if b - a > tree[7] and flags[0] > 0.0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
+        else:
+            far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
+            work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -357,14 +385,15 @@ def scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits):
 
 
 @njit(cache=True, nogil=True)
-def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
-    """Farthest point of ``(a, b)`` among ``lo..hi-1``, line mode, any ``d``.
+def scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
+    """Farthest point of ``(a, b)`` among ``lo..hi-1``, any ``d``.
 
-    ``Pt`` is the transposed (column-major) data of shape ``(d, n)``; each
-    block is processed column by column in vectorized loops. The keys are the
-    same numbers as :func:`scan_generic`'s (same operations, same order).
-    ``buf`` (``bits`` its int64 view), ``vu`` are workspaces of length
-    :data:`BLOCK`; ``u``, ``pa`` of length ``d``.
+    ``mode`` as in :func:`scan_line_cols`. ``Pt`` is the transposed
+    (column-major) data of shape ``(d, n)``; each block is processed column
+    by column in vectorized loops. The keys are the same numbers as
+    :func:`scan_generic`'s (same operations, same order). ``buf`` (``bits``
+    its int64 view), ``vu`` are workspaces of length :data:`BLOCK`; ``u``,
+    ``pa`` of length ``d``.
     """
     d = Pt.shape[0]
     U = 0.0
@@ -372,8 +401,14 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
         pa[k] = Pt[k, a]
         u[k] = Pt[k, b] - pa[k]
         U += u[k] * u[k]
-    degenerate = U <= utol2
-    S = 1.0 if degenerate else U * U
+    sed = mode == MODE_SED
+    degenerate = U <= utol2 and not sed
+    UU = U * U
+    S = 1.0 if degenerate else UU
+    ta = t[a] if sed else 0.0
+    D = t[b] - ta if sed else 0.0
+    if sed:
+        S = D * D
     # the block loop: written out in each line-mode scan on purpose, one per
     # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
@@ -390,6 +425,15 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
                 for j in range(m):
                     r = Pt[k, np.uint64(i0 + j)] - pk
                     buf[j] += r * r
+        elif sed:
+            for j in range(m):
+                vu[j] = t[np.uint64(i0 + j)] - ta  # s, the time since t_a
+            for k in range(d):
+                pk = pa[k]
+                uk = u[k]
+                for j in range(m):
+                    r = D * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
+                    buf[j] += r * r
         else:
             for j in range(m):
                 vu[j] = 0.0
@@ -404,6 +448,16 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
                 for j in range(m):
                     r = U * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
                     buf[j] += r * r
+            if mode == MODE_SEGMENT:
+                # points whose projection falls outside: distance to the end
+                for j in range(m):
+                    if vu[j] <= 0.0 or vu[j] >= U:
+                        e = a if vu[j] <= 0.0 else b
+                        q = 0.0
+                        for k in range(d):
+                            r = Pt[k, i0 + j] - Pt[k, e]
+                            q += r * r
+                        buf[j] = q * UU
         # block max, written out in each scan on purpose (see the note on the
         # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
@@ -422,15 +476,16 @@ def scan_lineN(Pt, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
 
 
 @njit(cache=True, nogil=True)
-def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
+def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
     """Farthest point of ``(a, b)`` among ``lo..hi-1``, small ``d``.
 
-    ``"line"`` mode, or ``"segment"`` mode when ``segment`` is true. ``cols``
-    is a tuple of ``d`` contiguous columns. Its length is part of the type, so
-    numba compiles one version per ``d`` with the loops over the columns
-    unrolled and the loop over points vectorized, with everything in
-    registers. Same keys as :func:`scan_generic` (same operations, same
-    order). ``u``, ``pa`` are workspaces of length ``d``.
+    ``mode`` is ``MODE_LINE``, ``MODE_SEGMENT`` or ``MODE_SED`` (``t`` the
+    times, used by the latter only). ``cols`` is a tuple of ``d`` contiguous
+    columns. Its length is part of the type, so numba compiles one version
+    per ``d`` with the loops over the columns unrolled and the loop over
+    points vectorized, with everything in registers. Same keys as
+    :func:`scan_generic` (same operations, same order). ``u``, ``pa`` are
+    workspaces of length ``d``.
     """
     d = len(cols)
     U = 0.0
@@ -438,9 +493,14 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
         pa[k] = cols[k][a]
         u[k] = cols[k][b] - pa[k]
         U += u[k] * u[k]
-    degenerate = U <= utol2
+    sed = mode == MODE_SED
+    degenerate = U <= utol2 and not sed
     UU = U * U
     S = 1.0 if degenerate else UU
+    ta = t[a] if sed else 0.0
+    D = t[b] - ta if sed else 0.0
+    if sed:
+        S = D * D
     # the block loop: written out in each line-mode scan on purpose, one per
     # data layout (see the note on the line-mode scans above)
     best_bits = np.int64(-1)
@@ -457,8 +517,18 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
                     r = cols[k][i] - pa[k]
                     q += r * r
                 buf[j] = q
-        elif segment:
-            # "segment" and "line" each have their own flat loop on purpose
+        elif sed:
+            for j in range(m):
+                i = np.uint64(i0 + j)
+                s = t[i] - ta
+                q = 0.0
+                for k in range(d):
+                    r = D * (cols[k][i] - pa[k]) - s * u[k]
+                    q += r * r
+                buf[j] = q
+        elif mode == MODE_SEGMENT:
+            # "segment" and "line" each have their own flat loop on purpose:
+            # the three keys of every point in one vectorized pass
             for j in range(m):
                 i = np.uint64(i0 + j)
                 vu = 0.0
@@ -509,23 +579,24 @@ def scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa):
 
 
 @njit(cache=True, nogil=True)
-def scan_cols_range(cols, segment, a, b, utol2, lo, hi):
+def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi):
     """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``."""
     buf = np.empty(BLOCK)
     d = len(cols)
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
-    return scan_line_cols(cols, segment, a, b, utol2, lo, hi, buf, bits, u, pa)
+    return scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa)
 
 
 @njit(cache=True, nogil=True)
-def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
+def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
     See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
-    for ``"segment"`` with ``2 <= d <= 8``. Explicit stack, no recursion.
-    Returns the number of distance evaluations.
+    for ``"segment"`` and ``"sed"`` with ``d <= 8``. Explicit stack, no recursion;
+    ``tree`` as in :func:`dp_generic`. Returns the number of distance
+    evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -536,6 +607,7 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
+    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -548,12 +620,30 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        far, q, S = scan_line_cols(
-            cols, segment, a, b, utol2, a + 1, b, buf, bits, u, pa
-        )
-        work += b - a - 1
+        if b - a > tree[7] and flags[0] > 0.0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = scan_line_cols(
+                    cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
+                )
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
+        else:
+            far, q, S = scan_line_cols(
+                cols, t, mode, a, b, utol2, a + 1, b, buf, bits, u, pa
+            )
+            work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -566,33 +656,36 @@ def dp_cols(cols, segment, eps2, utol2, keep, a0, b0):
 
 
 @njit(cache=True, nogil=True)
-def scan_line_range(kind, x, y, z, Pt, a, b, utol2, lo, hi):
-    """Line-mode scan of one chunk ``lo..hi-1`` of segment ``(a, b)``.
-
-    ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
-    ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``.
-    """
-    buf = np.empty(BLOCK)
-    bits = buf.view(np.int64)
+def _scan_kind(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
+    """The line-mode scan of :func:`dp_line`'s ``kind``, with its workspaces."""
     if kind == 2:
         return scan_line2(x, y, a, b, utol2, lo, hi, buf, bits)
     if kind == 3:
         return scan_line3(x, y, z, a, b, utol2, lo, hi, buf, bits)
+    return scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa)
+
+
+@njit(cache=True, nogil=True)
+def scan_line_range(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi):
+    """:func:`dp_line`'s scan of one chunk ``lo..hi-1`` of segment ``(a, b)``."""
+    buf = np.empty(BLOCK)
+    bits = buf.view(np.int64)
     d = Pt.shape[0]
-    return scan_lineN(
-        Pt, a, b, utol2, lo, hi, buf, bits, np.empty(BLOCK), np.empty(d), np.empty(d)
+    vu, u, pa = np.empty(BLOCK), np.empty(d), np.empty(d)
+    return _scan_kind(
+        kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa
     )
 
 
 @njit(cache=True, nogil=True)
-def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
-    """Epsilon-mode line Douglas–Peucker on ``[a0, b0]``.
+def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
+    """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, column-major layouts.
 
-    ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``;
-    ``kind`` 0 uses the transposed data ``Pt`` of shape ``(d, n)``. Unused
-    arrays may be empty. Explicit stack, no recursion; each kind has its own
-    loop so that the scan is called directly. Returns the number of distance
-    evaluations.
+    ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``
+    (``"line"`` mode only); ``kind`` 0 uses the transposed data ``Pt`` of
+    shape ``(d, n)`` in ``mode`` (``t`` the times, for ``"sed"``). Unused
+    arrays may be empty. Explicit stack, no recursion; ``tree`` as in
+    :func:`dp_generic`. Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -604,6 +697,7 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
+    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -616,15 +710,52 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if kind == 2:
-            far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
-        elif kind == 3:
-            far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+        if b - a > tree[7] and flags[0] > 0.0:
+            # the tree loop: written out in each dp_* kernel, like the stack
+            far, q, S, bd2 = -1, -1.0, 1.0, eps2
+            w0 = work
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            while True:
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                if lo < 0:
+                    break
+                f, qq, SS = _scan_kind(
+                    kind,
+                    x,
+                    y,
+                    z,
+                    Pt,
+                    t,
+                    mode,
+                    a,
+                    b,
+                    utol2,
+                    lo,
+                    hi,
+                    buf,
+                    bits,
+                    vu,
+                    u,
+                    pa,
+                )
+                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                work += hi - lo
+            tree_done(tree, flags, work - w0, b - a - 1)
         else:
-            far, q, S = scan_lineN(Pt, a, b, utol2, a + 1, b, buf, bits, vu, u, pa)
-        work += b - a - 1
+            # the scans called directly: through _scan_kind, 2-D ran 1.5x slower
+            work += b - a - 1
+            if kind == 2:
+                far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
+            elif kind == 3:
+                far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+            else:
+                far, q, S = scan_lineN(
+                    Pt, t, mode, a, b, utol2, a + 1, b, buf, bits, vu, u, pa
+                )
         if q > eps2 * S:
             keep[far] = 1
+            if b - a > tree[7]:
+                tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
@@ -634,88 +765,3 @@ def dp_line(kind, x, y, z, Pt, eps2, utol2, keep, a0, b0):
                 stack[2 * sp + 1] = b
                 sp += 1
     return work
-
-
-@njit(cache=True, nogil=True)
-def _heap_better(key, far, i, j):
-    # larger distance first; equal distances: smaller index first
-    return key[i] > key[j] or (key[i] == key[j] and far[i] < far[j])
-
-
-@njit(cache=True, nogil=True)
-def _heap_swap(key, far, sa, sb, i, j):
-    key[i], key[j] = key[j], key[i]
-    far[i], far[j] = far[j], far[i]
-    sa[i], sa[j] = sa[j], sa[i]
-    sb[i], sb[j] = sb[j], sb[i]
-
-
-@njit(cache=True, nogil=True)
-def dp_budget(P, t, mode, k, utol2, keep):
-    """Budget-mode Douglas–Peucker: greedy global-farthest splitting.
-
-    Keeps ``min(max(k, 2), n)`` points: the endpoints, then repeatedly the
-    farthest point (``distance² = q / S``) of the segment whose farthest point
-    is farthest; equal distances go to the smaller index. A binary max-heap of
-    segments, no recursion. Returns the number of kept points.
-    """
-    n = P.shape[0]
-    keep[0] = 1
-    keep[n - 1] = 1
-    count = 1 if n == 1 else 2
-    if n < 3 or count >= k:
-        return count
-    u = np.empty(P.shape[1])
-    cap = n // 2 + 2
-    key = np.empty(cap)
-    far = np.empty(cap, np.int64)
-    sa = np.empty(cap, np.int64)
-    sb = np.empty(cap, np.int64)
-    f, q, S = scan_generic(P, t, 0, n - 1, mode, utol2, 1, n - 1, u)
-    key[0] = q / S
-    far[0] = f
-    sa[0] = 0
-    sb[0] = n - 1
-    size = 1
-    while count < k and size > 0:
-        a = sa[0]
-        b = sb[0]
-        m = far[0]
-        keep[m] = 1
-        count += 1
-        # pop the root
-        size -= 1
-        _heap_swap(key, far, sa, sb, 0, size)
-        i = 0
-        while True:
-            c = 2 * i + 1
-            if c >= size:
-                break
-            if c + 1 < size and _heap_better(key, far, c + 1, c):
-                c += 1
-            if _heap_better(key, far, c, i):
-                _heap_swap(key, far, sa, sb, c, i)
-                i = c
-            else:
-                break
-        # push the children that have interior points
-        for side in range(2):
-            lo = a if side == 0 else m
-            hi = m if side == 0 else b
-            if hi - lo < 2:
-                continue
-            f, q, S = scan_generic(P, t, lo, hi, mode, utol2, lo + 1, hi, u)
-            j = size
-            key[j] = q / S
-            far[j] = f
-            sa[j] = lo
-            sb[j] = hi
-            size += 1
-            while j > 0:
-                p = (j - 1) // 2
-                if _heap_better(key, far, j, p):
-                    _heap_swap(key, far, sa, sb, j, p)
-                    j = p
-                else:
-                    break
-    return count

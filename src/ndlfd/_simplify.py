@@ -41,6 +41,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _dp_kernels as K
+from ._dp_budget import dp_budget
+from ._dp_tree import TREE_LINE, TREE_SED, TREE_SEGMENT, make_tree
 from ._errors import ValidationError
 from ._parallel import thread_pool
 from ._registry import Registry
@@ -117,6 +119,7 @@ class _Job:
     eps2: float
     k: int
     utol2: float
+    m: float
 
 
 def _checked_points(points, name):
@@ -185,7 +188,7 @@ def _prepare(
         if ts != 1.0:
             t = t * ts
     utol = _UTOL_ULPS * _EPS * m
-    return _Job(P, t, mode.code, eps * eps, k, utol * utol)
+    return _Job(P, t, mode.code, eps * eps, k, utol * utol, m)
 
 
 #: Below this many points one trajectory is simplified serially.
@@ -198,21 +201,45 @@ CHUNK_MIN = 200_000
 SPLIT_MIN = 20_000
 
 
-#: Dimensions where "segment" mode uses the vectorized column-tuple kernels.
-SEGMENT_DIMS = range(2, 9)
 #: The top of the tree is split until there are this many segments per thread.
 PENDING_PER_WORKER = 4
-#: Dimensions handled by the column-tuple kernels (one compiled version each).
-COLS_DIMS = range(4, 9)
+#: Dimensions handled by the column-tuple kernels (one compiled version each):
+#: ``"line"`` from 4 (2 and 3 have their own), ``"segment"`` and ``"sed"``
+#: from 1; above, the transposed-array kernel.
+COLS_DIMS = range(1, 9)
 
 
-def _line_layout(P, pool=None, workers=1, segment=False):
-    """The line-mode kernels for ``P``: ``(dp, scan_range, args)``.
+#: Segments longer than this are scanned through a tree of bounding boxes
+#: (:mod:`ndlfd._dp_tree`), which skips the blocks that cannot hold the
+#: farthest point; shorter ones are scanned plainly.
+TREE_MIN = 4096
+#: The tree is built once lopsided splits of long segments (a zigzag: each
+#: split peels one point off) have cost this many scans of the whole input;
+#: 0 builds it at once.
+TREE_BUDGET = 4
+#: The tree's bound for each distance mode ("paper" is not a distance).
+_TREE_KINDS = {
+    K.MODE_LINE: TREE_LINE,
+    K.MODE_SEGMENT: TREE_SEGMENT,
+    K.MODE_SED: TREE_SED,
+}
 
-    ``dp(*args, eps2, utol2, keep, a, b)`` simplifies one segment and
-    ``scan_range(*args, a, b, utol2, lo, hi)`` scans one chunk of one. The
-    data are laid out column by column (structure of arrays); with a thread
-    ``pool`` the transposition is shared among ``workers`` threads.
+
+def _tree(job: _Job):
+    """The (unbuilt) box tree for ``job``, built by the kernel when needed."""
+    n = job.P.shape[0]
+    kind = _TREE_KINDS.get(job.mode) if n > TREE_MIN else None
+    return make_tree(job.P, job.t, kind, job.m, TREE_MIN, TREE_BUDGET * n)
+
+
+def _line_layout(P, t, mode, pool=None, workers=1):
+    """The column-major kernels for ``P``: ``(dp, scan_range, args)``.
+
+    ``dp(*args, eps2, utol2, keep, a, b, tree)`` simplifies one segment and
+    ``scan_range(*args, a, b, utol2, lo, hi)`` scans one chunk of one, in
+    ``mode`` (any but ``"paper"``; ``t`` the times). The data are laid out
+    column by column (structure of arrays); with a thread ``pool`` the
+    transposition is shared among ``workers`` threads.
     """
     n, d = P.shape
     Pt = np.empty((d, n))
@@ -222,15 +249,15 @@ def _line_layout(P, pool=None, workers=1, segment=False):
         cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()
         parts = itertools.pairwise(cuts)
         _gather(pool, [(K.transpose, (P, Pt, lo, hi)) for lo, hi in parts])
-    if segment:
-        return K.dp_cols, K.scan_cols_range, (tuple(Pt), True)
-    if d in (2, 3):
+    line = mode == K.MODE_LINE
+    if line and d in (2, 3):
         z = Pt[2] if d == 3 else _EMPTY_TIMES
-        return K.dp_line, K.scan_line_range, (d, Pt[0], Pt[1], z, np.zeros((d, 0)))
-    if d in COLS_DIMS:
-        return K.dp_cols, K.scan_cols_range, (tuple(Pt), False)
+        args = (d, Pt[0], Pt[1], z, np.zeros((d, 0)), t, mode)
+        return K.dp_line, K.scan_line_range, args
+    if d in COLS_DIMS and (d >= 4 or not line):
+        return K.dp_cols, K.scan_cols_range, (tuple(Pt), t, mode)
     e = _EMPTY_TIMES
-    return K.dp_line, K.scan_line_range, (0, e, e, e, Pt)
+    return K.dp_line, K.scan_line_range, (0, e, e, e, Pt, t, mode)
 
 
 def _gather(pool, calls):
@@ -240,8 +267,8 @@ def _gather(pool, calls):
     return [first, *(f.result() for f in futures)]
 
 
-def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
-    """Line-mode DP on two or more threads; same result as the serial kernel.
+def _line_parallel(job, keep, workers, tree):
+    """Epsilon-mode DP on two or more threads; same result as the serial kernel.
 
     The top of the split tree is built level by level: while there are few
     long segments, the longest are scanned at the same time (one thread
@@ -252,12 +279,14 @@ def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
     segment interiors are disjoint, so threads write disjoint ``keep``
     entries).
     """
+    eps2, utol2 = job.eps2, job.utol2
     n = keep.shape[0]
     keep[0] = 1
     keep[n - 1] = 1
     pending = [(0, n - 1)]
+    lopsided = 0
     pool = thread_pool(workers)
-    dp, scan_range, args = _line_layout(P, pool, workers, segment)
+    dp, scan_range, args = _line_layout(job.P, job.t, job.mode, pool, workers)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
         pending.sort(key=lambda seg: seg[0] - seg[1])  # longest first
         longest = pending[0][1] - pending[0][0]
@@ -291,10 +320,14 @@ def _line_parallel(P, eps2, utol2, keep, workers, segment=False):
             if q > eps2 * S:
                 keep[far] = 1
                 pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
+                if min(far - a, b - far) * 16 < b - a:
+                    lopsided += b - a
+        if lopsided > TREE_BUDGET * n:
+            break  # a zigzag: the kernels' tree peels it faster
     pending.sort(key=lambda seg: seg[0] - seg[1])
     list(
         pool.map(
-            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1]),
+            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1], tree),
             pending,
         )
     )
@@ -304,23 +337,21 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
     P = job.P
     n = P.shape[0]
     keep = np.zeros(n, np.uint8)
+    tree = None if job.k else _tree(job)
     if job.k:
-        K.dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
-    elif job.mode == K.MODE_LINE or (
-        job.mode == K.MODE_SEGMENT and P.shape[1] in SEGMENT_DIMS
-    ):
-        segment = job.mode == K.MODE_SEGMENT
+        dp_budget(P, job.t, job.mode, job.k, job.utol2, keep)
+    elif job.mode != K.MODE_PAPER:
         if n_jobs is None:
             workers = (os.cpu_count() or 1) if n >= PARALLEL_MIN else 1
         else:
             workers = n_jobs
         if workers > 1 and n > 2:
-            _line_parallel(P, job.eps2, job.utol2, keep, workers, segment)
+            _line_parallel(job, keep, workers, tree)
         else:
-            dp, _, args = _line_layout(P, segment=segment)
-            dp(*args, job.eps2, job.utol2, keep, 0, n - 1)
+            dp, _, args = _line_layout(P, job.t, job.mode)
+            dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
     else:
-        K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
+        K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
     return keep.view(np.bool_)
 
 
@@ -396,10 +427,9 @@ def simplify(
     return_mask : bool, default=False
         Return a boolean mask of length ``n_samples`` instead of indices.
     n_jobs : int, optional
-        Threads for one long trajectory (``"line"`` mode, and ``"segment"``
-        mode in 2 to 8 dimensions). ``None`` uses all
-        cores above a size threshold; ``1`` is serial. The result does not
-        depend on it.
+        Threads for one long trajectory (every mode but ``"paper"``).
+        ``None`` uses all cores above a size threshold; ``1`` is serial. The
+        result does not depend on it.
 
     Returns
     -------

@@ -1,0 +1,333 @@
+"""Exact pruning of Douglas–Peucker scans with a tree of bounding boxes.
+
+A segment's farthest point is the *first* index with the largest key (see
+:mod:`ndlfd._dp_kernels`). On long segments most points cannot be it: a
+1e6-point zigzag whose every corner is kept splits one point off per step,
+and a plain scan pays ``n²/2`` distance evaluations for it.
+
+The points are grouped into blocks of consecutive indices (:data:`LEAF`
+points), and blocks into a binary tree; every node holds the axis-aligned
+bounding box of its points (:func:`fill_tree`). For one segment, the walk
+(:func:`tree_begin`, :func:`tree_next`) visits the nodes overlapping the
+segment's interior depth first, left to right, computes an upper bound of the
+distance of any point in the node's box, and skips the node when that bound
+cannot beat the best key found so far (or the tolerance). The caller scans the
+leaves that are left with its usual kernel, so every key it compares is the
+same number as in a plain scan, and ties still go to the first index: leaves
+come in index order, a pruned node holds no key larger than the best so far,
+and an equal key at a later index would lose anyway.
+
+Bounds (``v = p - P_a``, ``u = P_b - P_a``, box center ``c``, half widths
+``h``, ``dist`` 1-Lipschitz in ``p``):
+
+- line: ``dist(c) + min(Σ_k h_k |M e_k|, |h|)`` with ``M`` the projection
+  orthogonal to ``u`` (``|M e_k|² = 1 - u_k²/|u|²``);
+- segment: the line's bound ``B`` and the overshoot ``o`` of the projection
+  ``w = v·u / |u|²`` past ``[0, 1]`` over the box (``w(c) ± Σ_k h_k |u_k| /
+  |u|²``): ``sqrt(B² + (o |u|)²)``;
+- sed: the distance of ``c`` to the chord at the box's middle time ``+ |h|
+  + (half time span) |u| / (t_b - t_a)``;
+- coincident endpoints: ``|c - P_a| + |h|``.
+
+Every bound is then widened by a relative ``1e-8`` and an absolute ``1e-8 R``
+(``R = 4 max|P| sqrt(d)``, a bound of ``|v|`` and ``|u|``): many orders of
+magnitude above the rounding of the kernels' keys (a few ulps of ``|v|``), so
+a pruned node never holds a point whose computed key would have won.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+__all__ = [
+    "LEAF",
+    "TREE_LINE",
+    "TREE_POINT",
+    "TREE_SED",
+    "TREE_SEGMENT",
+    "fill_tree",
+    "make_tree",
+    "node_bound",
+    "tree_begin",
+    "tree_done",
+    "tree_keep",
+    "tree_levels",
+    "tree_next",
+    "tree_split",
+    "tree_workspace",
+]
+
+#: Points per leaf block of the tree.
+LEAF = 128
+
+#: Bound kinds of :func:`tree_begin`.
+TREE_LINE = 0
+TREE_SEGMENT = 1
+TREE_SED = 2
+TREE_POINT = 3
+
+_WIDEN = 1e-8
+
+
+def tree_levels(n):
+    """``offs``: level ``l`` (0 = leaves) holds the nodes ``offs[l]..offs[l+1]-1``.
+
+    Node ``j`` of level ``l`` covers the rows ``j · LEAF · 2**l`` up to the
+    next node's first row (or ``n``).
+    """
+    sizes = [max(1, -(-n // LEAF))]
+    while sizes[-1] > 1:
+        sizes.append((sizes[-1] + 1) // 2)
+    return np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+
+
+@njit(cache=True, nogil=True)
+def fill_tree(P, bmin, bmax, offs):
+    """Fill the bounding boxes ``bmin[node] .. bmax[node]`` (shape ``(d,)``).
+
+    Every entry is written once, with its final value: kernels on other
+    threads that share the tree and have filled it already may read it
+    meanwhile (see :func:`tree_split`).
+    """
+    n, d = P.shape
+    for j in range(offs[1]):
+        s = j * LEAF
+        e = min(n, s + LEAF)
+        for k in range(d):
+            lo = P[s, k]
+            hi = P[s, k]
+            for i in range(s + 1, e):
+                x = P[i, k]
+                lo = min(lo, x)
+                hi = max(hi, x)
+            bmin[j, k] = lo
+            bmax[j, k] = hi
+    for lv in range(1, offs.shape[0] - 1):
+        for j in range(offs[lv + 1] - offs[lv]):
+            node = offs[lv] + j
+            c0 = offs[lv - 1] + 2 * j
+            c1 = min(c0 + 1, offs[lv] - 1)
+            for k in range(d):
+                bmin[node, k] = min(bmin[c0, k], bmin[c1, k])
+                bmax[node, k] = max(bmax[c0, k], bmax[c1, k])
+
+
+def make_tree(P, t, kind, m, tree_min, budget=0):
+    """The tree tuple the kernels take.
+
+    ``(P, t, bmin, bmax, offs, kind, m, tree_min, budget)``. The boxes are
+    allocated here and filled by a kernel (:func:`tree_split`) once the work
+    spent on long lopsided splits passes ``budget`` point evaluations (``0``:
+    at its start); then segments longer than ``tree_min`` points are scanned
+    through the tree. ``kind=None`` never fills one.
+    """
+    n, d = P.shape
+    if kind is None:
+        e = np.zeros((0, d))
+        return (P, t, e, e, np.zeros(2, np.int64), 0, float(m), n, -1)
+    offs = tree_levels(n)
+    bmin, bmax = np.empty((offs[-1], d)), np.empty((offs[-1], d))
+    return (P, t, bmin, bmax, offs, int(kind), float(m), int(tree_min), int(budget))
+
+
+@njit(cache=True, nogil=True)
+def tree_workspace(tree, d, n):
+    """``(ws, stack, flags)``: the walk's workspaces, and the kernel's flags.
+
+    ``flags[0] > 0`` once this kernel call has filled the tree (at once when
+    the budget is 0) and ``< 0`` once it gave up on it (:func:`tree_done`),
+    ``flags[1]`` is the work of its lopsided splits, ``flags[2:4]`` the points
+    scanned through the tree and the segments' lengths.
+    """
+    levels = max(1, math.ceil(math.log2(max(2, n) / LEAF)) + 2)
+    flags = np.zeros(4)
+    if tree[8] == 0 and tree[2].shape[0] > 0:
+        fill_tree(tree[0], tree[2], tree[3], tree[4])
+        flags[0] = 1.0
+    return np.zeros(5 * d + 8), np.empty(4 * (levels + 4), np.int64), flags
+
+
+@njit(cache=True, nogil=True)
+def tree_split(tree, flags, a, b, far):
+    """Account for the split of ``(a, b)`` at ``far``.
+
+    A split of a segment longer than ``tree_min`` that leaves a child of
+    less than a sixteenth of it is lopsided: a zigzag makes only such splits,
+    each one point shorter, and scanning them plainly costs ``n²/2``. Their
+    work is summed in ``flags[1]``; past the budget this kernel call fills
+    the tree and sets ``flags[0]``. Kernels on other threads may fill the
+    same tree at the same time: each writes the same final values.
+    """
+    P, _, bmin, bmax, offs, _, _, tree_min, budget = tree
+    if flags[0] != 0.0 or budget < 0 or b - a <= tree_min:
+        return
+    if min(far - a, b - far) * 16 >= b - a:
+        return
+    flags[1] += b - a
+    if flags[1] > budget:
+        fill_tree(P, bmin, bmax, offs)
+        flags[0] = 1.0
+
+
+# workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
+# ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars
+_U, _KIND, _DT, _UN, _R, _TA, _N = 0, 1, 2, 3, 4, 5, 6
+
+
+@njit(cache=True, nogil=True)
+def tree_begin(tree, a, b, utol2, ws, stack):
+    """Start the walk for segment ``(a, b)``; returns the stack size.
+
+    ``tree`` is :func:`make_tree`'s tuple, filled; ``ws`` and ``stack`` come
+    from :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
+    for ``"sed"``) are bounded by the distance to ``P_a``.
+    """
+    P, t, _, _, offs, kind, m, _, _ = tree
+    d = P.shape[1]
+    U = 0.0
+    for k in range(d):
+        ws[k] = P[a, k]
+        ws[3 * d + k] = P[b, k]
+        uk = P[b, k] - P[a, k]
+        ws[d + k] = uk
+        U += uk * uk
+    for k in range(d):
+        uk = ws[d + k]
+        ws[2 * d + k] = math.sqrt(max(0.0, 1.0 - uk * uk / U)) if U > 0.0 else 1.0
+    s = 5 * d
+    ws[s + _U] = U
+    ws[s + _KIND] = TREE_POINT if kind != TREE_SED and U <= utol2 else kind
+    if kind == TREE_SED:
+        dt = t[b] - t[a]
+        ws[s + _DT] = dt
+        ws[s + _UN] = math.sqrt(U) / dt
+        ws[s + _TA] = t[a]
+    ws[s + _R] = 4.0 * m * math.sqrt(d)
+    ws[s + _N] = P.shape[0]
+    stack[0] = offs.shape[0] - 2  # the root: its level, then its index
+    stack[1] = 0
+    return 1
+
+
+@njit(cache=True, nogil=True)
+def node_bound(bmin, bmax, node, ws, d, t, s0, e0):
+    """Widened upper bound of the squared distance of the points of ``node``.
+
+    ``node`` is a row of ``bmin``/``bmax`` covering the rows ``s0..e0-1``
+    (their times bound the ``"sed"`` chord); ``ws`` is set up by
+    :func:`tree_begin`. Compare with ``key / S`` of the kernels.
+    """
+    s = 5 * d
+    U = ws[s + _U]
+    kind = int(ws[s + _KIND])
+    sc = 4 * d
+    cc = 0.0  # |c - P_a|²
+    hh = 0.0  # |h|²
+    cu = 0.0  # (c - P_a)·u
+    hm = 0.0  # Σ h_k |M e_k|
+    hu = 0.0  # Σ h_k |u_k|
+    for k in range(d):
+        lo = bmin[node, k]
+        hi = bmax[node, k]
+        c = 0.5 * (lo + hi) - ws[k]
+        h = 0.5 * (hi - lo)
+        ws[sc + k] = c
+        cc += c * c
+        hh += h * h
+        cu += c * ws[d + k]
+        hm += h * ws[2 * d + k]
+        hu += h * abs(ws[d + k])
+    hn = math.sqrt(hh)
+    if kind == TREE_POINT:
+        dist = math.sqrt(cc) + hn
+    elif kind == TREE_SED:
+        # the chord is at P_a + (t - t_a) / (t_b - t_a) · u at time t
+        tc = (0.5 * (t[s0] + t[e0 - 1]) - ws[s + _TA]) / ws[s + _DT]
+        rr = 0.0
+        for k in range(d):
+            r = ws[sc + k] - tc * ws[d + k]
+            rr += r * r
+        dist = math.sqrt(rr) + hn + 0.5 * (t[e0 - 1] - t[s0]) * ws[s + _UN]
+    else:
+        w = cu / U if U > 0.0 else 0.0
+        rr = 0.0
+        for k in range(d):
+            r = ws[sc + k] - w * ws[d + k]
+            rr += r * r
+        dist = math.sqrt(rr) + min(hm, hn)
+        if kind == TREE_SEGMENT:
+            # squared distance to the segment = to the line + the overshoot
+            # of the projection past an endpoint, bounded over the box
+            dw = hu / U if U > 0.0 else 0.0
+            over = max(0.0, dw - w, w + dw - 1.0) * math.sqrt(U)
+            dist = math.sqrt(dist * dist + over * over)
+    dist = dist * (1.0 + _WIDEN) + _WIDEN * ws[s + _R]
+    return dist * dist * (1.0 + _WIDEN)
+
+
+@njit(cache=True, nogil=True)
+def tree_next(tree, ws, stack, sp, lo, hi, best_d2):
+    """The next leaf range to scan for the interior ``lo..hi-1``.
+
+    Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
+    hold a point with squared distance above ``best_d2`` (the larger of
+    ``epsilon²`` and the best so far), in index order; ``(-1, -1, 0)`` when
+    none is left.
+    """
+    _, t, bmin, bmax, offs, _, _, _, _ = tree
+    d = bmin.shape[1]
+    n = int(ws[5 * d + _N])
+    while sp > 0:
+        sp -= 1
+        lv = stack[2 * sp]
+        j = stack[2 * sp + 1]
+        span = LEAF << lv
+        s0 = j * span
+        e0 = min(n, s0 + span)
+        if e0 <= lo or s0 >= hi:
+            continue
+        if node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0) <= best_d2:
+            continue
+        if lv == 0:
+            return max(s0, lo), min(e0, hi), sp
+        c = 2 * j
+        if c + 1 < offs[lv] - offs[lv - 1]:
+            stack[2 * sp] = lv - 1
+            stack[2 * sp + 1] = c + 1
+            sp += 1
+        stack[2 * sp] = lv - 1
+        stack[2 * sp + 1] = c
+        sp += 1
+    return -1, -1, 0
+
+
+@njit(cache=True, nogil=True)
+def tree_done(tree, flags, scanned, length):
+    """Account for a segment of ``length`` points scanned through the tree.
+
+    Where the bounds cannot prune (exact ties: a zigzag of constant height
+    has every corner at the same distance, and an equal key at a later
+    index never wins, so no node can be skipped) the tree only adds the cost
+    of its bounds; once the segments through it sum to 16 ``tree_min`` and
+    more than half of their points were scanned, this kernel call stops
+    using it (``flags[0] = -1``).
+    """
+    flags[2] += scanned
+    flags[3] += length
+    if flags[3] >= 16 * tree[7] and flags[2] > 0.5 * flags[3]:
+        flags[0] = -1.0
+
+
+@njit(cache=True, nogil=True)
+def tree_keep(far, q, S, f, qq, SS, eps2):
+    """Fold a leaf's ``(f, qq, SS)`` into the best ``(far, q, S)`` so far.
+
+    Returns ``(far, q, S, best_d2)``; a later leaf wins only with a strictly
+    larger key, so the first index of the maximum is kept.
+    """
+    if qq > q:
+        far, q, S = f, qq, SS
+    return far, q, S, max(eps2, q / S)

@@ -1,0 +1,138 @@
+"""Tests of ndlfd._dp_tree: the box tree's bounds and the pruned scans.
+
+The pruned search must keep exactly the points the plain scan keeps (same
+keys, first index on ties), and bound every point's distance from above.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ndlfd import _dp_kernels as K
+from ndlfd import _dp_tree as T
+from ndlfd import _simplify
+from ndlfd._simplify import simplify
+from reference_simplify import DISTANCE_FUNCTIONS, dp_reference, zigzag
+
+SETTINGS = settings(max_examples=40, deadline=None)
+KINDS = {"line": T.TREE_LINE, "segment": T.TREE_SEGMENT, "sed": T.TREE_SED}
+
+
+@st.composite
+def paths(draw, min_n=2, max_n=700, max_d=6):
+    """Integer walks, zigzags and plateaus, long enough for several leaves."""
+    n = draw(st.integers(min_n, max_n))
+    d = draw(st.integers(1, max_d))
+    seed = draw(st.integers(0, 2**31 - 1))
+    rng = np.random.default_rng(seed)
+    shape = draw(st.sampled_from(["walk", "zigzag", "steps"]))
+    if shape == "walk":
+        P = np.cumsum(rng.integers(-2, 3, size=(n, d)), axis=0).astype(float)
+    elif shape == "zigzag":
+        P = np.zeros((n, d))
+        z = zigzag(n)
+        P[:, : min(d, 2)] = z[:, : min(d, 2)]
+    else:  # plateaus: many exact ties
+        P = np.repeat(rng.integers(-3, 4, size=(n // 7 + 1, d)), 7, axis=0)[:n]
+        P = P.astype(float)
+    times = np.cumsum(rng.integers(1, 4, size=n)).astype(float)
+    return P, times
+
+
+def always_tree(mp):
+    """Every segment longer than 2 points goes through a tree built at once."""
+    mp.setattr(_simplify, "TREE_MIN", 2)
+    mp.setattr(_simplify, "TREE_BUDGET", 0)
+
+
+@SETTINGS
+@given(paths(), st.sampled_from(["line", "segment", "sed"]), st.data())
+def test_node_bound_is_above_every_points_distance(case, mode, data):
+    P, times = case
+    n, d = P.shape
+    a = data.draw(st.integers(0, n - 2))
+    b = data.draw(st.integers(a + 1, n - 1))
+    times = times if mode == "sed" else None
+    job = _simplify._prepare(P, 0.0, mode, None, times, None)
+    tree = T.make_tree(job.P, job.t, KINDS[mode], job.m, 1)
+    T.fill_tree(job.P, tree[2], tree[3], tree[4])
+    ws, stack, _ = T.tree_workspace(tree, d, n)
+    T.tree_begin(tree, a, b, job.utol2, ws, stack)
+    _, _, bmin, bmax, offs, *_ = tree
+    dist = DISTANCE_FUNCTIONS[mode](job.P, a, b, job.t)  # points a+1..b-1
+    for lv in range(len(offs) - 1):
+        span = T.LEAF << lv
+        for j in range(offs[lv + 1] - offs[lv]):
+            s0, e0 = j * span, min(n, (j + 1) * span)
+            bound = T.node_bound(bmin, bmax, offs[lv] + j, ws, d, job.t, s0, e0)
+            lo, hi = max(s0, a + 1), min(e0, b)
+            if lo < hi:
+                assert dist[lo - a - 1 : hi - a - 1].max() ** 2 <= bound
+
+
+@SETTINGS
+@given(paths(), st.sampled_from(["line", "segment", "sed"]), st.integers(0, 6))
+def test_tree_scan_keeps_what_the_reference_keeps(case, mode, e):
+    P, times = case
+    eps = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 5.0][e]
+    kw = {"times": times} if mode == "sed" else {}
+    with pytest.MonkeyPatch.context() as mp:
+        always_tree(mp)
+        got = simplify(P, eps, distance=mode, n_jobs=1, **kw)
+    want = dp_reference(P, eps, mode, times=times if mode == "sed" else None)
+    assert got.tolist() == want.tolist()
+
+
+def test_tree_scan_equals_plain_scan_on_float_walks(monkeypatch):
+    rng = np.random.default_rng(5)
+    for d in (2, 3, 6, 13):
+        P = np.cumsum(rng.normal(size=(20_000, d)), axis=0)
+        t = np.cumsum(rng.uniform(0.5, 1.5, size=len(P)))
+        for mode in ("line", "segment", "sed"):
+            kw = {"times": t} if mode == "sed" else {}
+            plain = simplify(P, 2.0, distance=mode, n_jobs=1, **kw)
+            with monkeypatch.context() as mp:
+                always_tree(mp)
+                tree = simplify(P, 2.0, distance=mode, n_jobs=1, **kw)
+            assert tree.tolist() == plain.tolist(), (d, mode)
+
+
+@pytest.mark.parametrize("mode", ["line", "segment", "sed"])
+def test_zigzag_builds_the_tree_and_scans_little(mode):
+    # every corner kept: a plain scan costs n²/2 distance evaluations
+    n = 60_000
+    times = np.arange(n, dtype=float) if mode == "sed" else None
+    job = _simplify._prepare(zigzag(n), 0.5, mode, None, times, None)
+    keep = np.zeros(n, np.uint8)
+    tree = _simplify._tree(job)
+    args = (job.P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    work = K.dp_generic(*args)
+    assert keep.all()
+    assert work < n * n / 100  # a plain scan: n²/2
+
+
+def test_the_tree_is_given_up_where_ties_keep_every_node():
+    # a zigzag of constant height: every corner at the same distance, so no
+    # bound can beat the first one and every point is scanned anyway
+    tree = T.make_tree(np.zeros((5000, 2)), np.zeros(0), T.TREE_LINE, 1.0, 100)
+    flags = np.array([1.0, 0.0, 0.0, 0.0])
+    T.tree_done(tree, flags, 999, 1000)  # all scanned, but too few to judge
+    assert flags[0] == 1.0
+    flags = np.array([1.0, 0.0, 0.0, 0.0])
+    for _ in range(3):
+        T.tree_done(tree, flags, 50, 1000)  # pruned well: kept
+    assert flags[0] == 1.0
+    T.tree_done(tree, flags, 1000, 1000)  # 1150 of 4000 scanned
+    assert flags[0] == 1.0
+    T.tree_done(tree, flags, 2000, 2000)  # 3150 of 6000: given up
+    assert flags[0] == -1.0
+
+
+def test_a_flat_zigzag_keeps_every_corner_with_the_tree_given_up():
+    n = 30_000
+    P = np.column_stack([np.arange(n, dtype=float), (np.arange(n) % 2) * 1.0])
+    assert simplify(P, 0.5, n_jobs=1).tolist() == list(range(n))
+    assert simplify(P, 0.5, distance="segment").tolist() == list(range(n))
