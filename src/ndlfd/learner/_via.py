@@ -54,6 +54,7 @@ from ._conditioning import (
     condition_log_weights,
     condition_target,
     contact_window,
+    fade_pieces,
     group_columns,
     minimum_jerk,
     orient_condition,
@@ -65,6 +66,7 @@ from ._spec import prepare
 __all__ = [
     "PREFIX_POINTS",
     "apply_via",
+    "blend_observations",
     "check_observed",
     "check_via",
     "continue_from",
@@ -277,10 +279,7 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
             taus.append(1.0)
             offsets.append(np.zeros(len(cols)))
         taus, offsets = np.array(taus), np.array(offsets)
-        # the piece each row is in, and how far along it
-        i = np.clip(np.searchsorted(taus, at, side="right") - 1, 0, taus.size - 2)
-        s = minimum_jerk((at - taus[i]) / (taus[i + 1] - taus[i]))
-        X[:, cols] += offsets[i] + (offsets[i + 1] - offsets[i]) * s[:, None]
+        X[:, cols] += fade_pieces(at, taus, offsets)
     return X
 
 
@@ -427,3 +426,58 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     X += (prefix.X[n - 1] - X[n - 1]) * fade[:, None]
     X[:n] = prefix.X
     return X
+
+
+def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None):
+    """What the blend is conditioned on: a start with via points, or a prefix.
+
+    The positions of a start and the via points (only when a via point
+    gives a position), or of up to :data:`PREFIX_POINTS` samples of a prefix
+    (:func:`prefix_rows`), as values at normalized times in the
+    blend's group-weighted units (:func:`~ndlfd.learner._blend.condition_offsets`
+    shifts the blend towards them; the offsets that remain are faded as
+    before).
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    tq : ndarray of shape (n_samples,)
+        Normalized times of the timing.
+    start : dict of str to ndarray, optional
+        A checked start (used with via points only).
+    via : list of (float, dict), optional
+        From :func:`check_via`.
+    prefix : Demonstration, optional
+        From :func:`check_observed`.
+
+    Returns
+    -------
+    taus : ndarray of shape (n_obs,)
+        The observations' normalized times.
+    observed : list of (int, list of int, ndarray)
+        Each one's index into ``taus``, its columns and its values.
+    """
+    scaler, cg = est.scaler_, est.column_groups_
+    taus, observed = [], []
+    if via is not None:
+        for tau, cond in ([(0.0, start)] if start is not None else []) + via:
+            if cond is None or "position" not in cond:
+                continue
+            cols, target = condition_target(
+                {"position": cond["position"]}, scaler, cg, weighted=True
+            )
+            observed.append((len(taus), cols, target))
+            taus.append(tau)
+        if not any(0.0 < tau for tau in taus):
+            return np.zeros(0), []  # no via position: the offsets only
+    elif prefix is not None:
+        rows = prefix_rows(prefix.t.size)
+        U = scaler.transform(prefix.X[rows])
+        pos = group_columns(cg, "position")
+        if not pos:
+            return np.zeros(0), []
+        for k in range(rows.size):
+            observed.append((k, pos, U[k, pos]))
+        taus = list(tq[rows])
+    return np.asarray(taus, dtype=np.float64), observed
