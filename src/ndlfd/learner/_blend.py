@@ -63,7 +63,10 @@ __all__ = [
 MATCH_WINDOW = 0.05
 
 #: Observation noise of a conditioned blend (:func:`condition_offsets`), as a
-#: share of the templates' mean variance at the observed values.
+#: share of the templates' mean variance at the observed values. Measured on
+#: BendedLine (via, leave-one-out, median DTW/range): 0.1 overshoots (folds
+#: 0.03 where ProMP has 0.01), 1 follows the held-out path, 1000 (no
+#: conditioning) does not.
 CONDITION_RIDGE = 1.0
 
 
@@ -272,7 +275,15 @@ def _interp_rows(U, tau, at):  # pragma: no cover - compiled
 
 
 def blend(
-    U_list, tau_list, index_list, weights, knots, tq, quat_cols=None, observed=None
+    U_list,
+    tau_list,
+    index_list,
+    weights,
+    knots,
+    tq,
+    quat_cols=None,
+    observed=None,
+    ridge: float = CONDITION_RIDGE,
 ):
     """Weighted average of demonstrations time-warped onto a common skeleton.
 
@@ -298,6 +309,8 @@ def blend(
     observed : sequence of (int, list of int, ndarray), optional
         Rows of ``tq``, columns and values observed (normalized): the mean
         is conditioned on them (:func:`condition_offsets`).
+    ridge : float, default=:data:`CONDITION_RIDGE`
+        The observations' noise (:func:`condition_offsets`).
 
     Returns
     -------
@@ -332,7 +345,7 @@ def blend(
             W[j][np.ix_(flip, quat_cols)] *= -1.0
     mean = np.tensordot(w, W, axes=1)
     if observed is not None:
-        mean += condition_offsets(W, w, mean, observed)
+        mean += condition_offsets(W, w, mean, observed, ridge)
     return mean
 
 

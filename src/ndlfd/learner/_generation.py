@@ -32,7 +32,7 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import align_many, blend, skeleton_times
+from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
@@ -42,6 +42,7 @@ from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 from ._via import (
+    PREFIX_RIDGE,
     apply_via,
     blend_observations,
     check_observed,
@@ -602,8 +603,9 @@ def render(
         phase_at, phase_obs = warp_for(mean, at, obs_tau, observed,
                                        prefix=prefix is not None)  # fmt: skip
     observed = [(n_at + k, c, v) for k, c, v in observed] or None
+    ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
-              observed=observed)[:n_at]  # fmt: skip
+              observed=observed, ridge=ridge)[:n_at]  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])

@@ -65,6 +65,7 @@ from ._spec import prepare
 
 __all__ = [
     "PREFIX_POINTS",
+    "PREFIX_RIDGE",
     "apply_via",
     "blend_observations",
     "check_observed",
@@ -79,6 +80,15 @@ __all__ = [
 
 #: Prefix samples (spread evenly, the last included) the route is inferred from.
 PREFIX_POINTS = 10
+
+#: Observation noise of the blend conditioned on a prefix's samples
+#: (:func:`~ndlfd.learner._blend.condition_offsets`; a start and via points
+#: take :data:`~ndlfd.learner._blend.CONDITION_RIDGE`): the prefix's samples
+#: are many and close together, so each is trusted less. Leave-one-out LASA,
+#: median over shapes of the per-shape prefix DTW ratio to the best peer: 1
+#: gave 0.882 on the single shapes and 1.18 on Multi_Models, 10 gave 0.899 and
+#: 1.12 (100: 1.10 on Multi_Models).
+PREFIX_RIDGE = 10.0
 
 
 def check_via(via, all_t: np.ndarray, column_groups, groups) -> list | None:
