@@ -13,6 +13,13 @@ the path to pass through ``values`` at ``time``. Two steps:
   bin (:func:`~ndlfd.learner._routes.segment_paths`), the curve its route was
   found from (:func:`demo_values_at`). The route followed is the one with the
   largest total weight, as for a start (:mod:`ndlfd.learner._routes`);
+* *the phase and the shape* (:mod:`ndlfd.learner._phase`,
+  :func:`blend_observations`): the blend's clock is warped so it reaches
+  the via point's closest pass at the via time, and the blend is conditioned
+  on the start's and via points' positions (a Gaussian over the aligned
+  templates' deviations, :func:`~ndlfd.learner._blend.condition_offsets`),
+  so a wide or late via point carries over the whole motion as the templates
+  that are so carry it;
 * *the offsets* (:func:`apply_via`): the blended path, already pinned to a
   start and goal, is shifted, per group, by an offset that equals the
   remaining difference at every via time and fades by a minimum-jerk ramp to
@@ -31,6 +38,10 @@ the robot executed so far, at the first time stamps of ``times``:
   :func:`observed_log_weights`). Template matching, not forward filtering on
   the segment model: the templates hold the demonstrations' full values,
   where the segment model sees the codebook's cells;
+* *the phase* (:mod:`ndlfd.learner._phase`): the blend runs at the rate
+  that matches the prefix's samples up to the last one, then on to the end;
+  it is conditioned on up to :data:`PREFIX_POINTS` of them
+  (:func:`blend_observations`, noise :data:`PREFIX_RIDGE`);
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
