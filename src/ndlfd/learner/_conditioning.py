@@ -26,6 +26,7 @@ __all__ = [
     "condition_target",
     "condition_weights",
     "contact_window",
+    "fade_pieces",
     "group_columns",
     "log_weights_for",
     "minimum_jerk",
@@ -58,6 +59,35 @@ def minimum_jerk(s: np.ndarray) -> np.ndarray:
     """
     s = np.clip(np.asarray(s, dtype=np.float64), 0.0, 1.0)
     return s * s * s * (10.0 - 15.0 * s + 6.0 * s * s)
+
+
+def fade_pieces(at: np.ndarray, taus: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """Offsets given at knots, faded between them by :func:`minimum_jerk` pieces.
+
+    Each piece has zero slope and curvature at its knots, so the result is
+    twice continuously differentiable; rows outside the knots take the end
+    offsets.
+
+    Parameters
+    ----------
+    at : ndarray of shape (n_rows,)
+    taus : ndarray of shape (n_knots,)
+        Increasing, at least two.
+    offsets : ndarray of shape (n_knots, n_dims)
+
+    Returns
+    -------
+    offset : ndarray of shape (n_rows, n_dims)
+
+    Examples
+    --------
+    >>> fade_pieces(np.array([0.0, 0.25, 0.5]), np.array([0.0, 0.5]),
+    ...             np.array([[0.0], [2.0]]))[:, 0]
+    array([0., 1., 2.])
+    """
+    i = np.clip(np.searchsorted(taus, at, side="right") - 1, 0, taus.size - 2)
+    s = minimum_jerk((at - taus[i]) / (taus[i + 1] - taus[i]))
+    return offsets[i] + (offsets[i + 1] - offsets[i]) * s[:, None]
 
 
 def pin_offset(X: np.ndarray, fade: np.ndarray, row: int, target, cols=None):
@@ -295,7 +325,9 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
     return {**cond, "orientation": q}
 
 
-def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray]:
+def condition_target(
+    cond, scaler, column_groups, *, weighted: bool = False
+) -> tuple[list[int], np.ndarray]:
     """The columns a checked condition names and its values there, normalized.
 
     Parameters
@@ -306,6 +338,8 @@ def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray
         The fitted normalization.
     column_groups : sequence of str
         The group of each column.
+    weighted : bool, default=False
+        In the group-weighted units the templates are blended in.
 
     Returns
     -------
@@ -316,7 +350,7 @@ def condition_target(cond, scaler, column_groups) -> tuple[list[int], np.ndarray
     row = scaler.data_min_.copy()
     for g, v in cond.items():
         row[group_columns(column_groups, g)] = v
-    return cols, scaler.transform(row[None, :], weighted=False)[0, cols]
+    return cols, scaler.transform(row[None, :], weighted=weighted)[0, cols]
 
 
 def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarray:

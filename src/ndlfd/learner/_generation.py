@@ -32,16 +32,19 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import align_many, blend, skeleton_times
+from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
+from ._phase import warp_for
 from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 from ._via import (
+    PREFIX_RIDGE,
     apply_via,
+    blend_observations,
     check_observed,
     check_via,
     continue_from,
@@ -587,15 +590,22 @@ def render(
     tq = est.time_bins_.normalize(all_t)
     groups = est.column_groups_
     at = np.concatenate([tq, plan.key_tau])  # the dense rows, then the key rows
-    U = blend(
-        plan.values,
-        plan.taus,
-        plan.index,
-        plan.weights,
-        plan.knots,
-        at,
-        quat_cols=_quat_cols(groups),
-    )
+    obs_tau, observed = blend_observations(est, tq, start=start, via=via, prefix=prefix)
+    n_at = at.size  # the observations' rows come after, dropped after the blend
+    qc = _quat_cols(groups)
+    templates = (plan.values, plan.taus, plan.index, plan.weights, plan.knots)
+    phase_at, phase_obs = at, obs_tau
+    if observed:  # the clock warped to meet them (ndlfd.learner._phase)
+
+        def mean(p):
+            return blend(*templates, p, quat_cols=qc)
+
+        phase_at, phase_obs = warp_for(mean, at, obs_tau, observed,
+                                       prefix=prefix is not None)  # fmt: skip
+    observed = [(n_at + k, c, v) for k, c, v in observed] or None
+    ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
+    U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
+              observed=observed, ridge=ridge)[:n_at]  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])

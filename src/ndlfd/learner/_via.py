@@ -13,6 +13,13 @@ the path to pass through ``values`` at ``time``. Two steps:
   bin (:func:`~ndlfd.learner._routes.segment_paths`), the curve its route was
   found from (:func:`demo_values_at`). The route followed is the one with the
   largest total weight, as for a start (:mod:`ndlfd.learner._routes`);
+* *the phase and the shape* (:mod:`ndlfd.learner._phase`,
+  :func:`blend_observations`): the blend's clock is warped so it reaches
+  the via point's closest pass at the via time, and the blend is conditioned
+  on the start's and via points' positions (a Gaussian over the aligned
+  templates' deviations, :func:`~ndlfd.learner._blend.condition_offsets`),
+  so a wide or late via point carries over the whole motion as the templates
+  that are so carry it;
 * *the offsets* (:func:`apply_via`): the blended path, already pinned to a
   start and goal, is shifted, per group, by an offset that equals the
   remaining difference at every via time and fades by a minimum-jerk ramp to
@@ -31,6 +38,10 @@ the robot executed so far, at the first time stamps of ``times``:
   :func:`observed_log_weights`). Template matching, not forward filtering on
   the segment model: the templates hold the demonstrations' full values,
   where the segment model sees the codebook's cells;
+* *the phase* (:mod:`ndlfd.learner._phase`): the blend runs at the rate
+  that matches the prefix's samples up to the last one, then on to the end;
+  it is conditioned on up to :data:`PREFIX_POINTS` of them
+  (:func:`blend_observations`, noise :data:`PREFIX_RIDGE`);
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
@@ -54,6 +65,7 @@ from ._conditioning import (
     condition_log_weights,
     condition_target,
     contact_window,
+    fade_pieces,
     group_columns,
     minimum_jerk,
     orient_condition,
@@ -64,7 +76,9 @@ from ._spec import prepare
 
 __all__ = [
     "PREFIX_POINTS",
+    "PREFIX_RIDGE",
     "apply_via",
+    "blend_observations",
     "check_observed",
     "check_via",
     "continue_from",
@@ -77,6 +91,15 @@ __all__ = [
 
 #: Prefix samples (spread evenly, the last included) the route is inferred from.
 PREFIX_POINTS = 10
+
+#: Observation noise of the blend conditioned on a prefix's samples
+#: (:func:`~ndlfd.learner._blend.condition_offsets`; a start and via points
+#: take :data:`~ndlfd.learner._blend.CONDITION_RIDGE`): the prefix's samples
+#: are many and close together, so each is trusted less. Leave-one-out LASA,
+#: median over shapes of the per-shape prefix DTW ratio to the best peer: 1
+#: gave 0.882 on the single shapes and 1.18 on Multi_Models, 10 gave 0.899 and
+#: 1.12 (100: 1.10 on Multi_Models).
+PREFIX_RIDGE = 10.0
 
 
 def check_via(via, all_t: np.ndarray, column_groups, groups) -> list | None:
@@ -277,10 +300,7 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
             taus.append(1.0)
             offsets.append(np.zeros(len(cols)))
         taus, offsets = np.array(taus), np.array(offsets)
-        # the piece each row is in, and how far along it
-        i = np.clip(np.searchsorted(taus, at, side="right") - 1, 0, taus.size - 2)
-        s = minimum_jerk((at - taus[i]) / (taus[i + 1] - taus[i]))
-        X[:, cols] += offsets[i] + (offsets[i + 1] - offsets[i]) * s[:, None]
+        X[:, cols] += fade_pieces(at, taus, offsets)
     return X
 
 
@@ -427,3 +447,58 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     X += (prefix.X[n - 1] - X[n - 1]) * fade[:, None]
     X[:n] = prefix.X
     return X
+
+
+def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None):
+    """What the blend is conditioned on: a start with via points, or a prefix.
+
+    The positions of a start and the via points (only when a via point
+    gives a position), or of up to :data:`PREFIX_POINTS` samples of a prefix
+    (:func:`prefix_rows`), as values at normalized times in the
+    blend's group-weighted units (:func:`~ndlfd.learner._blend.condition_offsets`
+    shifts the blend towards them; the offsets that remain are faded as
+    before).
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    tq : ndarray of shape (n_samples,)
+        Normalized times of the timing.
+    start : dict of str to ndarray, optional
+        A checked start (used with via points only).
+    via : list of (float, dict), optional
+        From :func:`check_via`.
+    prefix : Demonstration, optional
+        From :func:`check_observed`.
+
+    Returns
+    -------
+    taus : ndarray of shape (n_obs,)
+        The observations' normalized times.
+    observed : list of (int, list of int, ndarray)
+        Each one's index into ``taus``, its columns and its values.
+    """
+    scaler, cg = est.scaler_, est.column_groups_
+    taus, observed = [], []
+    if via is not None:
+        for tau, cond in ([(0.0, start)] if start is not None else []) + via:
+            if cond is None or "position" not in cond:
+                continue
+            cols, target = condition_target(
+                {"position": cond["position"]}, scaler, cg, weighted=True
+            )
+            observed.append((len(taus), cols, target))
+            taus.append(tau)
+        if not any(0.0 < tau for tau in taus):
+            return np.zeros(0), []  # no via position: the offsets only
+    elif prefix is not None:
+        rows = prefix_rows(prefix.t.size)
+        U = scaler.transform(prefix.X[rows])
+        pos = group_columns(cg, "position")
+        if not pos:
+            return np.zeros(0), []
+        for k in range(rows.size):
+            observed.append((k, pos, U[k, pos]))
+        taus = list(tq[rows])
+    return np.asarray(taus, dtype=np.float64), observed

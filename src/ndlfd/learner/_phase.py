@@ -1,0 +1,225 @@
+"""The phase of a via point or a prefix: the blend's clock warped to meet it.
+
+A held-out execution that is slow or fast is, at a given time, at another
+phase of the motion than the blend. Shifting the blend in space onto a via
+point then dents it towards a point the blend passes elsewhere, and a prefix
+is continued from the wrong phase. So, before the blend is conditioned and
+the remaining offsets are faded (:mod:`ndlfd.learner._via`), its clock is
+warped:
+
+* *via points* (:func:`via_clock`): for each via point, the phase ``p`` at
+  which the (start-conditioned) blend passes closest to it, searched where
+  the warp stays monotone; the blend is then read at ``phi(tau) = tau +
+  delta(tau)``, ``delta`` equal to ``p - tau_v`` at each via time and faded to
+  zero at the ends and between via points by minimum-jerk pieces
+  (:func:`~ndlfd.learner._conditioning.fade_pieces`), so the clock is smooth,
+  starts at 0 and ends at 1. Its slope is kept at least
+  :data:`MIN_RATE`;
+* *a prefix* (:func:`prefix_clock`): the blend's rate ``s`` (phase per unit of
+  time) that best matches the observed samples' shape (least squares, the
+  mean offset taken out, over up to
+  :data:`~ndlfd.learner._via.PREFIX_POINTS` of them, ``s`` on a grid of
+  :data:`RATES`); the clock is ``s * tau`` over the prefix, then runs
+  linearly from the phase reached at the last observed sample to 1.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._conditioning import fade_pieces
+
+__all__ = [
+    "MIN_RATE",
+    "RATES",
+    "SLACK",
+    "prefix_clock",
+    "prefix_warp",
+    "via_clock",
+    "warp_clock",
+    "warp_for",
+]
+
+#: The warped clock's least slope (phase per unit of time) between via points.
+MIN_RATE = 0.5
+
+#: A via point's phase shift is shrunk by this much (soft threshold): a shift
+#: within the closest-pass search's noise leaves the clock alone.
+SLACK = 0.01
+
+#: The rates a prefix's phase is searched over (phase per unit of time).
+RATES = np.linspace(0.6, 1.6, 41)
+
+#: Candidate phases a via point's closest pass is searched over.
+_GRID = 401
+
+#: A minimum-jerk ramp's largest slope (at its middle), for the monotone bound.
+_MJ_SLOPE = 1.875
+
+
+def warp_clock(at: np.ndarray, taus, deltas) -> np.ndarray:
+    """The warped clock ``at + delta(at)``, ``delta`` faded between its knots.
+
+    Parameters
+    ----------
+    at : ndarray of shape (n_rows,)
+        Normalized times.
+    taus : ndarray of shape (n_knots,)
+        Increasing knot times, ``0`` first and ``1`` last.
+    deltas : ndarray of shape (n_knots,)
+        The clock's shift at each knot (``0`` at the ends).
+
+    Returns
+    -------
+    phase : ndarray of shape (n_rows,)
+
+    Examples
+    --------
+    >>> warp_clock(np.array([0.0, 0.25, 0.5, 1.0]), [0.0, 0.5, 1.0], [0.0, -0.1, 0.0])
+    array([0. , 0.2, 0.4, 1. ])
+    """
+    taus = np.asarray(taus, dtype=np.float64)
+    deltas = np.asarray(deltas, dtype=np.float64)[:, None]
+    return np.clip(at + fade_pieces(at, taus, deltas)[:, 0], 0.0, 1.0)
+
+
+def via_clock(mean, via_taus, targets) -> tuple[np.ndarray, np.ndarray]:
+    """Knots of the clock that brings the blend to each via point at its time.
+
+    Parameters
+    ----------
+    mean : callable
+        ``mean(phases) -> ndarray of shape (n, n_columns)``: the blend at
+        normalized phases (normalized units).
+    via_taus : sequence of float
+        The via points' normalized times, increasing, inside ``(0, 1)``
+        (others are left unwarped).
+    targets : sequence of (list of int, ndarray)
+        Each via point's columns and values (normalized units).
+
+    Returns
+    -------
+    taus, deltas : ndarray of shape (n_knots,)
+        For :func:`warp_clock`.
+
+    Examples
+    --------
+    A blend that runs along a line reaches 0.4 at phase 0.4; a via point at 0.4
+    at time 0.5 warps the clock back by 0.1, less :data:`SLACK`:
+
+    >>> taus, deltas = via_clock(lambda p: p[:, None], [0.5], [([0], np.array([0.4]))])
+    >>> taus, np.round(deltas, 3)
+    (array([0. , 0.5, 1. ]), array([ 0.  , -0.09,  0.  ]))
+    """
+    grid = np.linspace(0.0, 1.0, _GRID)
+    U = mean(grid)
+    taus, deltas = [0.0], [0.0]
+    for tau, (cols, target) in zip(via_taus, targets, strict=True):
+        if not 0.0 < tau < 1.0 or tau - taus[-1] <= 0.0:
+            continue
+        # monotone: a piece's slope 1 + (change of delta) * ramp slope / width
+        reach = (1.0 - MIN_RATE) / _MJ_SLOPE
+        lo = deltas[-1] - reach * (tau - taus[-1])
+        hi = reach * (1.0 - tau)  # back to 0 at the end
+        d = np.sum((U[:, cols] - target) ** 2, axis=1)
+        ok = (grid - tau >= lo) & (grid - tau <= hi)
+        # the closest pass; ties to the phase nearest the via time
+        cand = np.flatnonzero(ok)
+        best = cand[np.lexsort((np.abs(grid[cand] - tau), d[cand]))[0]]
+        p = grid[best]
+        if 0 < best < _GRID - 1 and ok[best - 1] and ok[best + 1]:
+            # between grid points: the vertex of the parabola through three
+            a, b, c = d[best - 1], d[best], d[best + 1]
+            curv = a - 2.0 * b + c
+            if curv > 0.0:
+                p += 0.5 * (a - c) / curv * (grid[1] - grid[0])
+        taus.append(float(tau))
+        # soft-thresholded: a phase within the search's noise is left alone
+        deltas.append(float(np.sign(p - tau) * max(abs(p - tau) - SLACK, 0.0)))
+    taus.append(1.0)
+    deltas.append(0.0)
+    return np.array(taus), np.array(deltas)
+
+
+def prefix_clock(mean, prefix_taus, values, cols) -> float:
+    """The blend's rate over a prefix: phase per unit of time, from :data:`RATES`.
+
+    Parameters
+    ----------
+    mean : callable
+        As for :func:`via_clock`.
+    prefix_taus : ndarray of shape (n_points,)
+        Normalized times of prefix samples (the last one the last observed).
+    values : ndarray of shape (n_points, len(cols))
+        Their values (normalized units).
+    cols : list of int
+
+    Returns
+    -------
+    rate : float
+        Least total squared distance once the mean offset is taken out (a
+        prefix executed beside the blend at its pace has rate 1; measured
+        on LASA, taking out half of it instead scored better but found rate
+        1.225 for such a prefix); ties to the rate nearest 1.
+
+    Examples
+    --------
+    >>> taus = np.linspace(0.0, 0.3, 4)
+    >>> float(prefix_clock(lambda p: p[:, None], taus, (0.8 * taus)[:, None], [0]))
+    0.8
+    """
+    last = float(prefix_taus[-1])
+    rates = RATES[RATES * last < 1.0]
+    if rates.size == 0:
+        return 1.0
+    P = mean((rates[:, None] * prefix_taus[None, :]).ravel())[:, cols]
+    P = P.reshape(rates.size, len(prefix_taus), len(cols))
+    R = P - values[None]  # an offset in space is no evidence of phase
+    cost = np.sum((R - R.mean(axis=1, keepdims=True)) ** 2, axis=(1, 2))
+    return float(rates[np.lexsort((np.abs(rates - 1.0), cost))[0]])
+
+
+def prefix_warp(at: np.ndarray, last: float, rate: float) -> np.ndarray:
+    """The prefix's clock: ``rate * at`` up to ``last``, then linearly to 1.
+
+    Examples
+    --------
+    >>> prefix_warp(np.array([0.0, 0.5, 1.0]), 0.5, 0.8)
+    array([0. , 0.4, 1. ])
+    """
+    reached = rate * last
+    after = reached + (at - last) * (1.0 - reached) / (1.0 - last)
+    return np.clip(np.where(at <= last, rate * at, after), 0.0, 1.0)
+
+
+def warp_for(mean, at: np.ndarray, obs_tau: np.ndarray, observed, *, prefix: bool):
+    """The phases to read the blend at, for its rows and its observations.
+
+    Parameters
+    ----------
+    mean : callable
+        As for :func:`via_clock`.
+    at : ndarray of shape (n_rows,)
+        The output rows' normalized times.
+    obs_tau : ndarray of shape (n_obs,)
+        The observations' normalized times
+        (:func:`~ndlfd.learner._via.blend_observations`).
+    observed : list of (int, list of int, ndarray)
+        Their indices into ``obs_tau``, columns and values.
+    prefix : bool
+        The observations are a prefix's samples (:func:`prefix_clock`), not a
+        start and via points (:func:`via_clock`).
+
+    Returns
+    -------
+    phase_at : ndarray of shape (n_rows,)
+    phase_obs : ndarray of shape (n_obs,)
+    """
+    if prefix:
+        cols = observed[0][1]
+        values = np.array([v for _, _, v in observed])
+        rate = prefix_clock(mean, obs_tau, values, cols)
+        last = float(obs_tau[-1])
+        return prefix_warp(at, last, rate), prefix_warp(obs_tau, last, rate)
+    taus, deltas = via_clock(mean, obs_tau, [(c, v) for _, c, v in observed])
+    return warp_clock(at, taus, deltas), warp_clock(obs_tau, taus, deltas)
