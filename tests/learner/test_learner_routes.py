@@ -166,3 +166,22 @@ def test_choose_route_is_the_heaviest_brute_force(labels, seed):
     # ties (within rounding) go to the lowest route number
     expected = min(r for r, v in totals.items() if v >= best * (1 - 1e-12))
     assert choose_route(labels, logw) == expected
+
+
+def test_segment_paths_refuses_work_past_the_bound_before_allocating():
+    """Demonstrations × time bins beyond MAX_WORK_BYTES: one error, no array."""
+    from types import SimpleNamespace
+
+    from ndlfd import ResourceLimitError
+    from ndlfd._validation import MAX_WORK_BYTES
+
+    n_demos, n_bins = 2**12, MAX_WORK_BYTES // (8 * 2**12) + 1
+    stats = SimpleNamespace(
+        n_keys=np.ones(n_demos, dtype=np.int64),
+        key_bins=np.zeros(n_demos, dtype=np.int64),
+        key_states=np.zeros(n_demos, dtype=np.int64),
+    )
+    with pytest.raises(ResourceLimitError, match="time bins"):
+        segment_paths(stats, np.array([0]), n_bins)
+    # one bin fewer fits the bound; checked on the bound itself, not by allocating
+    assert 8 * n_demos * (n_bins - 1) <= MAX_WORK_BYTES

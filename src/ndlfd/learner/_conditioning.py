@@ -425,7 +425,9 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     if n < 3:
         return 1.0, 0.0
     dt = np.diff(tq)
-    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.where(dt > 0, dt, np.inf)
+    big = float(np.abs(P).max())  # scaled first: steps of 1e300 square to inf
+    steps = np.diff(P / big if big > 0 else P, axis=0)
+    speed = np.linalg.norm(steps, axis=1) / np.where(dt > 0, dt, np.inf)
     typical = float(np.median(speed))
     if not typical > 0:
         return 1.0, 0.0

@@ -494,7 +494,16 @@ def _derive_velocity(X, tq, key_tau, all_t, column_groups) -> np.ndarray:
     vel = group_columns(column_groups, "velocity")
     if pos and len(pos) == len(vel):
         n = all_t.size
-        V = np.gradient(X[:n, pos], all_t, axis=0)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            V = np.gradient(X[:n, pos], all_t, axis=0)
+        if not np.isfinite(V).all():
+            raise ValidationError(
+                "the generated velocity (the derivative of the positions over the"
+                " requested time stamps) is not finite in float64: expected time"
+                f" steps of at least 1e-150 and values below 1e300; got steps from"
+                f" {float(np.diff(all_t).min()):.3g} and values up to"
+                f" {float(np.abs(X[:n, pos]).max()):.3g}"
+            )
         X[:n, vel] = V
         X[n:, vel] = np.column_stack([np.interp(key_tau, tq, c) for c in V.T])
     return X

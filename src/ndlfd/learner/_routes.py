@@ -30,6 +30,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._validation import check_work_size
+
 __all__ = ["LINK_FACTOR", "choose_route", "route_labels", "segment_paths"]
 
 #: Two templates are on one route when their curves lie within this many
@@ -73,6 +75,11 @@ def segment_paths(stats, centroid_states: np.ndarray, n_bins: int) -> np.ndarray
     """
     n_keys = np.asarray(stats.n_keys, dtype=np.int64)
     n_demos = n_keys.size
+    check_work_size(
+        8 * n_demos * n_bins,
+        f"the segment paths of {n_demos} demonstrations over {n_bins} time bins",
+        "fit with fewer time bins (n_time_bins)",
+    )
     owner = np.repeat(np.arange(n_demos, dtype=np.int64), n_keys)
     # key points sorted by (demonstration, bin): one search for every bin
     keys = owner * (n_bins + 1) + np.asarray(stats.key_bins, dtype=np.int64)
