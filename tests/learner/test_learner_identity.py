@@ -146,11 +146,16 @@ def fit_digests(name: str, tmp_path) -> dict[str, str]:
 
 
 #: Made with the code of main at 236076e (before the kernels of issue 20).
+#: Two generated paths changed since, on purpose and not in the fit: the
+#: conditioned generation of "arm" (a start) and "arm-segment-weights" (a goal)
+#: now absorbs the offset by the gripper's first switch and conditions the blend
+#: on the point (issue 17; largest change 0.016 m of a 0.26 m range); every
+#: array of the fitted models is still the one of 236076e.
 KNOWN = {
     "arm": {
         "levels": "5592826e066ab9dd",
         "metadata": "630ab416e5447dd8",
-        "path_X": "077cbbc513590617",
+        "path_X": "3de3b0ad70460fee",  # see the note above KNOWN
         "path_t": "6bd512c94f06d691",
         "scaler_max": "87608c841d35f4b2",
         "scaler_min": "816b7231b8a541a9",
@@ -175,7 +180,7 @@ KNOWN = {
     "arm-segment-weights": {
         "levels": "ed5bcc4dfb38dae6",
         "metadata": "8ffc3fb481fd6517",
-        "path_X": "eba6e2b3151ecccd",
+        "path_X": "2282804d341580b0",  # see the note above KNOWN
         "path_t": "6bd512c94f06d691",
         "scaler_max": "87608c841d35f4b2",
         "scaler_min": "816b7231b8a541a9",
