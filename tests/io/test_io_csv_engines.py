@@ -109,7 +109,7 @@ def csv_files(draw):
     return bom + text.encode(), finite
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=120, deadline=None)
 @given(csv_files())
 @example((b"t,x\n0,1\n1,2\n", True))
 @example((b"t x\n0 1\n1\t2\n", True))

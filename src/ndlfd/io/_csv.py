@@ -500,11 +500,10 @@ def write_table(
     1,0.3333333333
     """
     a = np.asarray(data)
+    formats: list = [None]
     if a.dtype.kind in "iu" and a.ndim == 2 and float_format is None:
         check_points(a, "data")  # shape and finiteness checks only
-        rows = a.tolist()
-        body_rows = [",".join(map(repr, row)) for row in rows]
-        k = a.shape[1]
+        rows, k = a.tolist(), a.shape[1]
     else:
         values = check_points(data, "data")
         k = values.shape[1]
@@ -518,10 +517,13 @@ def write_table(
                         f"column {j} is written with {f!r} and must hold whole"
                         f" numbers; got {col[bad[0]]!r} at row {bad[0]}"
                     )
+        rows = values.tolist()
+    if all(f is None for f in formats):  # shortest round-trip form (ints as ints)
+        body_rows = [",".join(map(repr, row)) for row in rows]
+    else:
         fmt = [repr if f is None else f.__mod__ for f in formats]
         body_rows = [
-            ",".join(fj(v) for fj, v in zip(fmt, row, strict=True))
-            for row in values.tolist()
+            ",".join(fj(v) for fj, v in zip(fmt, row, strict=True)) for row in rows
         ]
     names = _check_column_names(columns, k)
     final = Path(path)
