@@ -45,7 +45,8 @@ for every mode and both formats, or the run says ``NO``.
 
 Run: ``.venv/bin/python benchmarks/bench_scale.py`` (1e2, 1e3 and 1e4
 demonstrations, both parts, about 10 minutes on 2 cores the first time);
-``--largest 100000`` adds 1e5 (about 40 minutes more); ``--modes ""`` or
+``--largest 100000`` adds 1e5 (the library: serial, processes and Dask; the
+command line: ``jobs2`` only; about 40 minutes more); ``--modes ""`` or
 ``--cli-modes ""`` skips a part. Writes its sections of benchmarks/RESULTS.md
 (``scale``: the library; ``scale-cli``: the command line).
 """
@@ -550,6 +551,8 @@ def main() -> None:
         for n in sizes:
             for fmt in formats:
                 for mode in cli_modes:
+                    if n >= 100_000 and mode != "jobs2":
+                        continue  # the targets' mode (serial: 10 minutes more)
                     r = run_cli_fresh(mode, n, fmt, args.data)
                     print(json.dumps(r), flush=True)
                     rows.append(r)
