@@ -3,13 +3,16 @@
 Synthetic 6-D data: noisy 3-D spirals of 1,000 samples with variable speed,
 position only, so every fit derives the velocity (6 learned columns, 20
 position and 10 velocity levels: m = 8,000,000 states). Each demonstration is
-an NPZ file (``ndlfd.io.write_npz``, uncompressed), written once into
-``--data`` (default ``/tmp/ndlfd-bench-scale``; 1e5 files take about 3.3 GB and
-a few minutes to write, and are reused by later runs). ``fit`` gets the
-sorted list of paths and reads every file twice (ranges, then key points), on
-whichever worker runs it.
+an NPZ file (``ndlfd.io.write_npz``, uncompressed) and a CSV file
+(``ndlfd.io.write_csv``: ``t, x, y, z`` in shortest round-trip form, so both
+hold the same numbers), written once into ``--data`` (default
+``/tmp/ndlfd-bench-scale``, the CSV files in its ``csv/`` folder; 1e5 files
+take about 3.3 GB as NPZ and 7.5 GB as CSV, and a few minutes to write, and
+are reused by later runs). ``fit`` gets the sorted list of paths and reads
+every file twice (ranges, then key points), on whichever worker runs it.
 
-Modes, each run in a fresh process (so its peak RSS is its own):
+Two parts. **The library** (``--modes``, NPZ files), each mode run in a fresh
+process (so its peak RSS is its own):
 
 * ``serial``: ``n_jobs=1``;
 * ``processes``: ``n_jobs=2``, which on 1,000-sample demonstrations is two
@@ -28,10 +31,24 @@ statistics, and a digest of the statistics, which must be the same in every
 mode. Throughput is demonstrations per second per core used (1 for serial, 2
 otherwise).
 
+**The command line** (``--cli-modes``, ``--formats``): ``ndlfd fit PATTERN -o
+model.ndlfd`` with the default parameters (no seed), run as a user runs it, on
+the NPZ and on the CSV files: ``serial`` (``--n-jobs 1``), ``jobs2``
+(``--n-jobs 2``) and ``dask`` (``--scheduler`` of a ``LocalCluster`` of 2
+worker processes x 1 thread, started before and not counted). Each run
+reports the command's wall time (interpreter start-up, imports and saving
+included), the fit time the command prints, the peak of the summed RSS of the
+command, its worker processes and the Dask workers (sampled every 0.1 s;
+the Dask scheduler runs in the benchmark's own process and is not counted),
+and the digest of the fit statistics of the model file it wrote: the same
+for every mode and both formats, or the run says ``NO``.
+
 Run: ``.venv/bin/python benchmarks/bench_scale.py`` (1e2, 1e3 and 1e4
-demonstrations, about 4 minutes on 2 cores the first time); ``--largest
-100000`` adds 1e5 (serial, processes and Dask, about 15 minutes more). Writes
-its section of benchmarks/RESULTS.md.
+demonstrations, both parts, about 10 minutes on 2 cores the first time);
+``--largest 100000`` adds 1e5 (the library: serial, processes and Dask; the
+command line: ``jobs2`` only; about 40 minutes more); ``--modes ""`` or
+``--cli-modes ""`` skips a part. Writes its sections of benchmarks/RESULTS.md
+(``scale``: the library; ``scale-cli``: the command line).
 """
 
 from __future__ import annotations
@@ -51,10 +68,13 @@ import numpy as np
 from bench_hmm import ROOT, write_section
 
 START, END = "<!-- scale:start -->", "<!-- scale:end -->"
+CLI_START, CLI_END = "<!-- scale-cli:start -->", "<!-- scale-cli:end -->"
 COMMAND = ".venv/bin/python benchmarks/bench_scale.py"
 N_SAMPLES = 1000
 PARAMS = dict(epsilon=0.05, n_time_bins=50, max_templates=200, random_state=0)
 MODES = ("serial", "processes", "threads", "dask")
+CLI_MODES = ("serial", "jobs2", "dask")
+FORMATS = ("npz", "csv")
 
 
 class Spirals:
@@ -89,37 +109,51 @@ class Spirals:
             yield self.demo(i)
 
 
-def _path(folder: Path, i: int) -> Path:
+def _path(folder: Path, i: int, fmt: str = "npz") -> Path:
+    """File ``i``: NPZ files in ``folder``, CSV files in its ``csv/`` folder."""
+    if fmt == "csv":
+        return folder / "csv" / f"spiral_{i:06d}.csv"
     return folder / f"spiral_{i:06d}.npz"
 
 
-def _write_range(folder: str, lo: int, hi: int) -> None:
-    from ndlfd.io import write_npz
+def _pattern(folder: Path, n: int, fmt: str) -> str:
+    """A glob pattern of files 0..n-1 (``n`` a power of ten up to 1e6)."""
+    digits = len(str(n)) - 1
+    assert n == 10**digits, n
+    return str(_path(folder, 0, fmt)).replace(
+        "0" * 6, "0" * (6 - digits) + "?" * digits
+    )
 
+
+def _write_range(folder: str, lo: int, hi: int, fmt: str) -> None:
+    from ndlfd.io import write_csv, write_npz
+
+    write = write_csv if fmt == "csv" else write_npz
     sp = Spirals(hi)
     for i in range(lo, hi):
-        p = _path(Path(folder), i)
+        p = _path(Path(folder), i, fmt)
         if not p.exists():
-            tmp = p.with_name(p.stem + ".part.npz")
-            write_npz(sp.demo(i), tmp)
+            tmp = p.with_name(p.stem + f".part.{fmt}")
+            write(sp.demo(i), tmp)
             tmp.replace(p)
 
 
-def write_files(folder: Path, n: int) -> list[str]:
-    """Files 0..n-1 in ``folder`` (written on 2 processes where missing)."""
+def write_files(folder: Path, n: int, fmt: str = "npz") -> list[str]:
+    """Files 0..n-1 of ``fmt`` in ``folder`` (written on 2 processes where missing)."""
     from concurrent.futures import ProcessPoolExecutor
 
-    folder.mkdir(parents=True, exist_ok=True)
-    missing = [i for i in range(n) if not _path(folder, i).exists()]
+    _path(folder, 0, fmt).parent.mkdir(parents=True, exist_ok=True)
+    missing = [i for i in range(n) if not _path(folder, i, fmt).exists()]
     if missing:
         t0 = time.perf_counter()
         lo, hi = missing[0], n
         cuts = np.linspace(lo, hi, 17).astype(int)
         with ProcessPoolExecutor(2) as pool:
-            list(pool.map(_write_range, [str(folder)] * 16, cuts[:-1], cuts[1:]))
-        print(f"wrote {len(missing):,} files in {time.perf_counter() - t0:.0f} s",
-              file=sys.stderr)  # fmt: skip
-    return [str(_path(folder, i)) for i in range(n)]
+            list(pool.map(_write_range, [str(folder)] * 16, cuts[:-1], cuts[1:],
+                          [fmt] * 16))  # fmt: skip
+        print(f"wrote {len(missing):,} {fmt} files in"
+              f" {time.perf_counter() - t0:.0f} s", file=sys.stderr)  # fmt: skip
+    return [str(_path(folder, i, fmt)) for i in range(n)]
 
 
 def _check_stored(folder: Path) -> None:
@@ -227,6 +261,165 @@ def run_fresh(mode: str, n: int, folder: Path) -> dict:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+# ------------------------------------------------------------ the command line
+def _tree_rss_mib(root: int) -> float:
+    """Summed RSS of the processes below ``root`` (not ``root`` itself), in MiB."""
+    parent = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open(f"/proc/{d}/stat") as fh:
+                    parent[int(d)] = int(fh.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                pass  # gone meanwhile
+    below, todo = set(), [root]
+    while todo:
+        q = todo.pop()
+        kids = [c for c, pp in parent.items() if pp == q and c not in below]
+        below.update(kids)
+        todo.extend(kids)
+    total = 0
+    for q in below:
+        try:
+            with open(f"/proc/{q}/statm") as fh:
+                total += int(fh.read().split()[1])
+        except (OSError, IndexError, ValueError):
+            pass
+    return total * os.sysconf("SC_PAGE_SIZE") / 2**20
+
+
+def _run_sampled(
+    cmd: list[str], env: dict
+) -> tuple[subprocess.CompletedProcess, float, float]:
+    """Run ``cmd``; its wall time and the peak summed RSS of this process's children."""
+    import threading
+
+    peak = [0.0]
+    done = threading.Event()
+
+    def sample():
+        while not done.wait(0.1):
+            peak[0] = max(peak[0], _tree_rss_mib(os.getpid()))
+
+    sampler = threading.Thread(target=sample, daemon=True)
+    sampler.start()
+    t0 = time.perf_counter()
+    try:
+        res = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
+    finally:
+        wall = time.perf_counter() - t0
+        done.set()
+        sampler.join()
+    return res, wall, peak[0]
+
+
+def run_cli(mode: str, n: int, fmt: str, folder: Path) -> dict:
+    """``ndlfd fit`` on files 0..n-1 of ``fmt`` in a subprocess; the numbers."""
+    import contextlib
+    import re
+    import tempfile
+
+    from ndlfd import KeypointHMM
+
+    write_files(folder, n, fmt)
+    out = {"mode": mode, "n": n, "format": fmt}
+    with tempfile.TemporaryDirectory() as tmp, contextlib.ExitStack() as stack:
+        model_path = Path(tmp) / "model.ndlfd"
+        pattern = _pattern(folder, n, fmt)
+        if mode == "dask":
+            from distributed import LocalCluster
+
+            cluster = stack.enter_context(
+                LocalCluster(
+                    n_workers=2,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=":0",
+                )
+            )
+            flags = ["--scheduler", cluster.scheduler_address]
+            out["flags"] = "--scheduler ADDRESS"
+        else:
+            flags = ["--n-jobs", "1" if mode == "serial" else "2"]
+            out["flags"] = " ".join(flags)
+        cmd = [sys.executable, "-m", "ndlfd.cli", "fit", pattern, "-o", str(model_path)]
+        res, out["wall_s"], out["peak_tree_mib"] = _run_sampled(
+            cmd + flags, dict(os.environ)
+        )
+        if res.returncode != 0:
+            raise RuntimeError(f"{cmd + flags} failed:\n{res.stderr[-3000:]}")
+        summary = re.search(
+            r"fitted (\d+) demonstration\(s\) in ([\d.]+) s", res.stderr
+        )
+        out["fit_s"] = float(summary.group(2))
+        assert int(summary.group(1)) == n, res.stderr
+        model = KeypointHMM.load(model_path)
+    out["digest"] = digest(model.fit_stats_)
+    out["keys_per_demo"] = float(model.fit_stats_.n_keys.mean())
+    return out
+
+
+def run_cli_fresh(mode: str, n: int, fmt: str, folder: Path) -> dict:
+    cmd = [sys.executable, __file__, "--cli", mode, str(n), fmt, "--data", str(folder)]
+    env = dict(os.environ, PYTHONPATH=str(ROOT / "src"))
+    res = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
+    if res.returncode != 0:
+        raise RuntimeError(f"cli {mode} {n} {fmt} failed:\n{res.stderr[-3000:]}")
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def cli_report(rows: list[dict], wall_s: float) -> str:
+    import dask
+
+    by_n: dict = {}
+    for r in rows:
+        by_n.setdefault(r["n"], []).append(r)
+    digests = {r["digest"] for r in rows if r["n"] == max(by_n)}
+    same = all(len({r["digest"] for r in rs}) == 1 for rs in by_n.values())
+    largest = max(by_n)
+    lines = [
+        "## Fitting at scale from the command line: NPZ and CSV files, serial,"
+        " `--n-jobs 2` and Dask",
+        "",
+        f"Command: `{COMMAND}{'' if largest <= 10_000 else f' --largest {largest}'}"
+        f' --modes ""` ({wall_s / 60:.0f} min, {time.strftime("%Y-%m-%d %H:%M")}).',
+        f"Machine: {platform.machine()}, {os.cpu_count()} cores, Python"
+        f" {platform.python_version()}, numpy {np.__version__}, dask"
+        f" {dask.__version__}; load average {os.getloadavg()[0]:.2f} at the end"
+        " (other jobs share the cores).",
+        "",
+        f"Data: the same noisy 3-D spirals of {N_SAMPLES:,} samples as above, one"
+        " file each, as NPZ (`write_npz`, 33 kB) and as CSV (`write_csv`:"
+        " `t, x, y, z`, shortest round-trip floats, about 75 kB), read by"
+        " `ndlfd fit PATTERN -o model.ndlfd` with its defaults (no seed;"
+        " velocity derived; 20 position and 10 velocity levels, epsilon 0.05,"
+        " 50 time bins) in a subprocess. Wall: the command from start to exit"
+        " (start-up, imports, the first read, the fit and saving); fit: the"
+        " time the command prints for the fit itself. Peak MiB: the largest"
+        " sum of the resident memory of the command, its workers and the Dask"
+        " workers, sampled every 0.1 s. Digest: SHA-256 of the fit statistics"
+        " in the model file written (`fit_stats_.to_arrays()`), first 16 hex"
+        " digits.",
+        "",
+        "| demos | format | mode | wall s | fit s | demos/s | peak MiB | digest |",
+        "|---:|---|---|---:|---:|---:|---:|---|",
+    ]
+    for n, rs in sorted(by_n.items()):
+        for r in rs:
+            lines.append(
+                f"| {n:,} | {r['format']} | {r['mode']} | {r['wall_s']:.1f} |"
+                f" {r['fit_s']:.1f} | {n / r['fit_s']:.0f} | {r['peak_tree_mib']:.0f}"
+                f" | `{r['digest']}` |"
+            )
+    lines += [
+        "",
+        f"Same digest in every mode and both formats at every size:"
+        f" {'yes' if same else 'NO'} (at {largest:,}: {', '.join(sorted(digests))}).",
+        "",
+    ]
+    return "\n".join(lines)
+
+
 def report(rows: list[dict], wall_s: float) -> str:
     import dask
     import numba
@@ -315,28 +508,57 @@ def report(rows: list[dict], wall_s: float) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--one", nargs=2, metavar=("MODE", "N"))
+    ap.add_argument("--cli", nargs=3, metavar=("MODE", "N", "FORMAT"))
     ap.add_argument("--largest", type=int, default=10_000)
+    ap.add_argument("--smallest", type=int, default=100)
     ap.add_argument("--modes", default=",".join(MODES))
+    ap.add_argument("--cli-modes", default=",".join(CLI_MODES))
+    ap.add_argument("--formats", default=",".join(FORMATS))
     ap.add_argument("--data", type=Path, default=Path("/tmp/ndlfd-bench-scale"))
     args = ap.parse_args()
     if args.one:
         print(json.dumps(run_one(args.one[0], int(args.one[1]), args.data)))
         return
-    sizes = [n for n in (100, 1_000, 10_000, 100_000) if n <= args.largest]
+    if args.cli:
+        mode, n, fmt = args.cli
+        print(json.dumps(run_cli(mode, int(n), fmt, args.data)))
+        return
+    sizes = [
+        n for n in (100, 1_000, 10_000, 100_000) if args.smallest <= n <= args.largest
+    ]
+    modes = [m for m in args.modes.split(",") if m]
+    cli_modes = [m for m in args.cli_modes.split(",") if m]
+    formats = [f for f in args.formats.split(",") if f]
     _check_stored(args.data)
-    write_files(args.data, max(sizes))
-    t0 = time.perf_counter()
-    rows = []
-    for n in sizes:
-        for mode in args.modes.split(","):
-            if n >= 100_000 and mode == "threads":
-                continue  # no faster than serial here (see the report)
-            r = run_fresh(mode, n, args.data)
-            print(json.dumps(r), flush=True)
-            rows.append(r)
-    text = report(rows, time.perf_counter() - t0)
-    write_section(text, START, END)
-    print(text)
+    for fmt in formats if cli_modes else ["npz"] if modes else []:
+        write_files(args.data, max(sizes), fmt)
+    if modes:
+        t0 = time.perf_counter()
+        rows = []
+        for n in sizes:
+            for mode in modes:
+                if n >= 100_000 and mode == "threads":
+                    continue  # no faster than serial here (see the report)
+                r = run_fresh(mode, n, args.data)
+                print(json.dumps(r), flush=True)
+                rows.append(r)
+        text = report(rows, time.perf_counter() - t0)
+        write_section(text, START, END)
+        print(text)
+    if cli_modes:
+        t0 = time.perf_counter()
+        rows = []
+        for n in sizes:
+            for fmt in formats:
+                for mode in cli_modes:
+                    if n >= 100_000 and mode != "jobs2":
+                        continue  # the targets' mode (serial: 10 minutes more)
+                    r = run_cli_fresh(mode, n, fmt, args.data)
+                    print(json.dumps(r), flush=True)
+                    rows.append(r)
+        text = cli_report(rows, time.perf_counter() - t0)
+        write_section(text, CLI_START, CLI_END)
+        print(text)
 
 
 if __name__ == "__main__":

@@ -5,10 +5,19 @@ between a CSV file and numpy; :func:`read_csv` / :func:`write_csv` move a whole
 :class:`~ndlfd.demonstration.Demonstration`, its columns mapped by
 :func:`~ndlfd.io._mapping.map_arrays`. The dialect is described in
 :mod:`ndlfd.io`.
+
+Numbers are parsed by a compiled parser (:data:`ENGINES`: ``pyarrow.csv`` when
+installed, else ``numpy.loadtxt``) on the rows below the header once a byte
+scan shows they hold only numbers and delimiters; the careful line-by-line
+parser (``"python"``) takes every other file (comments or blank lines among
+the rows, non-ASCII text) and any file the compiled parser refuses, so that
+its error names the file, the line and the column. Both give the same arrays.
 """
 
 from __future__ import annotations
 
+import functools
+import io
 import os
 import re
 from collections.abc import Iterable, Mapping, Sequence
@@ -17,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .._errors import DataFileError, ValidationError
+from .._errors import DataFileError, MissingExtraError, ValidationError
 from .._fileformat import atomic_path
+from .._registry import Registry
 from .._validation import check_points
 from ..demonstration import Demonstration
 from ._mapping import (
@@ -31,6 +41,7 @@ from ._mapping import (
 )
 
 __all__ = [
+    "ENGINES",
     "Table",
     "csv_header",
     "delimiter_name",
@@ -87,7 +98,7 @@ class Table:
     delimiter: str | None
 
 
-def parse_table(path, *, finite: bool = True) -> Table:
+def parse_table(path, *, finite: bool = True, engine: str = "auto") -> Table:
     """Parse a CSV table; also give the 1-based file line of each data row.
 
     Parameters
@@ -96,6 +107,12 @@ def parse_table(path, *, finite: bool = True) -> Table:
         The CSV file (dialect: see :func:`read_table`).
     finite : bool, default=True
         Refuse NaN and inf (``False``: keep them, for ``bad_rows="drop"``).
+    engine : {"auto", "pyarrow", "numpy", "python"}, default="auto"
+        The parser of the numbers (:data:`ENGINES`): ``"auto"`` is
+        ``"pyarrow"`` when pyarrow is installed and the delimiter is not
+        whitespace, else ``"numpy"``; ``"python"`` is the careful parser
+        alone. Every engine gives the same table (a file a compiled parser
+        cannot take goes to the careful one).
 
     Returns
     -------
@@ -107,20 +124,31 @@ def parse_table(path, *, finite: bool = True) -> Table:
         As :func:`read_table`.
     """
     p = Path(path)
+    rows = ENGINES.get(engine)
     if not p.exists():
         raise DataFileError(f"{p}: no such file")
     if not p.is_file():
         raise DataFileError(f"{p}: expected a CSV file; got a directory or device")
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise DataFileError(f"{p}: cannot be read ({exc.strerror})") from None
+    if rows is not None:
+        table = _parse_compiled(p, raw, finite, rows)
+        if table is not None:
+            return table
+    try:
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise DataFileError(
             f"{p}: expected a UTF-8 text (CSV) file; got undecodable bytes at byte"
             f" {exc.start}"
         ) from None
-    except OSError as exc:
-        raise DataFileError(f"{p}: cannot be read ({exc.strerror})") from None
+    return _parse_careful(p, text, finite)
 
+
+def _parse_careful(p: Path, text: str, finite: bool) -> Table:
+    """The line-by-line parser: every check, every message names the line."""
     header: list[str] | None = None
     header_line = 0
     delimiter: str | None = ","
@@ -173,6 +201,136 @@ def parse_table(path, *, finite: bool = True) -> Table:
         )
     data = np.array(rows, dtype=np.float64).reshape(len(rows), len(header))
     return Table(header, data, np.array(lines, dtype=np.int64), delimiter)
+
+
+# ------------------------------------------------------------- compiled parsers
+#: Engines that parse the rows of numbers below the header (``"python"``: none,
+#: the careful parser takes the whole file): each takes the
+#: bytes of the rows (ASCII, ``\n`` line ends, no blank or comment line in
+#: between), the delimiter and the number of columns, and returns the
+#: ``(n_rows, n_columns)`` float64 array or raises ``ValueError``.
+ENGINES: Registry = Registry("CSV engine")
+_BOM = b"\xef\xbb\xbf"
+#: bytes that rows of numbers hold besides their delimiter
+_NUMBER_BYTES = b"0123456789.eE+- \t\n"
+#: the letters of nan, inf and infinity (in any case), for ``finite=False``
+_NONFINITE_BYTES = b"nNaAiIfFtTyY"
+#: line breaks of ``str.splitlines`` (and a space of ``str.strip``) beyond ``\n``
+#: and ``\r``, which the compiled parsers do not know
+_ODD_BYTES = b"\x0b\x0c\x1c\x1d\x1e\x1f"
+
+
+@ENGINES.register("pyarrow")
+def _rows_pyarrow(body: bytes, delimiter: str | None, k: int) -> np.ndarray:
+    """The rows by ``pyarrow.csv`` (extra ``lerobot``): no quoting, no nulls."""
+    try:
+        import pyarrow as pa
+        import pyarrow.csv as pc
+    except ImportError:
+        raise MissingExtraError(
+            'engine "pyarrow" needs pyarrow; install it with: pip install'
+            ' "ndlfd[lerobot]"'
+        ) from None
+    if delimiter is None:
+        raise ValueError("pyarrow does not split on runs of whitespace")
+    names = [f"c{j}" for j in range(k)]
+    table = pc.read_csv(
+        pa.py_buffer(body),
+        read_options=pc.ReadOptions(column_names=names, use_threads=False),
+        parse_options=pc.ParseOptions(
+            delimiter=delimiter,
+            quote_char=False,
+            escape_char=False,
+            newlines_in_values=False,
+            ignore_empty_lines=True,
+        ),
+        convert_options=pc.ConvertOptions(
+            column_types=dict.fromkeys(names, pa.float64()),
+            null_values=[],
+            strings_can_be_null=False,
+            quoted_strings_can_be_null=False,
+        ),
+    )
+    data = np.empty((table.num_rows, k), dtype=np.float64)
+    for j, column in enumerate(table.columns):
+        data[:, j] = column.to_numpy()
+    return data
+
+
+@ENGINES.register("numpy")
+def _rows_numpy(body: bytes, delimiter: str | None, k: int) -> np.ndarray:
+    """The rows by ``numpy.loadtxt`` (any delimiter, whitespace too)."""
+    data = np.loadtxt(
+        io.BytesIO(body), delimiter=delimiter, comments=None, ndmin=2, encoding=None
+    )
+    return np.ascontiguousarray(data, dtype=np.float64)
+
+
+@functools.cache
+def _has_pyarrow() -> bool:
+    try:
+        import pyarrow.csv  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+@ENGINES.register("auto")
+def _rows_auto(body: bytes, delimiter: str | None, k: int) -> np.ndarray:
+    """By pyarrow when installed and the delimiter is not whitespace, else numpy."""
+    if delimiter is not None and _has_pyarrow():
+        return _rows_pyarrow(body, delimiter, k)
+    return _rows_numpy(body, delimiter, k)
+
+
+ENGINES.add("python", None)  # the careful parser alone
+
+
+def _parse_compiled(p: Path, raw: bytes, finite: bool, rows) -> Table | None:
+    """The table by a compiled parser, or None where the careful one must go.
+
+    None for a file that is not plain ASCII, holds a comment, blank line or
+    anything but numbers and delimiters below the header, or that the compiled
+    parser refuses (then the careful parser names the bad row).
+    """
+    if raw.startswith(_BOM):
+        raw = raw[len(_BOM) :]
+    if not raw.isascii():
+        return None
+    if b"\r" in raw:  # \r\n and \r end lines as \n does (str.splitlines)
+        raw = raw.replace(b"\r\n", b"\n").replace(b"\r", b"\n")
+    start, lineno = 0, 1
+    while True:  # the header: the first line neither blank nor a comment
+        end = raw.find(b"\n", start)
+        if end < 0:
+            return None  # no data row: the careful parser says what is missing
+        line = raw[start:end].strip()
+        if line and not line.startswith(b"#"):
+            break
+        start, lineno = end + 1, lineno + 1
+    if any(b in raw[:end] for b in _ODD_BYTES):
+        return None
+    header = line.decode()
+    delimiter = _delimiter_of(header)
+    names = _split(header, delimiter)
+    _check_header(p, names, lineno)
+    body = raw[end + 1 :].rstrip()
+    allowed = _NUMBER_BYTES + (delimiter or "").encode()
+    if not finite:
+        allowed += _NONFINITE_BYTES
+    if not body or body.translate(None, allowed):
+        return None
+    try:
+        data = rows(body, delimiter, len(names))
+    except MissingExtraError:
+        raise
+    except ValueError:  # pyarrow's ArrowInvalid too
+        return None
+    n = body.count(b"\n") + 1
+    if data.shape != (n, len(names)) or (finite and not np.isfinite(data).all()):
+        return None  # a row skipped or a value not finite: the careful parser
+    lines = np.arange(lineno + 1, lineno + 1 + n, dtype=np.int64)
+    return Table(names, data, lines, delimiter)
 
 
 def _check_header(p: Path, header: list[str], lineno: int) -> None:
@@ -342,11 +500,10 @@ def write_table(
     1,0.3333333333
     """
     a = np.asarray(data)
+    formats: list = [None]
     if a.dtype.kind in "iu" and a.ndim == 2 and float_format is None:
         check_points(a, "data")  # shape and finiteness checks only
-        rows = a.tolist()
-        body_rows = [",".join(map(repr, row)) for row in rows]
-        k = a.shape[1]
+        rows, k = a.tolist(), a.shape[1]
     else:
         values = check_points(data, "data")
         k = values.shape[1]
@@ -360,10 +517,13 @@ def write_table(
                         f"column {j} is written with {f!r} and must hold whole"
                         f" numbers; got {col[bad[0]]!r} at row {bad[0]}"
                     )
+        rows = values.tolist()
+    if all(f is None for f in formats):  # shortest round-trip form (ints as ints)
+        body_rows = [",".join(map(repr, row)) for row in rows]
+    else:
         fmt = [repr if f is None else f.__mod__ for f in formats]
         body_rows = [
-            ",".join(fj(v) for fj, v in zip(fmt, row, strict=True))
-            for row in values.tolist()
+            ",".join(fj(v) for fj, v in zip(fmt, row, strict=True)) for row in rows
         ]
     names = _check_column_names(columns, k)
     final = Path(path)
