@@ -163,3 +163,20 @@ def test_output_paths_numbers_and_mask(tmp_path, capsys):
     assert written[0] == given[0] + ",keep"
     assert {w.rsplit(",", 1)[1] for w in written[1:]} == {"0", "1"}
     assert [w.rsplit(",", 1)[0] for w in written[1:]] == given[1:]
+
+
+def test_python_dash_m_ndlfd_is_the_command_line():
+    """``python -m ndlfd`` runs the same parser as ``ndlfd`` (usage errors: exit 2)."""
+    import subprocess
+    import sys
+
+    ok = subprocess.run(
+        [sys.executable, "-m", "ndlfd", "--help"], capture_output=True, text=True
+    )
+    assert ok.returncode == 0 and "usage: ndlfd" in ok.stdout
+    bad = subprocess.run(
+        [sys.executable, "-m", "ndlfd", "no-such-command"],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and "no-such-command" in bad.stderr
