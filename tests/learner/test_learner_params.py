@@ -114,3 +114,117 @@ def test_check_params_refuses_each_bad_value_with_its_name():
             check_params(p)
     with pytest.raises(ValidationError, match="n_time_bins must be at most"):
         check_params(dict(good, n_time_bins=2**40))
+
+
+def _route_weights(model):
+    """The log weights of the route an unconditioned generate follows."""
+    from ndlfd.learner._generation import demo_log_weights
+    from ndlfd.learner._routes import choose_route
+
+    logw, routes = demo_log_weights(model, None, None, {})
+    return np.where(routes == choose_route(routes, logw), logw, -np.inf)
+
+
+def test_blend_route_model_follows_pseudo_transition():
+    """The route's segment model, against ``segment_model`` of its demonstrations.
+
+    On two routes (9 over an obstacle, 3 under it) the route model holds the
+    major route's demonstrations only, so it is built at generation time
+    (``route_model``) and must carry ``pseudo_transition``: a mutant that
+    drops it fails (docs/robustness.md, "Options that changed nothing").
+    """
+    from test_learner_routes import obstacle
+
+    from ndlfd.learner._cache import ModelCache
+    from ndlfd.learner._generation import decode_route
+    from ndlfd.learner._segments import segment_model
+
+    demos = obstacle(9, 3)
+    arrays = {}
+    for pseudo in (0.0, 0.5):
+        kw = dict(n_time_bins=40, pseudo_transition=pseudo, pseudo_emission=0.1)
+        m = KeypointHMM(**kw, n_jobs=1).fit(demos)
+        logw = _route_weights(m)
+        on_route = np.flatnonzero(np.isfinite(logw))
+        assert 0 < on_route.size < len(demos)  # a route model of its own
+        got, states, _ = decode_route(m, logw, ModelCache())
+        want = segment_model(
+            m.fit_stats_,
+            on_route,
+            m.codebook_.n_states,
+            m.n_time_bins,
+            pseudo_transition=pseudo,
+            pseudo_emission=0.1,
+        )
+        got_a, want_a = got.to_arrays(), want.to_arrays()
+        assert got_a.keys() == want_a.keys()
+        for k in want_a:
+            np.testing.assert_array_equal(got_a[k], want_a[k], err_msg=k)
+        ref = _reference_decode(want, np.arange(m.n_time_bins), "viterbi", "learned")
+        np.testing.assert_array_equal(states, ref)
+        arrays[pseudo] = want_a
+    # pseudo_transition changes the model here, so ignoring it is seen
+    assert any(not np.array_equal(arrays[0.0][k], arrays[0.5][k]) for k in arrays[0.0])
+
+
+def test_blend_skeleton_follows_decoder_and_start():
+    """The blend's skeleton: the segment model decoded by ``ndlfd.hmm``.
+
+    Compared with Viterbi or the posterior argmax, from the learned start or
+    state 1, on data where each choice changes the skeleton (checked), so
+    a mutant that drops ``decoder`` or ``start`` in the blend fails.
+    """
+    from ndlfd.learner._cache import ModelCache
+    from ndlfd.learner._generation import decode_route
+
+    train, _ = synth.make_dataset("square", n_demos=30, random_state=3)
+    kw = dict(epsilon=0.05, n_time_bins=30, pseudo_transition=0.5, n_jobs=1)
+    refs = {}
+    for decoder in ("viterbi", "map"):
+        for start in ("learned", "state1"):
+            m = KeypointHMM(**kw, decoder=decoder, start=start).fit(train)
+            logw = _route_weights(m)
+            model, states, _ = decode_route(m, logw, ModelCache())
+            ref = _reference_decode(model, np.arange(m.n_time_bins), decoder, start)
+            np.testing.assert_array_equal(states, ref)
+            refs[decoder, start] = ref
+
+    def differ(a, b):
+        return not np.array_equal(refs[a], refs[b])
+
+    assert differ(("viterbi", "learned"), ("map", "learned")) or differ(
+        ("viterbi", "state1"), ("map", "state1")
+    ), "the decoders decode alike here"
+    assert differ(("viterbi", "learned"), ("viterbi", "state1")) or differ(
+        ("map", "learned"), ("map", "state1")
+    ), "the starts decode alike here"
+
+
+def test_band_follows_start():
+    """``return_std``'s band: the posterior spread with the model's ``start``.
+
+    The reference is the textbook spread, per time bin, of the centroids
+    under ``ndlfd.hmm.posterior`` (a plain loop), mapped to physical units and
+    interpolated at the output times.
+    """
+    train, _ = synth.make_dataset("square", n_demos=20, random_state=4)
+    t = np.linspace(0.0, 1.0, 60)
+    bands = {}
+    for start in ("learned", "state1"):
+        m = KeypointHMM(epsilon=0.05, n_time_bins=25, start=start, n_jobs=1).fit(train)
+        _, std = m.generate(t, dense=True, return_std=True)
+        nt = m.n_time_bins
+        post = hmm.posterior(m.segment_model_, np.arange(nt), start=start)
+        C = m.centroids_[np.searchsorted(m.centroid_states_, post.states)]
+        sd = np.zeros((nt, C.shape[1]))
+        for b in range(nt):
+            g = post.probabilities[b] / post.probabilities[b].sum()
+            mean = sum(g[i] * C[i] for i in range(len(g)))
+            sd[b] = np.sqrt(sum(g[i] * (C[i] - mean) ** 2 for i in range(len(g))))
+        sd = m.scaler_.inverse_scale(sd)
+        centres = (np.arange(nt) + 0.5) / nt
+        tq = (t - t[0]) / (t[-1] - t[0])
+        want = np.column_stack([np.interp(tq, centres, c) for c in sd.T])
+        np.testing.assert_allclose(std, want, rtol=1e-9, atol=1e-12)
+        bands[start] = want
+    assert not np.allclose(bands["learned"], bands["state1"])  # the choice shows
