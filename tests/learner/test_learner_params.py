@@ -228,3 +228,33 @@ def test_band_follows_start():
         np.testing.assert_allclose(std, want, rtol=1e-9, atol=1e-12)
         bands[start] = want
     assert not np.allclose(bands["learned"], bands["state1"])  # the choice shows
+
+
+def test_sample_follows_start():
+    """``sample`` draws its skeletons with the model's ``start``.
+
+    Two models that differ only in ``start`` (the fit does not use it): the
+    draws of ``ndlfd.hmm.sample_paths`` on their segment model differ between
+    the two starts (checked), so over a few seeds some of their samples must
+    differ too; a mutant that drops ``start`` in ``sample`` makes every one
+    equal. (Most draws end on the same skeleton: only the first bins differ.)
+    """
+    train, _ = synth.make_dataset("square", n_demos=30, random_state=3)
+    kw = dict(epsilon=0.05, n_time_bins=30, pseudo_transition=0.5, n_jobs=1)
+    models = {s: KeypointHMM(**kw, start=s).fit(train) for s in ("learned", "state1")}
+    seg = models["learned"].segment_model_
+    bins = np.arange(models["learned"].n_time_bins)
+    ref = {
+        s: np.asarray(hmm.sample_paths(seg, bins, 20, start=s, random_state=0))
+        for s in ("learned", "state1")
+    }
+    assert not np.array_equal(ref["learned"], ref["state1"])  # start matters here
+    t = np.linspace(0.0, 1.0, 80)
+    differing = 0
+    for seed in range(5):
+        a = models["learned"].sample(t, 20, random_state=seed)
+        b = models["state1"].sample(t, 20, random_state=seed)
+        differing += sum(
+            not np.array_equal(x.X, y.X) for x, y in zip(a, b, strict=True)
+        )
+    assert differing > 0
