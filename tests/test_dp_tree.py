@@ -60,7 +60,7 @@ def test_node_bound_is_above_every_points_distance(case, mode, data):
     tree = T.make_tree(job.P, job.t, KINDS[mode], job.m, 1)
     T.fill_tree(job.P, tree[2], tree[3], tree[4])
     ws, stack, _ = T.tree_workspace(tree, d, n)
-    T.tree_begin(tree, a, b, job.utol2, ws, stack)
+    T.tree_begin(tree, a, b, job.utol2, ws, stack, -1.0)
     _, _, bmin, bmax, offs, *_ = tree
     dist = DISTANCE_FUNCTIONS[mode](job.P, a, b, job.t)  # points a+1..b-1
     for lv in range(len(offs) - 1):
@@ -136,3 +136,62 @@ def test_a_flat_zigzag_keeps_every_corner_with_the_tree_given_up():
     P = np.column_stack([np.arange(n, dtype=float), (np.arange(n) % 2) * 1.0])
     assert simplify(P, 0.5, n_jobs=1).tolist() == list(range(n))
     assert simplify(P, 0.5, distance="segment").tolist() == list(range(n))
+
+
+def _line2_keys(P, a, b):
+    """scan_line2's keys of points a+1..b-1, in its order of operations."""
+    xa, ya = P[a, 0], P[a, 1]
+    ux, uy = P[b, 0] - xa, P[b, 1] - ya
+    out = []
+    for i in range(a + 1, b):
+        c = (P[i, 0] - xa) * uy - (P[i, 1] - ya) * ux
+        out.append(c * c)
+    return np.array(out)
+
+
+@SETTINGS
+@given(paths(max_d=2, min_n=3), st.data(), st.floats(-1e3, 1e3), st.integers(0, 3))
+def test_exact_key_bound_is_at_least_every_computed_key(case, data, shift, scale):
+    """Bitwise: no computed 2-D line key of a node's points exceeds its bound."""
+    P, _ = case
+    if P.shape[1] != 2:
+        P = np.column_stack([P[:, 0], P[:, 0] * 0.5])
+    P = P * [0.1, 1.0, 3.7, 1e-3][scale] + shift  # floats with rounding
+    n = P.shape[0]
+    a = data.draw(st.integers(0, n - 3))
+    b = data.draw(st.integers(a + 2, n - 1))
+    tree = T.make_tree(P, np.zeros(0), T.TREE_LINE, float(np.abs(P).max()), 1)
+    T.fill_tree(P, tree[2], tree[3], tree[4])
+    ws, stack, _ = T.tree_workspace(tree, 2, n)
+    T.tree_begin(tree, a, b, 0.0, ws, stack, 0.0)
+    keys = _line2_keys(P, a, b)
+    _, _, bmin, bmax, offs, *_ = tree
+    for lv in range(len(offs) - 1):
+        span = T.LEAF << lv
+        for j in range(offs[lv + 1] - offs[lv]):
+            lo, hi = max(j * span, a + 1), min(n, (j + 1) * span, b)
+            if lo < hi:
+                bound = T.exact_key_bound(bmin, bmax, offs[lv] + j, ws)
+                assert keys[lo - a - 1 : hi - a - 1].max() <= bound
+
+
+def test_a_flat_zigzag_is_pruned_exactly_in_2d_line_mode():
+    """Constant height: every tie is pruned by the exact bounds, same points."""
+    n = 60_000
+    P = np.column_stack([np.arange(n, dtype=float), (np.arange(n) % 2) * 1.0])
+    job = _simplify._prepare(P, 0.5, "line", None, None, None)
+    keep = np.zeros(n, np.uint8)
+    tree = _simplify._tree(job)
+    Pt = np.ascontiguousarray(job.P.T)
+    e = np.zeros(0)
+    args = (2, Pt[0], Pt[1], e, np.zeros((2, 0)), job.t, job.mode)
+    work = K.dp_line(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    assert keep.all()
+    assert work < n * n / 100  # a plain scan: n²/2
+    # and against the plain scan on a shorter one, shifted off the integers
+    m = 600  # the recursive reference: depth m
+    Q = P[:m] * 0.37 + 1.3
+    with pytest.MonkeyPatch.context() as mp:
+        always_tree(mp)
+        tree_kept = simplify(Q, 0.1, n_jobs=1)
+    assert tree_kept.tolist() == dp_reference(Q, 0.1).tolist()

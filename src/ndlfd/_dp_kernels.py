@@ -235,9 +235,9 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, -1.0)
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
                     break
                 f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
@@ -624,9 +624,9 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, -1.0)
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
                     break
                 f, qq, SS = scan_line_cols(
@@ -714,9 +714,11 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack)
+            ts = tree_begin(
+                tree, a, b, utol2, ws, ts_stack, eps2 if kind == 2 else -1.0
+            )
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
                     break
                 f, qq, SS = _scan_kind(

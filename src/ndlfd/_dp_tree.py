@@ -33,6 +33,11 @@ Every bound is then widened by a relative ``1e-8`` and an absolute ``1e-8 R``
 (``R = 4 max|P| sqrt(d)``, a bound of ``|v|`` and ``|u|``): many orders of
 magnitude above the rounding of the kernels' keys (a few ulps of ``|v|``), so
 a pruned node never holds a point whose computed key would have won.
+
+Widened bounds cannot skip a node whose points *tie* with the best so far.
+For the 2-D ``"line"`` scan, :func:`exact_key_bound` bounds the scan's own
+computed keys exactly (rounding is monotone), so such a node is skipped too:
+a 1e6-point zigzag of constant height no longer costs ``n²/2``.
 """
 
 from __future__ import annotations
@@ -48,6 +53,7 @@ __all__ = [
     "TREE_POINT",
     "TREE_SED",
     "TREE_SEGMENT",
+    "exact_key_bound",
     "fill_tree",
     "make_tree",
     "node_bound",
@@ -147,7 +153,7 @@ def tree_workspace(tree, d, n):
     if tree[8] == 0 and tree[2].shape[0] > 0:
         fill_tree(tree[0], tree[2], tree[3], tree[4])
         flags[0] = 1.0
-    return np.zeros(5 * d + 8), np.empty(4 * (levels + 4), np.int64), flags
+    return np.zeros(5 * d + 10), np.empty(4 * (levels + 4), np.int64), flags
 
 
 @njit(cache=True, nogil=True)
@@ -174,16 +180,19 @@ def tree_split(tree, flags, a, b, far):
 
 # workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
 # ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars
-_U, _KIND, _DT, _UN, _R, _TA, _N = 0, 1, 2, 3, 4, 5, 6
+_U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS = 0, 1, 2, 3, 4, 5, 6, 7, 8
 
 
 @njit(cache=True, nogil=True)
-def tree_begin(tree, a, b, utol2, ws, stack):
+def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     """Start the walk for segment ``(a, b)``; returns the stack size.
 
     ``tree`` is :func:`make_tree`'s tuple, filled; ``ws`` and ``stack`` come
     from :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
-    for ``"sed"``) are bounded by the distance to ``P_a``.
+    for ``"sed"``) are bounded by the distance to ``P_a``. ``exact_eps2 >= 0``
+    (the tolerance squared) turns on the exact bounds of the 2-D line scan's
+    keys (:func:`exact_key_bound`); the caller passes it only when its keys
+    are ``scan_line2``'s, else ``-1``.
     """
     P, t, _, _, offs, kind, m, _, _ = tree
     d = P.shape[1]
@@ -207,6 +216,14 @@ def tree_begin(tree, a, b, utol2, ws, stack):
         ws[s + _TA] = t[a]
     ws[s + _R] = 4.0 * m * math.sqrt(d)
     ws[s + _N] = P.shape[0]
+    ws[s + _EXACT] = 0.0
+    if exact_eps2 >= 0.0 and d == 2 and kind == TREE_LINE:
+        ux = P[b, 0] - P[a, 0]  # scan_line2's S and its test q > eps2 * S
+        uy = P[b, 1] - P[a, 1]
+        S = ux * ux + uy * uy
+        if S > utol2:
+            ws[s + _EXACT] = 1.0
+            ws[s + _QEPS] = exact_eps2 * S
     stack[0] = offs.shape[0] - 2  # the root: its level, then its index
     stack[1] = 0
     return 1
@@ -269,17 +286,50 @@ def node_bound(bmin, bmax, node, ws, d, t, s0, e0):
 
 
 @njit(cache=True, nogil=True)
-def tree_next(tree, ws, stack, sp, lo, hi, best_d2):
+def exact_key_bound(bmin, bmax, node, ws):
+    """The largest key ``scan_line2`` can compute for a point of ``node``'s box.
+
+    ``scan_line2``'s key is ``c * c`` with ``c = (x - xa) * uy - (y - ya) *
+    ux``, evaluated in this order. Rounding is monotone, so ``c`` is a
+    monotone function of ``x`` (non-decreasing when ``uy >= 0``) and of ``y``
+    (non-increasing when ``ux >= 0``): its largest and smallest values over
+    the box's points are at most (at least) the same expression evaluated at
+    the box's corners, and the bound is exact in floating point, with no
+    widening. Ties at a later index never win, so a node whose bound is at
+    most the best key so far can be skipped even when its points tie with it
+    (a zigzag of constant height).
+    """
+    xa = ws[0]
+    ya = ws[1]
+    ux = ws[2]
+    uy = ws[3]
+    x0 = bmin[node, 0]
+    x1 = bmax[node, 0]
+    y0 = bmin[node, 1]
+    y1 = bmax[node, 1]
+    xh, xl = (x1, x0) if uy >= 0.0 else (x0, x1)  # c's largest, smallest term
+    yl, yh = (y0, y1) if ux >= 0.0 else (y1, y0)
+    chi = (xh - xa) * uy - (yl - ya) * ux
+    clo = (xl - xa) * uy - (yh - ya) * ux
+    return max(chi * chi, clo * clo)
+
+
+@njit(cache=True, nogil=True)
+def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
     """The next leaf range to scan for the interior ``lo..hi-1``.
 
     Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
     hold a point with squared distance above ``best_d2`` (the larger of
     ``epsilon²`` and the best so far), in index order; ``(-1, -1, 0)`` when
-    none is left.
+    none is left. With the exact 2-D bounds on (:func:`tree_begin`), a node
+    is also skipped when no key of its points can exceed ``best_key`` (the
+    best key so far, ``-1`` before any) or ``epsilon² S``.
     """
     _, t, bmin, bmax, offs, _, _, _, _ = tree
     d = bmin.shape[1]
     n = int(ws[5 * d + _N])
+    exact = ws[5 * d + _EXACT] > 0.0
+    floor = max(best_key, ws[5 * d + _QEPS])
     while sp > 0:
         sp -= 1
         lv = stack[2 * sp]
@@ -288,6 +338,8 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2):
         s0 = j * span
         e0 = min(n, s0 + span)
         if e0 <= lo or s0 >= hi:
+            continue
+        if exact and exact_key_bound(bmin, bmax, offs[lv] + j, ws) <= floor:
             continue
         if node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0) <= best_d2:
             continue
