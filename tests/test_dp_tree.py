@@ -138,53 +138,62 @@ def test_a_flat_zigzag_keeps_every_corner_with_the_tree_given_up():
     assert simplify(P, 0.5, distance="segment").tolist() == list(range(n))
 
 
-def _line2_keys(P, a, b):
-    """scan_line2's keys of points a+1..b-1, in its order of operations."""
-    xa, ya = P[a, 0], P[a, 1]
-    ux, uy = P[b, 0] - xa, P[b, 1] - ya
+def _line_keys(P, a, b):
+    """scan_line2's / scan_line3's keys of points a+1..b-1, in their order."""
+    pa, u = P[a], P[b] - P[a]
     out = []
     for i in range(a + 1, b):
-        c = (P[i, 0] - xa) * uy - (P[i, 1] - ya) * ux
-        out.append(c * c)
+        dv = P[i] - pa
+        if P.shape[1] == 2:
+            c = dv[0] * u[1] - dv[1] * u[0]
+            out.append(c * c)
+        else:
+            cx = dv[1] * u[2] - dv[2] * u[1]
+            cy = dv[2] * u[0] - dv[0] * u[2]
+            cz = dv[0] * u[1] - dv[1] * u[0]
+            out.append(cx * cx + cy * cy + cz * cz)
     return np.array(out)
 
 
 @SETTINGS
-@given(paths(max_d=2, min_n=3), st.data(), st.floats(-1e3, 1e3), st.integers(0, 3))
+@given(paths(max_d=3, min_n=3), st.data(), st.floats(-1e3, 1e3), st.integers(0, 3))
 def test_exact_key_bound_is_at_least_every_computed_key(case, data, shift, scale):
-    """Bitwise: no computed 2-D line key of a node's points exceeds its bound."""
+    """Bitwise: no computed 2-D / 3-D line key of a node's points exceeds its bound."""
     P, _ = case
-    if P.shape[1] != 2:
+    if P.shape[1] == 1:
         P = np.column_stack([P[:, 0], P[:, 0] * 0.5])
     P = P * [0.1, 1.0, 3.7, 1e-3][scale] + shift  # floats with rounding
-    n = P.shape[0]
+    n, d = P.shape
     a = data.draw(st.integers(0, n - 3))
     b = data.draw(st.integers(a + 2, n - 1))
     tree = T.make_tree(P, np.zeros(0), T.TREE_LINE, float(np.abs(P).max()), 1)
     T.fill_tree(P, tree[2], tree[3], tree[4])
-    ws, stack, _ = T.tree_workspace(tree, 2, n)
+    ws, stack, _ = T.tree_workspace(tree, d, n)
     T.tree_begin(tree, a, b, 0.0, ws, stack, 0.0)
-    keys = _line2_keys(P, a, b)
+    keys = _line_keys(P, a, b)
     _, _, bmin, bmax, offs, *_ = tree
     for lv in range(len(offs) - 1):
         span = T.LEAF << lv
         for j in range(offs[lv + 1] - offs[lv]):
             lo, hi = max(j * span, a + 1), min(n, (j + 1) * span, b)
             if lo < hi:
-                bound = T.exact_key_bound(bmin, bmax, offs[lv] + j, ws)
+                bound = T.exact_key_bound(bmin, bmax, offs[lv] + j, ws, d)
                 assert keys[lo - a - 1 : hi - a - 1].max() <= bound
 
 
-def test_a_flat_zigzag_is_pruned_exactly_in_2d_line_mode():
+@pytest.mark.parametrize("d", [2, 3])
+def test_a_flat_zigzag_is_pruned_exactly_in_line_mode(d):
     """Constant height: every tie is pruned by the exact bounds, same points."""
     n = 60_000
-    P = np.column_stack([np.arange(n, dtype=float), (np.arange(n) % 2) * 1.0])
+    k = np.arange(n)
+    cols = [k * 1.0, (k % 2) * 1.0, (k % 2) * 0.5][:d]
+    P = np.column_stack(cols)
     job = _simplify._prepare(P, 0.5, "line", None, None, None)
     keep = np.zeros(n, np.uint8)
     tree = _simplify._tree(job)
     Pt = np.ascontiguousarray(job.P.T)
-    e = np.zeros(0)
-    args = (2, Pt[0], Pt[1], e, np.zeros((2, 0)), job.t, job.mode)
+    z = Pt[2] if d == 3 else np.zeros(0)
+    args = (d, Pt[0], Pt[1], z, np.zeros((d, 0)), job.t, job.mode)
     work = K.dp_line(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
     assert keep.all()
     assert work < n * n / 100  # a plain scan: n²/2

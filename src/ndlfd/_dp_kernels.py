@@ -715,7 +715,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
             ts = tree_begin(
-                tree, a, b, utol2, ws, ts_stack, eps2 if kind == 2 else -1.0
+                tree, a, b, utol2, ws, ts_stack, eps2 if kind in (2, 3) else -1.0
             )
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)

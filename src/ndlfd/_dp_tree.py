@@ -35,9 +35,9 @@ magnitude above the rounding of the kernels' keys (a few ulps of ``|v|``), so
 a pruned node never holds a point whose computed key would have won.
 
 Widened bounds cannot skip a node whose points *tie* with the best so far.
-For the 2-D ``"line"`` scan, :func:`exact_key_bound` bounds the scan's own
-computed keys exactly (rounding is monotone), so such a node is skipped too:
-a 1e6-point zigzag of constant height no longer costs ``n²/2``.
+For the 2-D and 3-D ``"line"`` scans, :func:`exact_key_bound` bounds the
+scan's own computed keys exactly (rounding is monotone), so such a node is
+skipped too: a 1e6-point zigzag of constant height no longer costs ``n²/2``.
 """
 
 from __future__ import annotations
@@ -190,9 +190,9 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     ``tree`` is :func:`make_tree`'s tuple, filled; ``ws`` and ``stack`` come
     from :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
     for ``"sed"``) are bounded by the distance to ``P_a``. ``exact_eps2 >= 0``
-    (the tolerance squared) turns on the exact bounds of the 2-D line scan's
-    keys (:func:`exact_key_bound`); the caller passes it only when its keys
-    are ``scan_line2``'s, else ``-1``.
+    (the tolerance squared) turns on the exact bounds of the 2-D and 3-D line
+    scans' keys (:func:`exact_key_bound`); the caller passes it only when its
+    keys are ``scan_line2``'s or ``scan_line3``'s, else ``-1``.
     """
     P, t, _, _, offs, kind, m, _, _ = tree
     d = P.shape[1]
@@ -217,11 +217,9 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     ws[s + _R] = 4.0 * m * math.sqrt(d)
     ws[s + _N] = P.shape[0]
     ws[s + _EXACT] = 0.0
-    if exact_eps2 >= 0.0 and d == 2 and kind == TREE_LINE:
-        ux = P[b, 0] - P[a, 0]  # scan_line2's S and its test q > eps2 * S
-        uy = P[b, 1] - P[a, 1]
-        S = ux * ux + uy * uy
-        if S > utol2:
+    if exact_eps2 >= 0.0 and d in (2, 3) and kind == TREE_LINE:
+        if U > utol2:  # the scan's S (summed in the same order) and q > eps2 * S
+            S = U
             ws[s + _EXACT] = 1.0
             ws[s + _QEPS] = exact_eps2 * S
     stack[0] = offs.shape[0] - 2  # the root: its level, then its index
@@ -286,32 +284,49 @@ def node_bound(bmin, bmax, node, ws, d, t, s0, e0):
 
 
 @njit(cache=True, nogil=True)
-def exact_key_bound(bmin, bmax, node, ws):
-    """The largest key ``scan_line2`` can compute for a point of ``node``'s box.
+def _cross_sq_bound(p0, p1, pa, s, q0, q1, qa, r):
+    """Largest ``c * c`` of ``c = (p - pa) * s - (q - qa) * r`` on a box.
 
-    ``scan_line2``'s key is ``c * c`` with ``c = (x - xa) * uy - (y - ya) *
-    ux``, evaluated in this order. Rounding is monotone, so ``c`` is a
-    monotone function of ``x`` (non-decreasing when ``uy >= 0``) and of ``y``
-    (non-increasing when ``ux >= 0``): its largest and smallest values over
-    the box's points are at most (at least) the same expression evaluated at
-    the box's corners, and the bound is exact in floating point, with no
-    widening. Ties at a later index never win, so a node whose bound is at
-    most the best key so far can be skipped even when its points tie with it
-    (a zigzag of constant height).
+    ``p`` in ``[p0, p1]``, ``q`` in ``[q0, q1]``. Rounding is monotone, so the
+    computed ``c`` is monotone in ``p`` (non-decreasing when ``s >= 0``) and in
+    ``q`` (non-increasing when ``r >= 0``): its extremes over the box are the
+    same expression at two corners, exactly, in floating point.
     """
-    xa = ws[0]
-    ya = ws[1]
-    ux = ws[2]
-    uy = ws[3]
+    ph, pl = (p1, p0) if s >= 0.0 else (p0, p1)
+    ql, qh = (q0, q1) if r >= 0.0 else (q1, q0)
+    hi = (ph - pa) * s - (ql - qa) * r
+    lo = (pl - pa) * s - (qh - qa) * r
+    return max(hi * hi, lo * lo)
+
+
+@njit(cache=True, nogil=True)
+def exact_key_bound(bmin, bmax, node, ws, d):
+    """The largest key the 2-D or 3-D line scan can compute in ``node``'s box.
+
+    The keys of ``scan_line2`` / ``scan_line3`` are squared cross products,
+    ``c = (x - xa) * uy - (y - ya) * ux`` in 2-D and the sum
+    ``cx² + cy² + cz²`` of three such components in 3-D, evaluated in this
+    order. Each component's square is bounded exactly by
+    :func:`_cross_sq_bound`, and a sum of rounded non-negative terms is
+    monotone in each term, so the bound holds bitwise, with no widening. Ties
+    at a later index never win, so a node whose bound is at most the best key
+    so far can be skipped even when its points tie with it (a zigzag of
+    constant height).
+    """
     x0 = bmin[node, 0]
     x1 = bmax[node, 0]
     y0 = bmin[node, 1]
     y1 = bmax[node, 1]
-    xh, xl = (x1, x0) if uy >= 0.0 else (x0, x1)  # c's largest, smallest term
-    yl, yh = (y0, y1) if ux >= 0.0 else (y1, y0)
-    chi = (xh - xa) * uy - (yl - ya) * ux
-    clo = (xl - xa) * uy - (yh - ya) * ux
-    return max(chi * chi, clo * clo)
+    if d == 2:
+        xa, ya, ux, uy = ws[0], ws[1], ws[2], ws[3]
+        return _cross_sq_bound(x0, x1, xa, uy, y0, y1, ya, ux)
+    z0 = bmin[node, 2]
+    z1 = bmax[node, 2]
+    xa, ya, za, ux, uy, uz = ws[0], ws[1], ws[2], ws[3], ws[4], ws[5]
+    cx = _cross_sq_bound(y0, y1, ya, uz, z0, z1, za, uy)  # dy * uz - dz * uy
+    cy = _cross_sq_bound(z0, z1, za, ux, x0, x1, xa, uz)  # dz * ux - dx * uz
+    cz = _cross_sq_bound(x0, x1, xa, uy, y0, y1, ya, ux)  # dx * uy - dy * ux
+    return cx + cy + cz
 
 
 @njit(cache=True, nogil=True)
@@ -339,7 +354,7 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
         e0 = min(n, s0 + span)
         if e0 <= lo or s0 >= hi:
             continue
-        if exact and exact_key_bound(bmin, bmax, offs[lv] + j, ws) <= floor:
+        if exact and exact_key_bound(bmin, bmax, offs[lv] + j, ws, d) <= floor:
             continue
         if node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0) <= best_d2:
             continue
