@@ -336,7 +336,7 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
     Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
     hold a point with squared distance above ``best_d2`` (the larger of
     ``epsilon²`` and the best so far), in index order; ``(-1, -1, 0)`` when
-    none is left. With the exact 2-D bounds on (:func:`tree_begin`), a node
+    none is left. With the exact 2-D or 3-D bounds on (:func:`tree_begin`), a node
     is also skipped when no key of its points can exceed ``best_key`` (the
     best key so far, ``-1`` before any) or ``epsilon² S``.
     """
