@@ -23,21 +23,8 @@ import time
 import numpy as np
 
 from bench_generate import spiral_demos
-from ndlfd import Demonstration, KeypointHMM, hmm
-
-
-def obstacle(n_up, n_down, seed=0, n=200):
-    """From (-10, 0) to the origin over a bump above (y = +5.5) or below."""
-    rng = np.random.default_rng(seed)
-    s = np.linspace(0.0, 1.0, n)
-    demos = []
-    for k in range(n_up + n_down):
-        sign = 1.0 if k < n_up else -1.0
-        y = sign * 5.5 * np.sin(np.pi * s) + 0.01 * rng.normal(0, 0.05, n).cumsum()
-        P = np.column_stack([-10.0 + 10.0 * s, y]) + rng.normal(0, 0.05, (n, 2))
-        t = 5.0 * s * rng.uniform(0.9, 1.1)
-        demos.append(Demonstration(t, P, ["x", "y"], ["position"] * 2))
-    return demos
+from ndlfd import KeypointHMM, hmm
+from ndlfd.synth import obstacle
 
 
 def best_of(f, repeat=7):

@@ -15,20 +15,7 @@ import numpy as np
 
 import ndlfd
 from ndlfd.metrics import mean_demo_baseline
-
-
-def obstacle(n_up=7, n_down=5, seed=0, n=200, lift=1.0):
-    rng = np.random.default_rng(seed)
-    s = np.linspace(0.0, 1.0, n)
-    demos = []
-    for k in range(n_up + n_down):
-        sign = 1.0 if k < n_up else -1.0
-        y = sign * (5.5 * np.sin(np.pi * s) + lift * (1.0 - s))
-        y = y + 0.01 * rng.normal(0, 0.05, n).cumsum()
-        P = np.column_stack([-10.0 + 10.0 * s, y]) + rng.normal(0, 0.05, (n, 2))
-        t = 5.0 * s * rng.uniform(0.9, 1.1)
-        demos.append(ndlfd.Demonstration(t, P, ["x", "y"], ["position"] * 2))
-    return demos
+from ndlfd.synth import obstacle
 
 
 def main(out):
@@ -37,7 +24,7 @@ def main(out):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    demos = obstacle()
+    demos = obstacle(7, 5, lift=1.0)
     model = ndlfd.KeypointHMM().fit(demos)
     t = np.linspace(0.0, 5.0, 200)
     free = model.generate(t, dense=True).get("position")

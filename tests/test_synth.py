@@ -5,7 +5,15 @@ from hypothesis import strategies as st
 
 from ndlfd._errors import OptionError, ValidationError
 from ndlfd.demonstration import Demonstration, with_velocity
-from ndlfd.synth import SHAPES, curve, make_dataset, spiral, square, square_spiral
+from ndlfd.synth import (
+    SHAPES,
+    curve,
+    make_dataset,
+    obstacle,
+    spiral,
+    square,
+    square_spiral,
+)
 
 GENERATORS = {
     "square": square,
@@ -310,3 +318,38 @@ def test_generators_add_the_documented_noise(name, n, speed, noise, model, seed)
         assert np.all(np.abs(got - want) <= tol), group
         if model == "uniform":
             assert np.all(np.abs(got) <= scale * (1 + 1e-15) + tol)
+
+
+@pytest.mark.parametrize("lift", [0.0, 1.0])
+def test_obstacle_routes_go_around_the_bump(lift):
+    demos = obstacle(4, 2, n_samples=101, lift=lift)
+    assert len(demos) == 6
+    for k, d in enumerate(demos):
+        sign = 1.0 if k < 4 else -1.0
+        assert d.groups == ("position", "position") or list(d.groups) == [
+            "position",
+            "position",
+        ]
+        P = d.get("position")
+        # by hand: y = ±(5.5 sin(pi s) + lift (1 - s)) plus noise of sd 0.05
+        # and a drift of at most 101 steps of sd 0.0005
+        assert P[0] == pytest.approx([-10.0, sign * lift], abs=0.3)
+        assert P[50] == pytest.approx([-5.0, sign * (5.5 + 0.5 * lift)], abs=0.3)
+        assert P[-1] == pytest.approx([0.0, 0.0], abs=0.3)
+        assert 4.5 <= d.t[-1] <= 5.5 and d.t[0] == 0.0
+    again = obstacle(4, 2, n_samples=101, lift=lift)
+    assert all(np.array_equal(a.X, b.X) for a, b in zip(demos, again, strict=True))
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        (dict(n_up=-1), "n_up"),
+        (dict(n_up=0, n_down=0), "at least one"),
+        (dict(n_samples=1), "n_samples"),
+        (dict(n_down=2.5), "n_down"),
+    ],
+)
+def test_obstacle_refuses_bad_sizes(kw, match):
+    with pytest.raises(ValidationError, match=match):
+        obstacle(**kw)

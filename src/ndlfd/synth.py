@@ -1,5 +1,9 @@
 """Synthetic demonstrations reproducing the paper's data sets (SPEC §2).
 
+:func:`obstacle` (not the paper's) makes demonstrations that take two routes
+around an obstacle, the case ndlfd's routes are for; everything below is
+about the paper's generators.
+
 Every generator samples a clean analytic path at a constant rate (``t_k = k·dt``,
 ``k = 0..n_points-1``, default ``dt = 0.1`` s) and returns a
 :class:`~ndlfd.demonstration.Demonstration` with a ``position`` and a ``velocity``
@@ -52,6 +56,7 @@ __all__ = [
     "VELOCITY_NOISE_RATIO",
     "curve",
     "make_dataset",
+    "obstacle",
     "spiral",
     "square",
     "square_spiral",
@@ -467,3 +472,63 @@ def make_dataset(
         noise=test_noise, velocity_noise=test_velocity_noise, random_state=rng, **kw
     )
     return train, test
+
+
+def obstacle(
+    n_up: int = 7,
+    n_down: int = 5,
+    *,
+    n_samples: int = 200,
+    lift: float = 0.0,
+    random_state=0,
+) -> list[Demonstration]:
+    """Demonstrations that take two routes around an obstacle.
+
+    From ``(-10, ±lift)`` to the origin in about 5 s, ``n_up`` of them over a
+    bump above (``y ≈ +5.5`` mid-course) and then ``n_down`` below
+    (``y ≈ -5.5``): ``y = ±(5.5 sin(πs) + lift (1 - s))`` for ``s`` in
+    [0, 1], plus a slow drift (a random walk of step ``0.0005``) and noise of
+    standard deviation 0.05 on both coordinates; each demonstration's
+    duration is drawn in [4.5, 5.5] s. A mean of both routes runs through the
+    obstacle that every demonstration avoids: the test set of ndlfd's routes
+    (:mod:`ndlfd.learner._routes`).
+
+    Parameters
+    ----------
+    n_up, n_down : int, default=7, 5
+        Demonstrations over the top and underneath (the first ``n_up`` are
+        the upper ones).
+    n_samples : int, default=200
+        Samples per demonstration.
+    lift : float, default=0.0
+        The routes start at ``y = ±lift`` (and all end at 0).
+    random_state : None, int or numpy.random.Generator, default=0
+        The noise and durations.
+
+    Returns
+    -------
+    demos : list of Demonstration
+        Each with a ``position`` group ``(x, y)``.
+
+    Examples
+    --------
+    >>> demos = obstacle(2, 1, n_samples=51)
+    >>> [bool(d.X[25, 1] > 5) for d in demos], bool(demos[2].X[25, 1] < -5)
+    ([True, True, False], True)
+    """
+    n_up = check_positive_int(n_up, "n_up", minimum=0)
+    n_down = check_positive_int(n_down, "n_down", minimum=0)
+    if n_up + n_down < 1:
+        raise ValidationError("obstacle needs at least one demonstration; got 0")
+    n_samples = check_positive_int(n_samples, "n_samples", minimum=2)
+    rng = check_random_state(random_state)
+    s = np.linspace(0.0, 1.0, n_samples)
+    demos = []
+    for k in range(n_up + n_down):
+        sign = 1.0 if k < n_up else -1.0
+        y = sign * (5.5 * np.sin(np.pi * s) + lift * (1.0 - s))
+        y = y + 0.01 * rng.normal(0, 0.05, n_samples).cumsum()
+        P = np.column_stack([-10.0 + 10.0 * s, y]) + rng.normal(0, 0.05, (n_samples, 2))
+        t = 5.0 * s * rng.uniform(0.9, 1.1)
+        demos.append(Demonstration(t, P, ["x", "y"], ["position"] * 2))
+    return demos

@@ -1,8 +1,6 @@
 """ndlfd generate / sample --via TIME:GROUP=values (a via point, repeatable)."""
 
 import re
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,9 +8,7 @@ from cli_helpers import cli
 
 from ndlfd.io import read_csv
 from ndlfd.learner import KeypointHMM
-
-sys.path.insert(0, str(Path(__file__).parents[1] / "learner"))
-from test_learner_routes import obstacle
+from ndlfd.synth import obstacle
 
 
 @pytest.fixture(scope="module")

@@ -133,13 +133,11 @@ def test_blend_route_model_follows_pseudo_transition():
     (``route_model``) and must carry ``pseudo_transition``: a mutant that
     drops it fails (docs/robustness.md, "Options that changed nothing").
     """
-    from test_learner_routes import obstacle
-
     from ndlfd.learner._cache import ModelCache
     from ndlfd.learner._generation import decode_route
     from ndlfd.learner._segments import segment_model
 
-    demos = obstacle(9, 3)
+    demos = synth.obstacle(9, 3)
     arrays = {}
     for pseudo in (0.0, 0.5):
         kw = dict(n_time_bins=40, pseudo_transition=pseudo, pseudo_emission=0.1)

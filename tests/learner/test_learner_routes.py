@@ -9,24 +9,7 @@ from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 from ndlfd.learner._routes import choose_route, route_labels, segment_paths
 from ndlfd.learner._segments import segment_states
-
-
-def obstacle(n_up, n_down, seed=0, n=200, lift=0.0):
-    """From (-10, 0) to the origin over a bump above (y = +5.5 mid-course) or below.
-
-    ``lift``: the routes start at y = +-lift instead (and still end at 0).
-    """
-    rng = np.random.default_rng(seed)
-    s = np.linspace(0.0, 1.0, n)
-    demos = []
-    for k in range(n_up + n_down):
-        sign = 1.0 if k < n_up else -1.0
-        y = sign * (5.5 * np.sin(np.pi * s) + lift * (1.0 - s))
-        y = y + 0.01 * rng.normal(0, 0.05, n).cumsum()
-        P = np.column_stack([-10.0 + 10.0 * s, y]) + rng.normal(0, 0.05, (n, 2))
-        t = 5.0 * s * rng.uniform(0.9, 1.1)
-        demos.append(Demonstration(t, P, ["x", "y"], ["position"] * 2))
-    return demos
+from ndlfd.synth import obstacle
 
 
 def _mid_y(path):

@@ -3,12 +3,12 @@
 import numpy as np
 import pytest
 from scipy import stats
-from test_learner_routes import obstacle
 
 from ndlfd import NotFittedError, ValidationError
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 from ndlfd.learner._sampling import _seen_only, route_probabilities
+from ndlfd.synth import obstacle
 
 T = np.linspace(0.0, 5.0, 400)
 XS = np.linspace(-9.5, -0.5, 50)  # the course, away from the shared ends
