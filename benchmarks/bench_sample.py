@@ -18,22 +18,12 @@ half a minute). Prints its numbers.
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
+from bench_continue import best_of
 from bench_generate import spiral_demos
 from ndlfd import KeypointHMM, hmm
 from ndlfd.synth import obstacle
-
-
-def best_of(f, repeat=7):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main():
