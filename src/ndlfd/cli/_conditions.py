@@ -28,6 +28,7 @@ __all__ = [
     "load_with_conditions",
     "model_conditions",
     "observed_timing",
+    "output_mapping",
     "parse_condition",
     "parse_via",
     "read_observed",
@@ -230,6 +231,19 @@ def read_observed(args: argparse.Namespace, timing) -> tuple:
         return None, timing, None
     prefix, mapping = read_one(args, args.observed, "--observed")
     return prefix, observed_timing(prefix, timing), mapping
+
+
+def output_mapping(model, like, observed):
+    """The mapping the output is written with.
+
+    As the ``--like`` file was read, else as the ``--observed`` file, else as
+    the model's training files (its ``input_mapping_``; ``None`` for a model
+    that did not record them, and the output keeps the model's names).
+    """
+    for mapping in (like, observed):
+        if mapping is not None:
+            return mapping
+    return model.input_mapping_
 
 
 def observed_timing(prefix: Demonstration, timing) -> np.ndarray:

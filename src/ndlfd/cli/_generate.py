@@ -15,7 +15,12 @@ from ..io import (
     write_joint_trajectory,
     write_table,
 )
-from ._conditions import add_condition_options, load_with_conditions, read_observed
+from ._conditions import (
+    add_condition_options,
+    load_with_conditions,
+    output_mapping,
+    read_observed,
+)
 from ._options import (
     MAX_SAMPLES,
     add_column_options,
@@ -70,8 +75,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         )
     timing, like = read_timing(args, n, times_only=model.generation != "paper")
     prefix, timing, observed_map = read_observed(args, timing)
-    like = like or observed_map
-    like = like if like is not None else getattr(model, "input_mapping_", None)
+    like = output_mapping(model, like, observed_map)
     result = model.generate(
         timing,
         dense=args.dense,

@@ -7,7 +7,12 @@ from pathlib import Path
 
 from .._errors import ValidationError
 from ..io import write_csv
-from ._conditions import add_condition_options, load_with_conditions, read_observed
+from ._conditions import (
+    add_condition_options,
+    load_with_conditions,
+    output_mapping,
+    read_observed,
+)
 from ._generate import FLOAT_FORMAT
 from ._options import (
     add_column_options,
@@ -37,8 +42,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
     model, start, goal, via = load_with_conditions(args)
     timing, like = read_timing(args, n)
     prefix, timing, observed_map = read_observed(args, timing)
-    like = like or observed_map
-    like = like if like is not None else getattr(model, "input_mapping_", None)
+    like = output_mapping(model, like, observed_map)
     paths = model.sample(
         timing,
         args.n,
