@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ndlfd import _dp_generic as G
 from ndlfd import _dp_kernels as K
 from ndlfd import _dp_tree as T
 from ndlfd import _simplify
@@ -109,7 +110,7 @@ def test_zigzag_builds_the_tree_and_scans_little(mode):
     keep = np.zeros(n, np.uint8)
     tree = _simplify._tree(job)
     args = (job.P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
-    work = K.dp_generic(*args)
+    work = G.dp_generic(*args)
     assert keep.all()
     assert work < n * n / 100  # a plain scan: n²/2
 
@@ -204,3 +205,57 @@ def test_a_flat_zigzag_is_pruned_exactly_in_line_mode(d):
         always_tree(mp)
         tree_kept = simplify(Q, 0.1, n_jobs=1)
     assert tree_kept.tolist() == dp_reference(Q, 0.1).tolist()
+
+
+def _flat_zigzag(n, d):
+    """Constant height in every column but the first: every corner ties."""
+    k = np.arange(n)
+    return np.column_stack(
+        [k * 1.0] + [(k % 2) * (0.5 + 0.25 * j) for j in range(d - 1)]
+    )
+
+
+@pytest.mark.parametrize(
+    ("mode", "d"), [("segment", 2), ("segment", 5), ("line", 4), ("line", 9)]
+)
+def test_a_flat_zigzag_is_pruned_exactly_with_leave_one_out_keys(mode, d):
+    """Segment mode, and line mode past 3-D: the ties are pruned, not scanned."""
+    n = 40_000
+    job = _simplify._prepare(_flat_zigzag(n, d), 0.1, mode, None, None, None)
+    keep = np.zeros(n, np.uint8)
+    tree = _simplify._tree(job)
+    dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
+    work = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    assert keep.all()
+    assert work < 4 * T.LEAF * n, work  # a few leaves a split; a plain scan: n²/2
+
+
+@pytest.mark.parametrize(("mode", "d"), [("segment", 3), ("line", 6), ("line", 10)])
+def test_leave_one_out_keys_keep_the_same_points_with_or_without_tree(
+    mode, d, monkeypatch
+):
+    """Off the integers (rounding breaks the ties unevenly): the tree, the
+    threads and the plain scan keep the same points; on integers, the
+    textbook reference's."""
+    n = 12_000
+    P = _flat_zigzag(n, d) * 0.37 + 1.3
+    P[:, 0] += np.random.default_rng(d).normal(scale=0.01, size=n)
+    serial = simplify(P, 0.1, distance=mode, n_jobs=1)
+    assert simplify(P, 0.1, distance=mode, n_jobs=2).tolist() == serial.tolist()
+    with monkeypatch.context() as mp:
+        mp.setattr(_simplify, "TREE_MIN", n)  # no tree
+        assert simplify(P, 0.1, distance=mode, n_jobs=1).tolist() == serial.tolist()
+    m = 4_500  # longer than EXACT_MIN, so the reference meets the new keys
+    Q = _flat_zigzag(m, d)
+    Q[::7, 1] += 0.25  # some corners higher: not all ties
+    with monkeypatch.context():
+        import sys
+
+        monkeypatch.setattr(sys, "getrecursionlimit", sys.getrecursionlimit)
+        old = sys.getrecursionlimit()
+        sys.setrecursionlimit(max(old, 4 * m))
+        try:
+            ref = dp_reference(Q, 0.1, distance=mode)
+        finally:
+            sys.setrecursionlimit(old)
+    assert simplify(Q, 0.1, distance=mode, n_jobs=1).tolist() == ref.tolist()

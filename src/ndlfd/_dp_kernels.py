@@ -40,6 +40,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ._dp_exact import EXACT_MIN, loo_workspace, lopsided, scan_loo, scan_loo_range
 from ._dp_tree import (
     tree_begin,
     tree_done,
@@ -55,11 +56,9 @@ __all__ = [
     "MODE_SED",
     "MODE_SEGMENT",
     "dp_cols",
-    "dp_generic",
     "dp_line",
     "finite_maxabs",
     "scan_cols_range",
-    "scan_generic",
     "scan_line_range",
     "transpose",
 ]
@@ -102,164 +101,6 @@ def transpose(P, out, lo, hi):
         for k in range(d):
             for i in range(i0, i1):
                 out[k, i] = P[i, k]
-
-
-@njit(cache=True, nogil=True)
-def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
-    """Farthest point of segment ``(a, b)`` among indices ``lo..hi-1``.
-
-    Returns ``(far, q, S)``: the first index with the largest key ``q`` and
-    the segment scale ``S`` (``distance² = q / S``). ``u`` is a workspace of
-    length ``d``. ``far`` is ``-1`` (and ``q`` is ``-1``) when ``lo >= hi``.
-    """
-    d = P.shape[1]
-    best = -1.0
-    far = -1
-    # Each mode has its own flat loop over the points, with the key and the
-    # argmax written out in it: unrolled on purpose, so that no mode test or
-    # helper call runs per point.
-    if mode == MODE_SED:
-        ta = t[a]
-        D = t[b] - ta
-        for k in range(d):
-            u[k] = P[b, k] - P[a, k]
-        for i in range(lo, hi):
-            s = t[i] - ta
-            q = 0.0
-            for k in range(d):
-                r = D * (P[i, k] - P[a, k]) - s * u[k]
-                q += r * r
-            if q > best:
-                best = q
-                far = i
-        return far, best, D * D
-    U = 0.0
-    for k in range(d):
-        u[k] = P[b, k] - P[a, k]
-        U += u[k] * u[k]
-    if U <= utol2:
-        for i in range(lo, hi):
-            q = 0.0
-            for k in range(d):
-                r = P[i, k] - P[a, k]
-                q += r * r
-            if q > best:
-                best = q
-                far = i
-        return far, best, 1.0
-    if mode == MODE_PAPER and d >= 2:
-        if d == 2:
-            w0 = u[1]
-            w1 = -u[0]
-            for i in range(lo, hi):
-                c = (P[i, 0] - P[a, 0]) * w0 + (P[i, 1] - P[a, 1]) * w1
-                q = c * c
-                if q > best:
-                    best = q
-                    far = i
-            return far, best, U
-        ka = d - 3
-        wa = u[ka + 1] - u[ka + 2]
-        wb = u[ka + 2] - u[ka]
-        wc = u[ka] - u[ka + 1]
-        for i in range(lo, hi):
-            c = (
-                (P[i, ka] - P[a, ka]) * wa
-                + (P[i, ka + 1] - P[a, ka + 1]) * wb
-                + (P[i, ka + 2] - P[a, ka + 2]) * wc
-            )
-            q = c * c
-            if q > best:
-                best = q
-                far = i
-        return far, best, U
-    UU = U * U
-    segment = mode == MODE_SEGMENT
-    for i in range(lo, hi):
-        vu = 0.0
-        for k in range(d):
-            vu += (P[i, k] - P[a, k]) * u[k]
-        if segment and vu <= 0.0:
-            q = 0.0
-            for k in range(d):
-                r = P[i, k] - P[a, k]
-                q += r * r
-            q *= UU
-        elif segment and vu >= U:
-            q = 0.0
-            for k in range(d):
-                r = P[i, k] - P[b, k]
-                q += r * r
-            q *= UU
-        else:
-            q = 0.0
-            for k in range(d):
-                r = U * (P[i, k] - P[a, k]) - vu * u[k]
-                q += r * r
-        if q > best:
-            best = q
-            far = i
-    return far, best, UU
-
-
-@njit(cache=True, nogil=True)
-def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
-    """Epsilon-mode Douglas–Peucker on ``P[a0..b0]`` for any mode and ``d``.
-
-    Marks kept interior indices in ``keep`` (uint8, length ``n``); the
-    endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
-    Segments longer than ``tree[7]`` points are scanned through the box tree
-    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is filled (by
-    :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
-    was filled before). Returns the number of distance evaluations.
-    """
-    keep[a0] = 1
-    keep[b0] = 1
-    if b0 - a0 < 2:
-        return 0
-    u = np.empty(P.shape[1])
-    ws, ts_stack, flags = tree_workspace(tree, P.shape[1], P.shape[0])
-    stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
-    # The explicit-stack loop is written out in each dp_* kernel on purpose:
-    # the scans take different arguments, and this way each kernel calls its
-    # scan directly, with no dispatch per segment in the hot loop.
-    stack[0] = a0
-    stack[1] = b0
-    sp = 1
-    work = 0
-    while sp > 0:
-        sp -= 1
-        a = stack[2 * sp]
-        b = stack[2 * sp + 1]
-        if b - a > tree[7] and flags[0] > 0.0:
-            # the tree loop: written out in each dp_* kernel, like the stack
-            far, q, S, bd2 = -1, -1.0, 1.0, eps2
-            w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, -1.0)
-            while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
-                if lo < 0:
-                    break
-                f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
-                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
-                work += hi - lo
-            tree_done(tree, flags, work - w0, b - a - 1)
-        else:
-            far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
-            work += b - a - 1
-        if q > eps2 * S:
-            keep[far] = 1
-            if b - a > tree[7]:
-                tree_split(tree, flags, a, b, far)
-            if far - a > 1:
-                stack[2 * sp] = a
-                stack[2 * sp + 1] = far
-                sp += 1
-            if b - far > 1:
-                stack[2 * sp] = far
-                stack[2 * sp + 1] = b
-                sp += 1
-    return work
 
 
 #: Points per block of the vectorized line-mode scans (a 2 KiB buffer).
@@ -391,9 +232,9 @@ def scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
     ``mode`` as in :func:`scan_line_cols`. ``Pt`` is the transposed
     (column-major) data of shape ``(d, n)``; each block is processed column
     by column in vectorized loops. The keys are the same numbers as
-    :func:`scan_generic`'s (same operations, same order). ``buf`` (``bits``
-    its int64 view), ``vu`` are workspaces of length :data:`BLOCK`; ``u``,
-    ``pa`` of length ``d``.
+    :func:`~ndlfd._dp_generic.scan_generic`'s (same operations, same order).
+    ``buf`` (``bits`` its int64 view), ``vu`` are workspaces of length
+    :data:`BLOCK`; ``u``, ``pa`` of length ``d``.
     """
     d = Pt.shape[0]
     U = 0.0
@@ -484,8 +325,8 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
     columns. Its length is part of the type, so numba compiles one version
     per ``d`` with the loops over the columns unrolled and the loop over
     points vectorized, with everything in registers. Same keys as
-    :func:`scan_generic` (same operations, same order). ``u``, ``pa`` are
-    workspaces of length ``d``.
+    :func:`~ndlfd._dp_generic.scan_generic` (same operations, same order).
+    ``u``, ``pa`` are workspaces of length ``d``.
     """
     d = len(cols)
     U = 0.0
@@ -579,8 +420,16 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
 
 
 @njit(cache=True, nogil=True)
-def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi):
-    """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``."""
+def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi, lop=False):
+    """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``.
+
+    With ``lop`` (the segment comes from a lopsided split) and longer than
+    :data:`~ndlfd._dp_exact.EXACT_MIN` points,
+    :func:`~ndlfd._dp_exact.scan_loo` (``"line"`` and ``"segment"``), as
+    :func:`dp_cols` does.
+    """
+    if lop and mode != MODE_SED and b - a > EXACT_MIN:
+        return scan_loo_range(cols, mode == MODE_SEGMENT, a, b, utol2, lo, hi)
     buf = np.empty(BLOCK)
     d = len(cols)
     bits = buf.view(np.int64)
@@ -590,12 +439,17 @@ def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
+def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
     See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
-    for ``"segment"`` and ``"sed"`` with ``d <= 8``. Explicit stack, no recursion;
-    ``tree`` as in :func:`dp_generic`. Returns the number of distance
+    for ``"segment"`` and ``"sed"`` with ``d <= 8``. Segments longer than
+    :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split
+    (:func:`~ndlfd._dp_exact.lopsided`; ``lop0`` for ``(a0, b0)``), but in
+    ``"sed"``, are scanned by :func:`~ndlfd._dp_exact.scan_loo` (keys the
+    tree bounds exactly).
+    Explicit stack, no recursion; ``tree`` as in
+    :func:`~ndlfd._dp_generic.dp_generic`. Returns the number of distance
     evaluations.
     """
     keep[a0] = 1
@@ -607,34 +461,45 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
+    lw = loo_workspace(d)
+    segment = mode == MODE_SEGMENT
     ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
     # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
+    lops[0] = lop0
     sp = 1
     work = 0
     while sp > 0:
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
+        loo = lops[sp] and mode != MODE_SED and b - a > EXACT_MIN
         if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, -1.0)
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if loo else -1.0)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
                     break
-                f, qq, SS = scan_line_cols(
-                    cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
-                )
+                if loo:
+                    f, qq, SS = scan_loo(cols, segment, a, b, utol2, lo, hi, lw, True)
+                else:
+                    f, qq, SS = scan_line_cols(
+                        cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
+                    )
                 far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                 work += hi - lo
             tree_done(tree, flags, work - w0, b - a - 1)
+        elif loo:
+            far, q, S = scan_loo(cols, segment, a, b, utol2, a + 1, b, lw)
+            work += b - a - 1
         else:
             far, q, S = scan_line_cols(
                 cols, t, mode, a, b, utol2, a + 1, b, buf, bits, u, pa
@@ -644,13 +509,16 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
             keep[far] = 1
             if b - a > tree[7]:
                 tree_split(tree, flags, a, b, far)
+            lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
+                lops[sp] = lop
                 sp += 1
             if b - far > 1:
                 stack[2 * sp] = far
                 stack[2 * sp + 1] = b
+                lops[sp] = lop
                 sp += 1
     return work
 
@@ -666,8 +534,10 @@ def _scan_kind(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u
 
 
 @njit(cache=True, nogil=True)
-def scan_line_range(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi):
+def scan_line_range(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi, lop=False):
     """:func:`dp_line`'s scan of one chunk ``lo..hi-1`` of segment ``(a, b)``."""
+    if lop and kind == 0 and mode != MODE_SED and b - a > EXACT_MIN:
+        return scan_loo_range(Pt, mode == MODE_SEGMENT, a, b, utol2, lo, hi)
     buf = np.empty(BLOCK)
     bits = buf.view(np.int64)
     d = Pt.shape[0]
@@ -678,14 +548,19 @@ def scan_line_range(kind, x, y, z, Pt, t, mode, a, b, utol2, lo, hi):
 
 
 @njit(cache=True, nogil=True)
-def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
+def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, column-major layouts.
 
     ``kind`` 2 and 3 use the structure-of-arrays columns ``x, y(, z)``
     (``"line"`` mode only); ``kind`` 0 uses the transposed data ``Pt`` of
     shape ``(d, n)`` in ``mode`` (``t`` the times, for ``"sed"``). Unused
-    arrays may be empty. Explicit stack, no recursion; ``tree`` as in
-    :func:`dp_generic`. Returns the number of distance evaluations.
+    arrays may be empty. With ``kind`` 0, segments longer than
+    :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split (``lop0``
+    for ``(a0, b0)``), but in ``"sed"``, are scanned by
+    :func:`~ndlfd._dp_exact.scan_loo` (keys the tree bounds exactly).
+    Explicit stack, no recursion; ``tree`` as in
+    :func:`~ndlfd._dp_generic.dp_generic`. Returns the number of distance
+    evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -697,30 +572,39 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
+    lw = loo_workspace(d)
+    segment = mode == MODE_SEGMENT
     ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
+    lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
     # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
+    lops[0] = lop0
     sp = 1
     work = 0
     while sp > 0:
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
+        loo = lops[sp] and kind == 0 and mode != MODE_SED and b - a > EXACT_MIN
         if b - a > tree[7] and flags[0] > 0.0:
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(
-                tree, a, b, utol2, ws, ts_stack, eps2 if kind in (2, 3) else -1.0
-            )
+            exact = kind in (2, 3) or loo
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
                     break
+                if loo:
+                    f, qq, SS = scan_loo(Pt, segment, a, b, utol2, lo, hi, lw, True)
+                    far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                    work += hi - lo
+                    continue
                 f, qq, SS = _scan_kind(
                     kind,
                     x,
@@ -750,6 +634,8 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
                 far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
             elif kind == 3:
                 far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
+            elif loo:
+                far, q, S = scan_loo(Pt, segment, a, b, utol2, a + 1, b, lw)
             else:
                 far, q, S = scan_lineN(
                     Pt, t, mode, a, b, utol2, a + 1, b, buf, bits, vu, u, pa
@@ -758,12 +644,15 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree):
             keep[far] = 1
             if b - a > tree[7]:
                 tree_split(tree, flags, a, b, far)
+            lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
+                lops[sp] = lop
                 sp += 1
             if b - far > 1:
                 stack[2 * sp] = far
                 stack[2 * sp + 1] = b
+                lops[sp] = lop
                 sp += 1
     return work

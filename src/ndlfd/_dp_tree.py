@@ -35,9 +35,14 @@ magnitude above the rounding of the kernels' keys (a few ulps of ``|v|``), so
 a pruned node never holds a point whose computed key would have won.
 
 Widened bounds cannot skip a node whose points *tie* with the best so far.
-For the 2-D and 3-D ``"line"`` scans, :func:`exact_key_bound` bounds the
-scan's own computed keys exactly (rounding is monotone), so such a node is
-skipped too: a 1e6-point zigzag of constant height no longer costs ``n²/2``.
+For the ``"line"`` and ``"segment"`` scans of long segments from lopsided
+splits (a zigzag's), :func:`exact_key_bound` bounds the scan's own computed
+keys exactly (rounding is monotone; in 2-D and 3-D ``"line"`` keys are cross
+products, elsewhere the leave-one-out keys of :mod:`ndlfd._dp_exact`), so
+such a node is skipped too: a 1e6-point zigzag of constant height no longer
+costs ``n²/2``. The
+``"sed"`` keys are not bounded so (time and position are boxed apart, and
+on a path that moves with time the box corners are far from its points).
 """
 
 from __future__ import annotations
@@ -46,6 +51,8 @@ import math
 
 import numpy as np
 from numba import njit
+
+from ._dp_exact import EXACT_MIN, loo_key_bound, loo_scales, lopsided
 
 __all__ = [
     "LEAF",
@@ -153,7 +160,7 @@ def tree_workspace(tree, d, n):
     if tree[8] == 0 and tree[2].shape[0] > 0:
         fill_tree(tree[0], tree[2], tree[3], tree[4])
         flags[0] = 1.0
-    return np.zeros(5 * d + 10), np.empty(4 * (levels + 4), np.int64), flags
+    return np.zeros(8 * d + 10), np.empty(4 * (levels + 4), np.int64), flags
 
 
 @njit(cache=True, nogil=True)
@@ -170,7 +177,7 @@ def tree_split(tree, flags, a, b, far):
     P, _, bmin, bmax, offs, _, _, tree_min, budget = tree
     if flags[0] != 0.0 or budget < 0 or b - a <= tree_min:
         return
-    if min(far - a, b - far) * 16 >= b - a:
+    if not lopsided(a, b, far):
         return
     flags[1] += b - a
     if flags[1] > budget:
@@ -179,8 +186,14 @@ def tree_split(tree, flags, a, b, far):
 
 
 # workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
-# ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars
+# ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars at 5d + these; then
+# the leave-one-out scales C at 5d + 10 and scratch of 2d after them
 _U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS = 0, 1, 2, 3, 4, 5, 6, 7, 8
+
+# ws[5d + _EXACT]: which keys exact_key_bound bounds (0: none)
+_EXACT_CROSS = 1.0  # the 2-D and 3-D line scans' cross products
+_EXACT_LOO = 2.0  # the leave-one-out line keys (ndlfd._dp_exact)
+_EXACT_LOO_SEGMENT = 3.0  # the same, with the segment's end keys
 
 
 @njit(cache=True, nogil=True)
@@ -190,9 +203,11 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     ``tree`` is :func:`make_tree`'s tuple, filled; ``ws`` and ``stack`` come
     from :func:`tree_workspace`. Coincident endpoints (``|u|² <= utol2``, except
     for ``"sed"``) are bounded by the distance to ``P_a``. ``exact_eps2 >= 0``
-    (the tolerance squared) turns on the exact bounds of the 2-D and 3-D line
-    scans' keys (:func:`exact_key_bound`); the caller passes it only when its
-    keys are ``scan_line2``'s or ``scan_line3``'s, else ``-1``.
+    (the tolerance squared) turns on the exact bounds of the scan's own keys
+    (:func:`exact_key_bound`): the caller passes it when its keys are
+    ``scan_line2``'s or ``scan_line3``'s (2-D and 3-D ``"line"``) or
+    :func:`~ndlfd._dp_exact.scan_loo`'s (other ``"line"`` and ``"segment"``
+    scans of long segments from lopsided splits), else ``-1``.
     """
     P, t, _, _, offs, kind, m, _, _ = tree
     d = P.shape[1]
@@ -217,11 +232,17 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     ws[s + _R] = 4.0 * m * math.sqrt(d)
     ws[s + _N] = P.shape[0]
     ws[s + _EXACT] = 0.0
-    if exact_eps2 >= 0.0 and d in (2, 3) and kind == TREE_LINE:
-        if U > utol2:  # the scan's S (summed in the same order) and q > eps2 * S
-            S = U
-            ws[s + _EXACT] = 1.0
-            ws[s + _QEPS] = exact_eps2 * S
+    on = exact_eps2 >= 0.0 and U > utol2 and kind in (TREE_LINE, TREE_SEGMENT)
+    if on and d in (2, 3) and kind == TREE_LINE:
+        S = U  # the scan's S (summed in the same order) and q > eps2 * S
+        ws[s + _EXACT] = _EXACT_CROSS
+        ws[s + _QEPS] = exact_eps2 * S
+    elif on and b - a > EXACT_MIN:
+        loo_scales(ws[d : 2 * d], ws[5 * d + 10 : 6 * d + 10])
+        S = U * U
+        segment = kind == TREE_SEGMENT
+        ws[s + _EXACT] = _EXACT_LOO_SEGMENT if segment else _EXACT_LOO
+        ws[s + _QEPS] = exact_eps2 * S
     stack[0] = offs.shape[0] - 2  # the root: its level, then its index
     stack[1] = 0
     return 1
@@ -301,9 +322,11 @@ def _cross_sq_bound(p0, p1, pa, s, q0, q1, qa, r):
 
 @njit(cache=True, nogil=True)
 def exact_key_bound(bmin, bmax, node, ws, d):
-    """The largest key the 2-D or 3-D line scan can compute in ``node``'s box.
+    """The largest key the scan can compute for a point of ``node``'s box.
 
-    The keys of ``scan_line2`` / ``scan_line3`` are squared cross products,
+    The leave-one-out keys of long segments are bounded by
+    :func:`~ndlfd._dp_exact.loo_key_bound`. The keys of ``scan_line2`` /
+    ``scan_line3`` (2-D and 3-D ``"line"``) are squared cross products,
     ``c = (x - xa) * uy - (y - ya) * ux`` in 2-D and the sum
     ``cx² + cy² + cz²`` of three such components in 3-D, evaluated in this
     order. Each component's square is bounded exactly by
@@ -313,6 +336,20 @@ def exact_key_bound(bmin, bmax, node, ws, d):
     so far can be skipped even when its points tie with it (a zigzag of
     constant height).
     """
+    exact = ws[5 * d + _EXACT]
+    if exact != _EXACT_CROSS:
+        c = 5 * d + 10
+        return loo_key_bound(
+            bmin[node],
+            bmax[node],
+            ws[:d],
+            ws[d : 2 * d],
+            ws[3 * d : 4 * d],
+            ws[c : c + d],
+            ws[5 * d + _U],
+            exact == _EXACT_LOO_SEGMENT,
+            ws[c + d : c + 3 * d],
+        )
     x0 = bmin[node, 0]
     x1 = bmax[node, 0]
     y0 = bmin[node, 1]
@@ -336,7 +373,7 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
     Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
     hold a point with squared distance above ``best_d2`` (the larger of
     ``epsilon²`` and the best so far), in index order; ``(-1, -1, 0)`` when
-    none is left. With the exact 2-D or 3-D bounds on (:func:`tree_begin`), a node
+    none is left. With the exact bounds on (:func:`tree_begin`), a node
     is also skipped when no key of its points can exceed ``best_key`` (the
     best key so far, ``-1`` before any) or ``epsilon² S``.
     """

@@ -42,6 +42,8 @@ import numpy as np
 
 from . import _dp_kernels as K
 from ._dp_budget import dp_budget
+from ._dp_exact import lopsided
+from ._dp_generic import dp_generic
 from ._dp_tree import TREE_LINE, TREE_SED, TREE_SEGMENT, make_tree
 from ._errors import ValidationError
 from ._parallel import thread_pool
@@ -283,8 +285,8 @@ def _line_parallel(job, keep, workers, tree):
     n = keep.shape[0]
     keep[0] = 1
     keep[n - 1] = 1
-    pending = [(0, n - 1)]
-    lopsided = 0
+    pending = [(0, n - 1, False)]  # (a, b, from a lopsided split)
+    lop_work = 0
     pool = thread_pool(workers)
     dp, scan_range, args = _line_layout(job.P, job.t, job.mode, pool, workers)
     while pending and len(pending) < PENDING_PER_WORKER * workers:
@@ -300,10 +302,10 @@ def _line_parallel(job, keep, workers, tree):
         if len(top) == 1:
             if longest < CHUNK_MIN:
                 break
-            a, b = top[0]
+            a, b, lop = top[0]
             cuts = np.linspace(a + 1, b, workers + 1).astype(np.int64).tolist()
             calls = [
-                (scan_range, (*args, a, b, utol2, lo, hi))
+                (scan_range, (*args, a, b, utol2, lo, hi, lop))
                 for lo, hi in itertools.pairwise(cuts)
             ]
             parts = _gather(pool, calls)
@@ -313,21 +315,25 @@ def _line_parallel(job, keep, workers, tree):
                     far, best = f, q
             results = [(far, best, S)]
         else:
-            calls = [(scan_range, (*args, a, b, utol2, a + 1, b)) for a, b in top]
+            calls = [
+                (scan_range, (*args, a, b, utol2, a + 1, b, lop)) for a, b, lop in top
+            ]
             results = _gather(pool, calls)
         del pending[: len(top)]
-        for (a, b), (far, q, S) in zip(top, results, strict=True):
+        for (a, b, _), (far, q, S) in zip(top, results, strict=True):
             if q > eps2 * S:
                 keep[far] = 1
-                pending += [(lo, hi) for lo, hi in ((a, far), (far, b)) if hi - lo > 1]
-                if min(far - a, b - far) * 16 < b - a:
-                    lopsided += b - a
-        if lopsided > TREE_BUDGET * n:
+                lop = lopsided(a, b, far)
+                pending += [
+                    (lo, hi, lop) for lo, hi in ((a, far), (far, b)) if hi - lo > 1
+                ]
+                lop_work += (b - a) if lop else 0
+        if lop_work > TREE_BUDGET * n:
             break  # a zigzag: the kernels' tree peels it faster
     pending.sort(key=lambda seg: seg[0] - seg[1])
     list(
         pool.map(
-            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1], tree),
+            lambda seg: dp(*args, eps2, utol2, keep, seg[0], seg[1], tree, seg[2]),
             pending,
         )
     )
@@ -351,7 +357,7 @@ def _run(job: _Job, n_jobs) -> np.ndarray:
             dp, _, args = _line_layout(P, job.t, job.mode)
             dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
     else:
-        K.dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
+        dp_generic(P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1, tree)
     return keep.view(np.bool_)
 
 
