@@ -118,6 +118,14 @@ def test_merged_statistics_against_plain_references(per_demo):
     for v, t, j in zip(values, taus, m.template_index, strict=True):
         np.testing.assert_array_equal(v, raw[j][0])
         np.testing.assert_array_equal(t, raw[j][1])
+    # held per template, read as one flat array each (and back from the flat)
+    flat_values = np.concatenate([raw[j][0] for j in m.template_index])
+    assert m.template_values.tobytes() == flat_values.tobytes()
+    flat_tau = np.concatenate([raw[j][1] for j in m.template_index])
+    assert m.template_tau.tobytes() == flat_tau.tobytes()
+    back = FitStats.from_arrays(m.to_arrays())
+    for a, b in zip(back.templates(), m.templates(), strict=True):
+        assert [x.tobytes() for x in a] == [x.tobytes() for x in b]
     # centroids: the mean of the key-point values in each state (exact sums)
     groups: dict = {}
     for U, _, idx, states, _ in raw:

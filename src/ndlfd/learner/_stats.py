@@ -282,6 +282,8 @@ _FIELDS = {
     "template_tau": (np.float64, "sample"),
     "n_clipped": (np.int64, "scalar"),
 }
+#: The fields of the templates' full values and times (see ``FitStats``).
+_PIECED = ("template_values", "template_tau")
 
 
 class FitStats:
@@ -330,7 +332,10 @@ class FitStats:
     True
     """
 
-    __slots__ = tuple(_FIELDS)
+    # the templates' values and times are held as one piece per template
+    # (``_pieces``) and joined into the flat fields only when those are read
+    # (``_joined``): merging never copies them
+    __slots__ = (*(k for k in _FIELDS if k not in _PIECED), "_pieces", "_joined")
     __hash__ = None  # mutable arrays inside; compared by value
 
     def __init__(self, **arrays) -> None:
@@ -342,7 +347,53 @@ class FitStats:
                 f" {sorted(missing)}, unexpected {sorted(extra)}"
             )
         for name, (dtype, _) in _FIELDS.items():
-            object.__setattr__(self, name, np.asarray(arrays[name], dtype=dtype))
+            if name not in _PIECED:
+                object.__setattr__(self, name, np.asarray(arrays[name], dtype=dtype))
+        joined = tuple(np.asarray(arrays[k], dtype=np.float64) for k in _PIECED)
+        object.__setattr__(self, "_joined", joined)
+        object.__setattr__(self, "_pieces", None)
+
+    @classmethod
+    def _of_pieces(cls, pieces, **arrays) -> FitStats:
+        """Statistics whose templates are ``(values, tau)`` pieces, one each."""
+        d = np.asarray(arrays["exponents"]).size
+        out = cls(template_values=np.zeros((0, d)), template_tau=np.zeros(0), **arrays)
+        object.__setattr__(out, "_pieces", tuple(pieces))
+        object.__setattr__(out, "_joined", None)
+        return out
+
+    def _template_pieces(self) -> tuple:
+        """``(values, tau)`` of each template, in template order."""
+        pieces = self._pieces
+        if pieces is None:
+            values, tau = self._joined
+            counts = self.template_counts
+            pieces = tuple(
+                zip(_split(values, counts), _split(tau, counts), strict=True)
+            )
+            object.__setattr__(self, "_pieces", pieces)
+        return pieces
+
+    def _joined_templates(self) -> tuple[np.ndarray, np.ndarray]:
+        joined = self._joined
+        if joined is None:  # the same arrays whichever thread joins them first
+            pieces = self._pieces
+            if pieces:
+                joined = tuple(np.concatenate(a) for a in zip(*pieces, strict=True))
+            else:
+                joined = (np.zeros((0, self.exponents.size)), np.zeros(0))
+            object.__setattr__(self, "_joined", joined)
+        return joined
+
+    @property
+    def template_values(self) -> np.ndarray:
+        """The templates' normalized values, one after another (n_samples, n_dims)."""
+        return self._joined_templates()[0]
+
+    @property
+    def template_tau(self) -> np.ndarray:
+        """The templates' normalized times, one after another (n_samples,)."""
+        return self._joined_templates()[1]
 
     # ------------------------------------------------------------ building
     @classmethod
@@ -405,8 +456,8 @@ class FitStats:
         keys = [np.asarray(r.keypoints, dtype=np.int64) for r in demos]
         states = cat([np.asarray(r.key_states, dtype=np.int64) for r in demos])
         kept = [(r, v) for r, v in zip(demos, values, strict=True) if r.template]
-        d = values[0].shape[1]
-        raw = cls(  # one row per key point in the centroids: merge groups them
+        raw = cls._of_pieces(  # one row per key point in the centroids: merge sums them
+            [(v, np.asarray(r.tau, dtype=np.float64)) for r, v in kept],
             exponents=exponents,
             demo_index=[r.index for r in demos],
             n_samples=[v.shape[0] for v in values],
@@ -423,8 +474,6 @@ class FitStats:
             ),
             template_index=[r.index for r, _ in kept],
             template_counts=[v.shape[0] for _, v in kept],
-            template_values=cat([v for _, v in kept]) if kept else np.zeros((0, d)),
-            template_tau=cat([r.tau for r, _ in kept]) if kept else np.zeros(0),
             n_clipped=sum(int(r.n_clipped) for r in demos),
         )
         return raw.merge()
@@ -450,10 +499,8 @@ class FitStats:
 
     def templates(self):
         """Per template: normalized values and normalized times (lists)."""
-        return (
-            _split(self.template_values, self.template_counts),
-            _split(self.template_tau, self.template_counts),
-        )
+        pieces = self._template_pieces()
+        return [v for v, _ in pieces], [t for _, t in pieces]
 
     def centroids(self) -> tuple[np.ndarray, np.ndarray]:
         """Sorted states and the mean normalized key-point value in each.
@@ -489,13 +536,17 @@ class FitStats:
                     "cannot merge statistics of different fits (columns or scales"
                     f" differ: {self.exponents.tolist()} and {p.exponents.tolist()})"
                 )
-        cat = np.concatenate
+
+        def cat(arrays, axis=0):  # one part (of_demos): its arrays, not a copy
+            return arrays[0] if len(arrays) == 1 else np.concatenate(arrays, axis)
+
         index = cat([p.demo_index for p in parts])
         order = _sorted_unique_index(index, "demonstration")
         n_keys = cat([p.n_keys for p in parts])
         t_index = cat([p.template_index for p in parts])
         t_order = _sorted_unique_index(t_index, "template")
         t_counts = cat([p.template_counts for p in parts])
+        pieces = [x for p in parts for x in p._template_pieces()]
         ids, counts, sums = _group_sum(
             cat([p.centroid_states for p in parts]),
             cat([p.centroid_counts for p in parts]),
@@ -506,7 +557,8 @@ class FitStats:
                 f"a codebook state holds {int(counts.max())} key points, more than"
                 f" the {2**LIMB_BITS} the exact centroid sums allow"
             )
-        return FitStats(
+        return FitStats._of_pieces(
+            pieces if t_order is None else [pieces[k] for k in t_order],
             exponents=self.exponents,
             demo_index=_take(index, order),
             n_samples=_take(cat([p.n_samples for p in parts]), order),
@@ -521,12 +573,6 @@ class FitStats:
             centroid_limbs=sums,
             template_index=_take(t_index, t_order),
             template_counts=_take(t_counts, t_order),
-            template_values=_ragged_take(
-                cat([p.template_values for p in parts]), t_counts, t_order
-            ),
-            template_tau=_ragged_take(
-                cat([p.template_tau for p in parts]), t_counts, t_order
-            ),
             n_clipped=int(sum(int(p.n_clipped) for p in parts)),
         )
 
