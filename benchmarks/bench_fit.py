@@ -69,15 +69,15 @@ def stage_runs(model, demos):
     exponents = model.fit_stats_.exponents
     kept = set(model.template_indices_.tolist())
     parts = [
-        DemoStats(j, r.values, r.tau, r.keypoints, r.key_states, r.key_bins,
-                  r.n_clipped, j in kept)
+        DemoStats(j, r.values, r.tau if j in kept else None, r.keypoints,
+                  r.key_states, r.key_bins, r.n_clipped, j in kept)
         for j, r in enumerate(reduced)
     ]  # fmt: skip
 
     def encode():
         for d, u, k in zip(prepared, U, keys, strict=True):
-            spec.time_bins.symbols(ndlfd.demonstration.unit_time(d.t)[k])
-            spec.codebook.encode(u[k], return_n_clipped=True)
+            spec.time_bins.symbols(ndlfd.demonstration.unit_time(d.t[k]))
+            spec.codebook.encode_checked(u[k])
 
     return {
         "prepare": lambda: [prepare(d, model.groups_) for d in demos],

@@ -58,7 +58,10 @@ def _extremes(X):  # pragma: no cover - compiled
         c = k % d
         lo[c] = min(lo[c], flat[k])
         hi[c] = max(hi[c], flat[k])
-    return lo, hi
+    zero = False  # an extreme is 0: its sign is numpy's to choose
+    for c in range(d):
+        zero = zero or lo[c] == 0.0 or hi[c] == 0.0
+    return lo, hi, zero
 
 
 def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -81,8 +84,8 @@ def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> column_extremes(np.array([[1.0, 5.0], [-2.0, 7.0], [3.0, 6.0]]))
     (array([-2.,  5.]), array([3., 7.]))
     """
-    lo, hi = _extremes(np.ascontiguousarray(X, dtype=np.float64))
-    if not (lo.all() and hi.all()):  # a zero extreme: numpy's sign of zero
+    lo, hi, zero = _extremes(np.asarray(X, dtype=np.float64))
+    if zero:  # a zero extreme: numpy's sign of zero
         return X.min(axis=0), X.max(axis=0)
     return lo, hi
 

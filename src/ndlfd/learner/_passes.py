@@ -311,15 +311,16 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> DemoS
     if d is None:
         d = spec.demo.prepared(demo)
     r = spec.demo.encode(d, n_jobs=1)
+    template = bool(spec.templates[j])
     return DemoStats(
         j,
         r.values,
-        r.tau,
+        r.tau if template else None,  # read for a template only
         r.keypoints,
         r.key_states,
         r.key_bins,
         r.n_clipped,
-        bool(spec.templates[j]),
+        template,
     )
 
 

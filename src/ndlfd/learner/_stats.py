@@ -239,8 +239,8 @@ class DemoStats(NamedTuple):
         The demonstration's index in the training set.
     values : ndarray of shape (n_samples, n_dims)
         Its normalized (unweighted) values.
-    tau : ndarray of shape (n_samples,)
-        Its normalized times (0 to 1).
+    tau : ndarray of shape (n_samples,) or None
+        Its normalized times (0 to 1); read for a template only.
     keypoints, key_states, key_bins : ndarray of shape (n_keys,), dtype int64
         Key-point indices, and the codebook state and time bin of each.
     n_clipped : int
@@ -251,7 +251,7 @@ class DemoStats(NamedTuple):
 
     index: int
     values: np.ndarray
-    tau: np.ndarray
+    tau: np.ndarray | None
     keypoints: np.ndarray
     key_states: np.ndarray
     key_bins: np.ndarray
