@@ -161,25 +161,51 @@ class RangeStats:
         ``notes`` holds a note (a string) per demonstration, or nothing;
         ``repairs`` the item's (kind, item, label, count) records.
         """
-        if len(arrays) == 1:
-            lo, hi = column_extremes(arrays[0])
-        else:
-            ends = [column_extremes(a) for a in arrays]
-            lo = np.min([e[0] for e in ends], axis=0)
-            hi = np.max([e[1] for e in ends], axis=0)
-        lengths = [a.shape[0] for a in arrays]
+        return cls.of_items([(item, arrays, notes, repairs)])
+
+    @classmethod
+    def of_items(cls, entries) -> RangeStats:
+        """:meth:`of` of several items at once: the same as merging theirs.
+
+        Parameters
+        ----------
+        entries : sequence of (int, sequence of ndarray, sequence, sequence)
+            Per item (at least one): its index, the value arrays of its
+            demonstrations (at least one), their notes and its repairs, as
+            :meth:`of` takes them.
+
+        Returns
+        -------
+        stats : RangeStats
+        """
+        ends, notes, short, long = [], [], [], []
+        for item, arrays, item_notes, _ in entries:
+            if len(arrays) == 1:
+                ends.append(column_extremes(arrays[0]))
+            else:
+                e = [column_extremes(a) for a in arrays]
+                lo = np.min([x[0] for x in e], axis=0)
+                ends.append((lo, np.max([x[1] for x in e], axis=0)))
+            lengths = [a.shape[0] for a in arrays]
+            short.append((min(lengths), item))
+            long.append((-max(lengths), item))
+            notes.extend((t, item, c) for t, c in Counter(item_notes).items())
+        items = np.array([e[0] for e in entries], dtype=np.int64)
+        order = _sorted_unique_index(items, "item")
+        per_item = np.array([len(e[1]) for e in entries], dtype=np.int64)
+        (min_samples, shortest), (max_samples, longest) = min(short), min(long)
         return cls(
-            lo,
-            hi,
-            int(sum(lengths)),
-            np.array([item], dtype=np.int64),
-            np.array([len(arrays)], dtype=np.int64),
-            min(lengths),
-            max(lengths),
-            item,
-            item,
-            tuple((t, item, c) for t, c in Counter(notes).items()) if notes else (),
-            tuple(repairs),
+            np.min([e[0] for e in ends], axis=0),
+            np.max([e[1] for e in ends], axis=0),
+            sum(a.shape[0] for e in entries for a in e[1]),
+            _take(items, order),
+            _take(per_item, order),
+            min_samples,
+            -max_samples,
+            shortest,
+            longest,
+            _merged_notes(notes),
+            merge_repairs(*(e[3] for e in entries)),
         )
 
     @property
@@ -194,10 +220,6 @@ class RangeStats:
         order = _sorted_unique_index(items, "item")
         short = min(parts, key=lambda p: (p.min_samples, p.shortest_item))
         long = min(parts, key=lambda p: (-p.max_samples, p.longest_item))
-        notes: dict[str, list[int]] = {}
-        for text, first, n in (x for p in parts for x in p.notes):
-            seen = notes.setdefault(text, [first, 0])
-            seen[0], seen[1] = min(seen[0], first), seen[1] + n
         return RangeStats(
             np.min([p.data_min for p in parts], axis=0),
             np.max([p.data_max for p in parts], axis=0),
@@ -208,11 +230,20 @@ class RangeStats:
             long.max_samples,
             short.shortest_item,
             long.longest_item,
-            tuple(sorted(((t, f, n) for t, (f, n) in notes.items()), key=_by_item)),
+            _merged_notes(x for p in parts for x in p.notes),
             merge_repairs(*(p.repairs for p in parts)),
         )
 
     __add__ = merge
+
+
+def _merged_notes(notes) -> tuple:
+    """Notes (text, first item, count), one per text, in the order of first items."""
+    seen: dict[str, list[int]] = {}
+    for text, first, n in notes:
+        got = seen.setdefault(text, [first, 0])
+        got[0], got[1] = min(got[0], first), got[1] + n
+    return tuple(sorted(((t, f, n) for t, (f, n) in seen.items()), key=_by_item))
 
 
 def merge_repairs(*groups) -> tuple:
