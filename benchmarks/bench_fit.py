@@ -12,7 +12,7 @@ runs it (the public functions of the learner's modules):
 
 * ``prepare``: velocity derived from position, the groups selected
   (:func:`ndlfd.learner._spec.prepare`);
-* ``ranges``: per-column extremes (:meth:`RangeStats.of`);
+* ``ranges``: per-column extremes (:meth:`RangeStats.of_items`);
 * ``normalize``: :meth:`GroupScaler.transform`;
 * ``simplify``: the key points (:func:`ndlfd.simplify`, the reduction);
 * ``encode``: the key points' time bins and codebook states;
@@ -81,7 +81,9 @@ def stage_runs(model, demos):
 
     return {
         "prepare": lambda: [prepare(d, model.groups_) for d in demos],
-        "ranges": lambda: [RangeStats.of(j, d.X) for j, d in enumerate(prepared)],
+        "ranges": lambda: RangeStats.of_items(
+            [(j, [d.X], (), ()) for j, d in enumerate(prepared)]
+        ),
         "normalize": lambda: [
             model.scaler_.transform(d, weighted=False) for d in prepared
         ],

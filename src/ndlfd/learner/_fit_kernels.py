@@ -34,13 +34,14 @@ _LANES = 8
 
 
 @njit(cache=True, nogil=True)
-def _extremes(X):  # pragma: no cover - compiled
+def _extremes(X, lo, hi):  # pragma: no cover - compiled
+    # into lo and hi (given: returning new arrays costs more than making them)
     n, d = X.shape
     flat = np.ascontiguousarray(X).reshape(-1)
     width = d * _LANES
     tiles = (n * d) // width
-    lo = X[0].copy()
-    hi = X[0].copy()
+    lo[:] = X[0]
+    hi[:] = X[0]
     if tiles:  # per position in a tile, then per column
         L = flat[:width].copy()
         H = flat[:width].copy()
@@ -61,7 +62,7 @@ def _extremes(X):  # pragma: no cover - compiled
     zero = False  # an extreme is 0: its sign is numpy's to choose
     for c in range(d):
         zero = zero or lo[c] == 0.0 or hi[c] == 0.0
-    return lo, hi, zero
+    return zero
 
 
 def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -84,8 +85,9 @@ def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> column_extremes(np.array([[1.0, 5.0], [-2.0, 7.0], [3.0, 6.0]]))
     (array([-2.,  5.]), array([3., 7.]))
     """
-    lo, hi, zero = _extremes(np.asarray(X, dtype=np.float64))
-    if zero:  # a zero extreme: numpy's sign of zero
+    X = np.asarray(X, dtype=np.float64)
+    lo, hi = np.empty(X.shape[1]), np.empty(X.shape[1])
+    if _extremes(X, lo, hi):  # a zero extreme: numpy's sign of zero
         return X.min(axis=0), X.max(axis=0)
     return lo, hi
 

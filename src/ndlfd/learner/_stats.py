@@ -189,7 +189,8 @@ class RangeStats:
             lengths = [a.shape[0] for a in arrays]
             short.append((min(lengths), item))
             long.append((-max(lengths), item))
-            notes.extend((t, item, c) for t, c in Counter(item_notes).items())
+            if item_notes:
+                notes.extend((t, item, c) for t, c in Counter(item_notes).items())
         items = np.array([e[0] for e in entries], dtype=np.int64)
         order = _sorted_unique_index(items, "item")
         per_item = np.array([len(e[1]) for e in entries], dtype=np.int64)
