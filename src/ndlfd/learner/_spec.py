@@ -414,7 +414,8 @@ class DemoSpec:
             With ``key_states`` and ``n_clipped``.
         """
         u, t, idx, bins = self._key_points(d, n_jobs)
-        # the key points' own normalized values: float64, finite, n columns
+        # the key points' normalized values, float64 of n columns, which
+        # simplify checked finite: the codebook need not check them again
         states, clipped = self.codebook.encode_checked(u[idx])
         return Reduced(u, t, idx, bins, states, clipped)
 
