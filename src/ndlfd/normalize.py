@@ -574,17 +574,13 @@ _LANES = 8
 
 
 @njit(cache=True, nogil=True, error_model="numpy")
-def _scale_rows(X, lo, div, w, weighted):  # pragma: no cover - compiled
-    # (x - lo) / div * w element by element (w = 1 unweighted): numpy's
-    # arithmetic in one pass.
-    # The flat values run in tiles of d * _LANES with the parameters tiled
-    # alike, a loop the compiler vectorizes (division included, as numpy's
-    # error model lets it: div is never 0 here); each element gets the same
-    # three correctly rounded operations, so the result is numpy's bit for bit.
-    n, d = X.shape
-    out = np.empty((n, d))
-    flat = np.ascontiguousarray(X).reshape(-1)
-    res = out.reshape(-1)
+def _scale_flat(flat, d, lo, div, w, weighted, res):  # pragma: no cover - compiled
+    # res = (x - lo) / div * w element by element (w = 1 unweighted), over
+    # rows of d values end to end: numpy's arithmetic in one pass. The values
+    # run in tiles of d * _LANES with the parameters tiled alike, a loop the
+    # compiler vectorizes (division included, as numpy's error model lets it:
+    # div is never 0 here); each element gets the same three correctly
+    # rounded operations, so the result is numpy's bit for bit.
     width = d * _LANES
     L = np.empty(width)
     D = np.empty(width)
@@ -593,14 +589,21 @@ def _scale_rows(X, lo, div, w, weighted):  # pragma: no cover - compiled
         L[j] = lo[j % d]
         D[j] = div[j % d]
         M[j] = w[j % d] if weighted else 1.0
-    tiles = (n * d) // width
+    tiles = flat.size // width
     for b in range(tiles):
         at = b * width
         for j in range(width):
             res[at + j] = (flat[at + j] - L[j]) / D[j] * M[j]
     rest = tiles * width  # a multiple of d: the tiles' parameters fit the rest
-    for k in range(rest, n * d):
+    for k in range(rest, flat.size):
         res[k] = (flat[k] - L[k - rest]) / D[k - rest] * M[k - rest]
+
+
+def _scale_rows(X, lo, div, w, weighted: bool) -> np.ndarray:
+    """``(X - lo) / div * w`` (``w`` = 1 when not ``weighted``), compiled."""
+    X = np.ascontiguousarray(X)
+    out = np.empty(X.shape)
+    _scale_flat(X.reshape(-1), X.shape[1], lo, div, w, weighted, out.reshape(-1))
     return out
 
 

@@ -34,34 +34,46 @@ _LANES = 8
 
 
 @njit(cache=True, nogil=True)
-def _extremes(X, lo, hi):  # pragma: no cover - compiled
-    # into lo and hi (given: returning new arrays costs more than making them)
-    n, d = X.shape
-    flat = np.ascontiguousarray(X).reshape(-1)
+def _extremes(flat, d, lo, hi):  # pragma: no cover - compiled
+    # flat: the rows of d values end to end; into lo and hi (given: returning
+    # new arrays costs more than making them). Plain comparisons and loops
+    # (no slices, no min/max) keep the compile time short.
+    size = flat.size
     width = d * _LANES
-    tiles = (n * d) // width
-    lo[:] = X[0]
-    hi[:] = X[0]
+    tiles = size // width
+    for c in range(d):
+        lo[c] = flat[c]
+        hi[c] = flat[c]
     if tiles:  # per position in a tile, then per column
-        L = flat[:width].copy()
-        H = flat[:width].copy()
+        L = np.empty(width)
+        H = np.empty(width)
+        for j in range(width):
+            L[j] = flat[j]
+            H[j] = flat[j]
         for b in range(1, tiles):
             at = b * width
             for j in range(width):
                 x = flat[at + j]
-                L[j] = min(L[j], x)
-                H[j] = max(H[j], x)
+                if x < L[j]:
+                    L[j] = x
+                if x > H[j]:
+                    H[j] = x
         for j in range(width):
             c = j % d
-            lo[c] = min(lo[c], L[j])
-            hi[c] = max(hi[c], H[j])
-    for k in range(tiles * width, n * d):
+            if L[j] < lo[c]:
+                lo[c] = L[j]
+            if H[j] > hi[c]:
+                hi[c] = H[j]
+    for k in range(tiles * width, size):
         c = k % d
-        lo[c] = min(lo[c], flat[k])
-        hi[c] = max(hi[c], flat[k])
+        if flat[k] < lo[c]:
+            lo[c] = flat[k]
+        if flat[k] > hi[c]:
+            hi[c] = flat[k]
     zero = False  # an extreme is 0: its sign is numpy's to choose
     for c in range(d):
-        zero = zero or lo[c] == 0.0 or hi[c] == 0.0
+        if lo[c] == 0.0 or hi[c] == 0.0:
+            zero = True
     return zero
 
 
@@ -85,9 +97,9 @@ def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> column_extremes(np.array([[1.0, 5.0], [-2.0, 7.0], [3.0, 6.0]]))
     (array([-2.,  5.]), array([3., 7.]))
     """
-    X = np.asarray(X, dtype=np.float64)
+    X = np.ascontiguousarray(X, dtype=np.float64)
     lo, hi = np.empty(X.shape[1]), np.empty(X.shape[1])
-    if _extremes(X, lo, hi):  # a zero extreme: numpy's sign of zero
+    if _extremes(X.reshape(-1), X.shape[1], lo, hi):  # a zero: numpy's sign
         return X.min(axis=0), X.max(axis=0)
     return lo, hi
 
