@@ -293,6 +293,9 @@ def test_encode_is_the_numpy_encoding(seed, n, levels):
     want, want_clipped = _numpy_encode(P, levels)
     assert states.dtype == np.int64 and states.tobytes() == want.tobytes()
     assert clipped == want_clipped
+    # the fit's path for its own checked values: the same states and count
+    trusted, trusted_clipped = Codebook(levels).encode_checked(P)
+    assert trusted.tobytes() == want.tobytes() and trusted_clipped == want_clipped
 
 
 @settings(max_examples=40, deadline=None)

@@ -299,6 +299,31 @@ def test_with_group_gives_what_the_constructor_gives():
         assert e.X.flags.c_contiguous and e.X.dtype == np.float64
 
 
+@pytest.mark.parametrize("smoothing", ["auto", "none", "window"])
+def test_with_velocity_appended_is_with_group_of_numpys_gradient(smoothing):
+    # velocity written straight into the new columns: the same demonstration
+    # as with_group of the velocity (checked by the constructor)
+    rng = np.random.default_rng(3)
+    t = np.cumsum(rng.uniform(0.96, 1.04, 30))  # steady, not uniform
+    d = Demonstration.from_arrays(t, position=rng.normal(size=(30, 2)), grip=t * 0)
+    v = with_velocity(d, smoothing=smoothing)
+    V = v.get("velocity")
+    if smoothing != "window":
+        want = np.gradient(d.get("position"), t, axis=0, edge_order=2)
+        assert V.tobytes() == want.tobytes()
+    want = d.with_group("velocity", V, ("vx", "vy"))
+    full = Demonstration(want.t, want.X, want.columns, want.groups)
+    assert v == full and v.X.tobytes() == full.X.tobytes()
+    assert not v.X.flags.writeable and v.X.flags.c_contiguous
+
+
+def test_with_velocity_that_overflows_is_refused():
+    # finite positions a tiny step apart: the derived velocity is inf
+    d = Demonstration.from_arrays([0.0, 1e-300, 1.0], position=[-1e300, 1e300, 0.0])
+    with pytest.raises(ValidationError, match=r"X must be finite; got .*inf"):
+        with_velocity(d, smoothing="none")
+
+
 def test_equality():
     assert _demo() == _demo()
     assert _demo() != _demo(6)
@@ -452,7 +477,7 @@ def test_velocity_of_a_line_is_exact(steps, a, b):
 def test_the_gradient_kernel_is_numpy_gradient_bit_for_bit(seed, n, d, steps):
     # the compiled velocity against the numpy call it replaced; uniform steps
     # (all exactly equal) take numpy's uniform formulas, others its general ones
-    from ndlfd._demo_kernels import gradient
+    from ndlfd._demo_kernels import gradient, with_room
     from ndlfd.demonstration import JITTER_TOL
 
     rng = np.random.default_rng(seed)
@@ -469,6 +494,12 @@ def test_the_gradient_kernel_is_numpy_gradient_bit_for_bit(seed, n, d, steps):
     assert V.tobytes() == want.tobytes()
     diffs = np.diff(t)
     assert steady == (n < 10 or np.ptp(diffs) <= JITTER_TOL * diffs.min())
+    # written into the last columns of a wider array (velocity appended)
+    X = rng.normal(size=(n, 2))
+    wide = with_room(X, d)
+    got, again = gradient(t, P, JITTER_TOL, out=wide[:, 2:])
+    assert again == steady and np.shares_memory(got, wide)
+    assert wide.tobytes() == np.concatenate([X, want], axis=1).tobytes()
 
 
 @settings(max_examples=40, deadline=None)

@@ -422,17 +422,22 @@ def test_inverse_scale_maps_spreads_without_the_offset():
         GroupScaler(["p"]).inverse_scale([[1.0]])
 
 
-@settings(max_examples=40, deadline=None)
-@given(st.integers(0, 2**32 - 1), st.integers(1, 30), st.booleans())
-def test_transform_is_the_numpy_formula(seed, n, weighted):
-    # the compiled transform against the numpy expression it replaced
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 40), st.integers(1, 13), st.booleans())
+def test_transform_is_the_numpy_formula(seed, n, d, weighted):
+    # the compiled transform (tiles of d * 8 values and the rest) against the
+    # numpy expression it replaced
     rng = np.random.default_rng(seed)
-    X = rng.normal(0, 10, (n, 4))
-    X[:, 3] = 2.5  # a zero range: divided by 1
-    scaler = GroupScaler(["a", "a", "b", "c"], weights={"b": 0.3}).fit(X)
+    X = rng.normal(0, 10, (n, d + 1))
+    X[:, d] = 2.5  # a zero range: divided by 1
+    groups = [f"g{k}" for k in np.sort(rng.integers(0, 3, d))] + ["z"]
+    scaler = GroupScaler(groups, weights={groups[0]: 0.3, "z": 2.0}).fit(X)
     div = np.where(scaler.data_range_ > np.finfo(float).tiny, scaler.data_range_, 1.0)
     w = scaler.column_weights_ if weighted else 1.0
     Y = X * 1.5 - 1.0  # partly outside the fitted range
     got = scaler.transform(Y, weighted=weighted)
     want = (Y - scaler.data_min_) / div * w
     assert got.tobytes() == want.tobytes()
+    # a view with strides (a column slice) gives the same
+    wide = np.column_stack([Y, Y])[:, : d + 1]
+    assert scaler.transform(wide, weighted=weighted).tobytes() == want.tobytes()

@@ -6,10 +6,12 @@ that is a dozen small numpy calls. :func:`gradient` does the same arithmetic
 (the same formulas, in the same order, so the result is the same bit for bit)
 in one loop, and also says whether the time steps are steady (the cheap test
 that lets ``with_velocity`` skip its jitter check); :func:`window_derivative`
-is the derivative of jittery time stamps (a local straight-line fit). The
-kernels trust their input (``t`` strictly increasing with at least two
-samples, ``P`` of one row per sample, both float64); :mod:`ndlfd.demonstration`
-checks it.
+is the derivative of jittery time stamps (a local straight-line fit);
+:func:`with_room` copies a demonstration's values into a wider array whose
+last columns :func:`gradient` then fills (the velocity group appended without
+numpy's slow copy of short rows). The kernels trust their input (``t``
+strictly increasing with at least two samples, ``P`` of one row per sample,
+both float64); :mod:`ndlfd.demonstration` checks it.
 """
 
 from __future__ import annotations
@@ -17,13 +19,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["gradient", "window_derivative"]
+__all__ = ["gradient", "window_derivative", "with_room"]
 
 
-@njit(cache=True, nogil=True)
-def _gradient(t, P, tol):  # pragma: no cover - compiled
+@njit(cache=True, nogil=True, error_model="numpy")
+def _gradient(t, P, tol, V):  # pragma: no cover - compiled
+    # V (any layout, for example the right columns of a wider array) gets the
+    # derivative; the steps are never 0 (t strictly increasing), so numpy's
+    # error model (no check of each division) changes no result
     n, d = P.shape
-    V = np.empty((n, d))
     lo = t[1] - t[0]
     hi = lo
     uniform = True
@@ -38,7 +42,7 @@ def _gradient(t, P, tol):  # pragma: no cover - compiled
         for c in range(d):
             V[0, c] = (P[1, c] - P[0, c]) / dx
             V[1, c] = (P[1, c] - P[0, c]) / dx
-        return V, steady
+        return steady
     if uniform:
         dx = t[1] - t[0]
         for i in range(1, n - 1):
@@ -47,14 +51,20 @@ def _gradient(t, P, tol):  # pragma: no cover - compiled
         a0, b0, c0 = -1.5 / dx, 2.0 / dx, -0.5 / dx
         a1, b1, c1 = 0.5 / dx, -2.0 / dx, 1.5 / dx
     else:
+        # numpy's coefficient arrays first (a loop of divisions that
+        # vectorizes), then its weighted sums
+        A = np.empty(n)
+        B = np.empty(n)
+        C = np.empty(n)
         for i in range(1, n - 1):
             dx1 = t[i] - t[i - 1]
             dx2 = t[i + 1] - t[i]
-            a = -(dx2) / (dx1 * (dx1 + dx2))
-            b = (dx2 - dx1) / (dx1 * dx2)
-            cc = dx1 / (dx2 * (dx1 + dx2))
-            for c in range(d):
-                V[i, c] = a * P[i - 1, c] + b * P[i, c] + cc * P[i + 1, c]
+            A[i] = -(dx2) / (dx1 * (dx1 + dx2))
+            B[i] = (dx2 - dx1) / (dx1 * dx2)
+            C[i] = dx1 / (dx2 * (dx1 + dx2))
+        for c in range(d):
+            for i in range(1, n - 1):
+                V[i, c] = A[i] * P[i - 1, c] + B[i] * P[i, c] + C[i] * P[i + 1, c]
         dx1 = t[1] - t[0]
         dx2 = t[2] - t[1]
         a0 = -(2.0 * dx1 + dx2) / (dx1 * (dx1 + dx2))
@@ -68,10 +78,12 @@ def _gradient(t, P, tol):  # pragma: no cover - compiled
     for c in range(d):
         V[0, c] = a0 * P[0, c] + b0 * P[1, c] + c0 * P[2, c]
         V[n - 1, c] = a1 * P[n - 3, c] + b1 * P[n - 2, c] + c1 * P[n - 1, c]
-    return V, steady
+    return steady
 
 
-def gradient(t: np.ndarray, P: np.ndarray, tol: float) -> tuple[np.ndarray, bool]:
+def gradient(
+    t: np.ndarray, P: np.ndarray, tol: float, *, out: np.ndarray | None = None
+) -> tuple[np.ndarray, bool]:
     """``numpy.gradient(P, t, axis=0)`` and whether the time steps are steady.
 
     Second-order differences (``edge_order=2``) from three samples on,
@@ -87,10 +99,14 @@ def gradient(t: np.ndarray, P: np.ndarray, tol: float) -> tuple[np.ndarray, bool
     tol : float
         The steps are *steady* when fewer than 10 samples are given or the
         largest step exceeds the smallest by at most ``tol`` times the smallest.
+    out : ndarray of shape (n_samples, n_dims), float64, optional
+        Where to write the derivative (a view, for example the last columns
+        of :func:`with_room`'s array); a new array by default.
 
     Returns
     -------
     V : ndarray of shape (n_samples, n_dims)
+        ``out`` when given.
     steady : bool
 
     Examples
@@ -100,12 +116,45 @@ def gradient(t: np.ndarray, P: np.ndarray, tol: float) -> tuple[np.ndarray, bool
     >>> V.ravel(), steady
     (array([2., 2., 2.]), True)
     """
-    V, steady = _gradient(
-        np.ascontiguousarray(t, dtype=np.float64),
-        np.ascontiguousarray(P, dtype=np.float64),
-        float(tol),
-    )
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    V = np.empty(P.shape) if out is None else out
+    steady = _gradient(np.ascontiguousarray(t, dtype=np.float64), P, float(tol), V)
     return V, bool(steady)
+
+
+@njit(cache=True, nogil=True)
+def _with_room(X, k):  # pragma: no cover - compiled
+    n, d = X.shape
+    W = np.empty((n, d + k))
+    for i in range(n):
+        for c in range(d):
+            W[i, c] = X[i, c]
+    return W
+
+
+def with_room(X: np.ndarray, k: int) -> np.ndarray:
+    """``X`` copied into the left columns of a new array ``k`` columns wider.
+
+    For a group appended in place (:func:`gradient`'s ``out``): numpy copies
+    rows of a few values slowly.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_dims), float64
+    k : int
+        Columns to add on the right (left uninitialized).
+
+    Returns
+    -------
+    W : ndarray of shape (n_samples, n_dims + k)
+
+    Examples
+    --------
+    >>> with_room(np.array([[1.0], [2.0]]), 1)[:, :1]
+    array([[1.],
+           [2.]])
+    """
+    return _with_room(np.ascontiguousarray(X, dtype=np.float64), int(k))
 
 
 @njit(cache=True, nogil=True)

@@ -215,10 +215,32 @@ class Codebook:
         """
         P = check_points(U, "U")
         self._check_width(P, "U")
+        states, n_clipped = self.encode_checked(P)
+        return (states, n_clipped) if return_n_clipped else states
+
+    def encode_checked(self, P: np.ndarray) -> tuple[np.ndarray, int]:
+        """:meth:`encode` of values checked already, and the clipped count.
+
+        For a caller's own normalized values (the fit's key points): ``P``
+        must be a finite float64 array of ``n_dims`` columns; nothing is
+        checked again.
+
+        Parameters
+        ----------
+        P : ndarray of shape (n_points, n_dims), float64
+
+        Returns
+        -------
+        states : ndarray of shape (n_points,), dtype int64
+        n_clipped : int
+
+        Examples
+        --------
+        >>> Codebook([10]).encode_checked(np.array([[0.05], [1.7]]))
+        (array([0, 9]), 1)
+        """
         states, n_clipped = _encode_rows(P, self._cb)
-        if return_n_clipped:
-            return states, int(n_clipped)
-        return states
+        return states, int(n_clipped)
 
     def _from_levels_unchecked(self, Q: np.ndarray) -> np.ndarray:
         s = Q[:, 0].copy()

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._demo_kernels import gradient, window_derivative
+from ._demo_kernels import gradient, window_derivative, with_room
 from ._errors import ValidationError
 from ._registry import Registry
 from ._repairs import repaired
@@ -504,17 +504,7 @@ class Demonstration:
                 f" got an array of shape {a.shape}"
             )
         cols = default_columns(name, a.shape[1]) if columns is None else tuple(columns)
-        if name in self.groups:
-            idx = self.columns_of(name)
-            lo, hi = int(idx[0]), int(idx[-1]) + 1
-        else:
-            lo = hi = self.n_dims
-        X = np.concatenate([self.X[:, :lo], a, self.X[:, hi:]], axis=1)
-        new_columns = self.columns[:lo] + tuple(cols) + self.columns[hi:]
-        new_groups = self.groups[:lo] + (name,) * a.shape[1] + self.groups[hi:]
-        if name != "orientation" and _valid_block(a, cols, name, new_columns):
-            return _assembled(self.t, X, new_columns, new_groups)
-        return Demonstration(self.t, X, new_columns, new_groups)
+        return _with_block(self, name, a, cols)
 
     # ------------------------------------------------------------ dunder
     def __eq__(self, other: object) -> bool:
@@ -562,8 +552,36 @@ JITTER_TOL = 0.1
 WINDOW_STEPS = 4.0
 
 
-def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
-    """Whether a new group's block passes every check of the constructor."""
+def _with_block(demo: Demonstration, name, a: np.ndarray, cols, X=None):
+    """:meth:`Demonstration.with_group` of a 2-D block of one row per sample.
+
+    ``X``, when given, is the new value array already assembled: ``demo.X``
+    with ``a`` appended on the right (a new group).
+    """
+    if name in demo.groups:
+        idx = demo.columns_of(name)
+        lo, hi = int(idx[0]), int(idx[-1]) + 1
+    else:
+        lo = hi = demo.n_dims
+    # finite: the block, or the whole assembled array (the rest is checked
+    # already); a contiguous array is checked much faster than a strided view
+    finite = a
+    if X is None:
+        X = np.concatenate([demo.X[:, :lo], a, demo.X[:, hi:]], axis=1)
+    else:
+        finite = X
+    new_columns = demo.columns[:lo] + tuple(cols) + demo.columns[hi:]
+    new_groups = demo.groups[:lo] + (name,) * a.shape[1] + demo.groups[hi:]
+    if name != "orientation" and _valid_block(a, cols, name, new_columns, finite):
+        return _assembled(demo.t, X, new_columns, new_groups)
+    return Demonstration(demo.t, X, new_columns, new_groups)
+
+
+def _valid_block(a: np.ndarray, cols, name, columns, finite) -> bool:
+    """Whether a new group's block passes every check of the constructor.
+
+    ``finite`` holds the block's values (and possibly checked ones).
+    """
     try:
         _check_names(cols, a.shape[1], "columns")
     except ValidationError:
@@ -572,7 +590,7 @@ def _valid_block(a: np.ndarray, cols, name, columns) -> bool:
         isinstance(name, str)
         and _GROUP_OK.fullmatch(name) is not None  # no newline: a valid name too
         and len(set(columns)) == len(columns)
-        and bool(np.isfinite(a).all())
+        and bool(np.isfinite(finite).all())
     )
 
 
@@ -723,11 +741,16 @@ def with_velocity(
         from scipy.signal import savgol_filter  # lazy: scipy.signal is slow to import
 
         P = savgol_filter(P, window_length, polyorder, axis=0, mode="interp")
-    V = None
+    V = wide = None
     if mode in ("auto", "none"):
-        # numpy.gradient's arithmetic in one compiled pass; steps within
-        # JITTER_TOL of the smallest cannot be jittery: skip the percentiles
-        V, steady = gradient(demo.t, P, JITTER_TOL)
+        # numpy.gradient's arithmetic in one compiled pass, written straight
+        # into the new columns of the wider array when velocity is appended;
+        # steps within JITTER_TOL of the smallest cannot be jittery: skip the
+        # percentiles
+        if "velocity" not in demo.groups:
+            wide = with_room(demo.X, P.shape[1])
+        out = None if wide is None else wide[:, demo.n_dims :]
+        V, steady = gradient(demo.t, P, JITTER_TOL, out=out)
     if mode == "auto":
         jitter = 0.0 if steady else timing_jitter(demo.t)
         if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
@@ -744,6 +767,7 @@ def with_velocity(
                 stacklevel=2,
             )
     if mode == "window":
+        wide = None  # the velocity of the window fit replaces the gradient's
         if half_width is None:
             half_width = WINDOW_STEPS * float(np.median(np.diff(demo.t)))
         elif not (np.isfinite(half_width) and half_width > 0):
@@ -757,4 +781,4 @@ def with_velocity(
         taken -= {demo.columns[j] for j in demo.columns_of("velocity")}
     if taken.intersection(names):
         names = tuple(f"velocity.{c}" for c in names)
-    return demo.with_group("velocity", V, names)
+    return _with_block(demo, "velocity", V, names, wide)

@@ -25,9 +25,10 @@ def _values(seed, n, d, zeros):
     return X
 
 
-@settings(max_examples=60, deadline=None)
-@given(st.integers(0, 2**32 - 1), st.integers(1, 50), st.integers(1, 7), st.booleans())
+@settings(max_examples=80, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 80), st.integers(1, 13), st.booleans())
 def test_column_extremes_are_numpys_min_and_max(seed, n, d, zeros):
+    # tiles of 8 rows and the rest; a zero extreme takes numpy's sign of zero
     X = _values(seed, n, d, zeros)
     lo, hi = column_extremes(X)
     assert lo.tobytes() == X.min(axis=0).tobytes()  # -0.0 and 0.0 differ here

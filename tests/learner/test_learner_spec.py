@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from learner_helpers import (
     waves,
@@ -13,6 +15,7 @@ from ndlfd import (
     simplify,
     synth,
 )
+from ndlfd.demonstration import unit_time
 from ndlfd.learner import (
     AUTO_GROUPS,
     DEFAULT_LEVELS,
@@ -102,6 +105,7 @@ def test_one_reduction_serves_fit_and_timing():
     )
     np.testing.assert_array_equal(r.values, m.scaler_.transform(d, weighted=False))
     np.testing.assert_array_equal(r.key_bins, m.time_bins_.transform(d.t)[r.keypoints])
+    assert r.tau.tobytes() == m.time_bins_.normalize(d.t).tobytes()
     e = spec.encode(d)
     np.testing.assert_array_equal(e.key_states, m.fit_stats_.keypoint_lists()[1][2])
     np.testing.assert_array_equal(e.key_bins, r.key_bins)
@@ -151,3 +155,16 @@ def test_the_scaler_is_groupscalers_fit_exactly():
         for k, v in want.items():
             assert np.array_equal(got[k], v) if isinstance(v, np.ndarray) else (
                 got[k] == v), k  # fmt: skip
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 60), st.booleans())
+def test_unit_time_of_the_key_points_is_theirs_in_the_whole(seed, n, uniform):
+    # the key points keep both ends, so the fit bins the unit time of the
+    # key points' stamps: bit for bit the whole demonstration's at them
+    rng = np.random.default_rng(seed)
+    steps = np.full(n - 1, 0.01) if uniform else rng.uniform(1e-3, 2.0, n - 1)
+    t = rng.uniform(-1e3, 1e3) + np.concatenate([[0.0], np.cumsum(steps)])
+    inner = rng.choice(np.arange(1, n - 1), size=rng.integers(0, max(n - 1, 1)))
+    idx = np.unique(np.r_[0, inner, n - 1]).astype(np.int64)
+    assert unit_time(t[idx]).tobytes() == unit_time(t)[idx].tobytes()

@@ -118,6 +118,14 @@ def test_merged_statistics_against_plain_references(per_demo):
     for v, t, j in zip(values, taus, m.template_index, strict=True):
         np.testing.assert_array_equal(v, raw[j][0])
         np.testing.assert_array_equal(t, raw[j][1])
+    # held per template, read as one flat array each (and back from the flat)
+    flat_values = np.concatenate([raw[j][0] for j in m.template_index])
+    assert m.template_values.tobytes() == flat_values.tobytes()
+    flat_tau = np.concatenate([raw[j][1] for j in m.template_index])
+    assert m.template_tau.tobytes() == flat_tau.tobytes()
+    back = FitStats.from_arrays(m.to_arrays())
+    for a, b in zip(back.templates(), m.templates(), strict=True):
+        assert [x.tobytes() for x in a] == [x.tobytes() for x in b]
     # centroids: the mean of the key-point values in each state (exact sums)
     groups: dict = {}
     for U, _, idx, states, _ in raw:
@@ -213,6 +221,35 @@ def test_shortest_and_longest_whatever_the_merge_order(lengths, rnd):
     flat = [n[0] for n in notes]
     want = [(t, flat.index(t), flat.count(t)) for t in dict.fromkeys(flat)]
     assert list(r.notes) == want
+
+
+def _same_ranges(a: RangeStats, b: RangeStats) -> None:
+    for k in ("data_min", "data_max", "items", "demos_per_item"):
+        assert getattr(a, k).tobytes() == getattr(b, k).tobytes(), k
+    for k in ("n_samples", "min_samples", "max_samples", "shortest_item",
+              "longest_item", "notes", "repairs"):  # fmt: skip
+        assert getattr(a, k) == getattr(b, k), k
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 10), st.booleans())
+def test_of_items_is_the_merge_of_each_items_of(seed, n_items, zeros):
+    # a chunk of items read at once (pass 1) against one RangeStats each,
+    # merged: files of several demonstrations, notes, repairs, signed zeros
+    rng = np.random.default_rng(seed)
+    entries = []
+    for i in sorted(rng.choice(40, n_items, replace=False).tolist()):
+        arrays = []
+        for _ in range(int(rng.integers(1, 4))):
+            a = rng.normal(size=(int(rng.integers(1, 20)), 3))
+            if zeros:
+                a[rng.random(a.shape) < 0.3] = rng.choice([0.0, -0.0])
+            arrays.append(a)
+        notes = [f"note {int(rng.integers(0, 3))}" for _ in arrays]
+        repairs = (("jitter", i, f"file{i}", 1),) if rng.random() < 0.5 else ()
+        entries.append((i, arrays, notes, repairs))
+    parts = [RangeStats.of(i, *a, notes=n, repairs=r) for i, a, n, r in entries]
+    _same_ranges(RangeStats.of_items(entries), parts[0].merge(*parts[1:]))
 
 
 # -- templates ---------------------------------------------------------------------

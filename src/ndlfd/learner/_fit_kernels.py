@@ -28,19 +28,53 @@ from .._errors import ValidationError
 __all__ = ["column_extremes", "group_sums", "segment_rows", "split_limbs"]
 
 
+#: Values per lane group of :func:`_extremes`: the flat values run in tiles
+#: of ``d * _LANES``, a loop the compiler vectorizes.
+_LANES = 8
+
+
 @njit(cache=True, nogil=True)
-def _extremes(X):  # pragma: no cover - compiled
-    n, d = X.shape
-    lo = X[0].copy()
-    hi = X[0].copy()
-    for i in range(1, n):
-        for c in range(d):
-            x = X[i, c]
-            if x < lo[c]:
-                lo[c] = x
-            elif x > hi[c]:
-                hi[c] = x
-    return lo, hi
+def _extremes(flat, d, lo, hi):  # pragma: no cover - compiled
+    # flat: the rows of d values end to end; into lo and hi (given: returning
+    # new arrays costs more than making them). Plain comparisons and loops
+    # (no slices, no min/max) keep the compile time short.
+    size = flat.size
+    width = d * _LANES
+    tiles = size // width
+    for c in range(d):
+        lo[c] = flat[c]
+        hi[c] = flat[c]
+    if tiles:  # per position in a tile, then per column
+        L = np.empty(width)
+        H = np.empty(width)
+        for j in range(width):
+            L[j] = flat[j]
+            H[j] = flat[j]
+        for b in range(1, tiles):
+            at = b * width
+            for j in range(width):
+                x = flat[at + j]
+                if x < L[j]:
+                    L[j] = x
+                if x > H[j]:
+                    H[j] = x
+        for j in range(width):
+            c = j % d
+            if L[j] < lo[c]:
+                lo[c] = L[j]
+            if H[j] > hi[c]:
+                hi[c] = H[j]
+    for k in range(tiles * width, size):
+        c = k % d
+        if flat[k] < lo[c]:
+            lo[c] = flat[k]
+        if flat[k] > hi[c]:
+            hi[c] = flat[k]
+    zero = False  # an extreme is 0: its sign is numpy's to choose
+    for c in range(d):
+        if lo[c] == 0.0 or hi[c] == 0.0:
+            zero = True
+    return zero
 
 
 def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -63,8 +97,9 @@ def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> column_extremes(np.array([[1.0, 5.0], [-2.0, 7.0], [3.0, 6.0]]))
     (array([-2.,  5.]), array([3., 7.]))
     """
-    lo, hi = _extremes(np.ascontiguousarray(X, dtype=np.float64))
-    if not (lo.all() and hi.all()):  # a zero extreme: numpy's sign of zero
+    X = np.ascontiguousarray(X, dtype=np.float64)
+    lo, hi = np.empty(X.shape[1]), np.empty(X.shape[1])
+    if _extremes(X.reshape(-1), X.shape[1], lo, hi):  # a zero: numpy's sign
         return X.min(axis=0), X.max(axis=0)
     return lo, hi
 

@@ -245,22 +245,20 @@ def _probe_item(spec: _PassSpec, i: int, item):
 
 def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
     """Pass 1: per-column min and max of the demonstrations of some items."""
-    parts = []
+    entries, parts = [], []
     with collecting_repairs() as log:  # one log; each item's part of it
         for i, item in chunk:
             notes: list[str] = []
             seen = len(log)
             arrays = _ranges_of(spec, i, item, notes)
-            parts.append(_range_part(spec, i, item, arrays, notes, log[seen:]))
+            repairs = _records(log[seen:], i, item)
+            if arrays:
+                entries.append((i, arrays, notes, repairs))
+            else:  # a skipped file
+                parts.append(_skipped(i, len(spec.demo.columns), repairs))
+    if entries:  # all items read at once: the merge of each one's RangeStats
+        parts.append(RangeStats.of_items(entries))
     return parts[0].merge(*parts[1:])
-
-
-def _range_part(spec: _PassSpec, i: int, item, arrays, notes, log) -> RangeStats:
-    """The pass-1 statistics of item ``i`` from its value arrays and repairs."""
-    repairs = _records(log, i, item)
-    if arrays:
-        return RangeStats.of(i, *arrays, notes=notes, repairs=repairs)
-    return _skipped(i, len(spec.demo.columns), repairs)  # a skipped file
 
 
 def _ranges_of(spec: _PassSpec, i: int, item, notes: list) -> list[np.ndarray]:
@@ -311,15 +309,16 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> DemoS
     if d is None:
         d = spec.demo.prepared(demo)
     r = spec.demo.encode(d, n_jobs=1)
+    template = bool(spec.templates[j])
     return DemoStats(
         j,
         r.values,
-        r.tau,
+        r.tau if template else None,  # read for a template only
         r.keypoints,
         r.key_states,
         r.key_bins,
         r.n_clipped,
-        bool(spec.templates[j]),
+        template,
     )
 
 

@@ -11,8 +11,6 @@ demonstration is in, so decoding all bins ``0..N_t-1`` gives the key points
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 
 from .. import hmm
@@ -61,8 +59,9 @@ def estimate(
 
     Parameters
     ----------
-    states, symbols : iterable of ndarray of shape (n_j,), dtype int64
-        One state and one symbol sequence per demonstration.
+    states, symbols : list of ndarray of shape (n_j,), or ndarray of shape (n, k)
+        One state and one symbol sequence per demonstration (a 2-D array: one
+        per row), int64.
     n_states, n_symbols : int
     pseudo_transition, pseudo_emission : float or None
         As in :func:`ndlfd.hmm.estimate`.
@@ -71,22 +70,17 @@ def estimate(
     -------
     model : ndlfd.hmm.DiscreteHMM
     """
-    states, symbols = iter(states), iter(symbols)
-    models = []
-    while True:
-        s = list(itertools.islice(states, _ESTIMATE_BATCH))
-        if not s:
-            break
-        models.append(
-            hmm.estimate(
-                s,
-                list(itertools.islice(symbols, len(s))),
-                n_states,
-                n_symbols,
-                pseudo_transition=pseudo_transition,
-                pseudo_emission=pseudo_emission,
-            )
+    models = [
+        hmm.estimate(
+            states[at : at + _ESTIMATE_BATCH],
+            symbols[at : at + _ESTIMATE_BATCH],
+            n_states,
+            n_symbols,
+            pseudo_transition=pseudo_transition,
+            pseudo_emission=pseudo_emission,
         )
+        for at in range(0, len(states), _ESTIMATE_BATCH)
+    ]
     return models[0] if len(models) == 1 else hmm.merge(models)
 
 
@@ -117,8 +111,8 @@ def segment_model(
         stats.key_bins, stats.key_states, starts[demos], ends[demos], n_bins
     )  # segment_states of every demonstration, in one pass
     return estimate(
-        iter(rows),
-        itertools.repeat(np.arange(n_bins), len(demos)),
+        rows,
+        np.broadcast_to(np.arange(n_bins), rows.shape),  # every bin, every row
         n_states,
         n_bins,
         pseudo_transition=pseudo_transition,

@@ -243,8 +243,8 @@ class Reduced:
     ----------
     values : ndarray of shape (n_samples, n_columns)
         Normalized (unweighted) values.
-    tau : ndarray of shape (n_samples,)
-        Normalized times (0 to 1).
+    times : ndarray of shape (n_samples,)
+        Time stamps.
     keypoints : ndarray of shape (n_keys,), dtype int64
         Key-point indices.
     key_bins : ndarray of shape (n_keys,), dtype int64
@@ -253,14 +253,22 @@ class Reduced:
         Codebook state of each key point (:meth:`DemoSpec.encode` only).
     n_clipped : int
         Values the codebook clipped (:meth:`DemoSpec.encode` only).
+    tau : ndarray of shape (n_samples,)
+        Normalized times (0 to 1), computed when first read (a fit reads it
+        for its templates only).
     """
 
     values: np.ndarray
-    tau: np.ndarray
+    times: np.ndarray
     keypoints: np.ndarray
     key_bins: np.ndarray
     key_states: np.ndarray | None = None
     n_clipped: int = 0
+
+    @cached_property
+    def tau(self) -> np.ndarray:
+        """Normalized times, ``unit_time(times)``."""
+        return unit_time(self.times)
 
 
 @dataclass(frozen=True)
@@ -388,18 +396,7 @@ class DemoSpec:
         -------
         reduced : Reduced
         """
-        u = self.scaler.transform(d, weighted=False)
-        idx = simplify(
-            u,
-            None if self.n_points is not None else self.epsilon,
-            distance=self.distance,
-            weights=self.column_weights,
-            times=d.t if self.distance == "sed" else None,
-            n_points=self.n_points,
-            n_jobs=n_jobs,
-        )
-        tau = unit_time(d.t)  # TimeBins.normalize; d.t is checked already
-        return Reduced(u, tau, idx, self.time_bins.symbols(tau[idx]))
+        return Reduced(*self._key_points(d, n_jobs))
 
     def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
         """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).
@@ -416,8 +413,25 @@ class DemoSpec:
         reduced : Reduced
             With ``key_states`` and ``n_clipped``.
         """
-        r = self.reduce(d, n_jobs=n_jobs)
-        states, clipped = self.codebook.encode(
-            r.values[r.keypoints], return_n_clipped=True
+        u, t, idx, bins = self._key_points(d, n_jobs)
+        # the key points' normalized values, float64 of n columns, which
+        # simplify checked finite: the codebook need not check them again
+        states, clipped = self.codebook.encode_checked(u[idx])
+        return Reduced(u, t, idx, bins, states, clipped)
+
+    def _key_points(self, d: Demonstration, n_jobs):
+        """Normalized values, times, key points and their time bins."""
+        u = self.scaler.transform(d, weighted=False)
+        idx = simplify(
+            u,
+            None if self.n_points is not None else self.epsilon,
+            distance=self.distance,
+            weights=self.column_weights,
+            times=d.t if self.distance == "sed" else None,
+            n_points=self.n_points,
+            n_jobs=n_jobs,
         )
-        return Reduced(r.values, r.tau, r.keypoints, r.key_bins, states, clipped)
+        # the key points keep both ends, so their unit time is the
+        # demonstration's at the key points (bit for bit): TimeBins.normalize;
+        # d.t is checked already
+        return u, d.t, idx, self.time_bins.symbols(unit_time(d.t[idx]))

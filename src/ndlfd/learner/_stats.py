@@ -74,7 +74,9 @@ def _group_sum(states, counts, limbs):
 
 
 def _split(flat: np.ndarray, counts: np.ndarray) -> list[np.ndarray]:
-    return np.split(flat, np.cumsum(counts)[:-1]) if counts.size else []
+    """``np.split(flat, np.cumsum(counts)[:-1])`` (views), without its overhead."""
+    ends = np.cumsum(counts).tolist()
+    return [flat[a:b] for a, b in zip([0, *ends][:-1], ends, strict=True)]
 
 
 def _sorted_unique_index(index: np.ndarray, what: str) -> np.ndarray:
@@ -159,25 +161,52 @@ class RangeStats:
         ``notes`` holds a note (a string) per demonstration, or nothing;
         ``repairs`` the item's (kind, item, label, count) records.
         """
-        if len(arrays) == 1:
-            lo, hi = column_extremes(arrays[0])
-        else:
-            ends = [column_extremes(a) for a in arrays]
-            lo = np.min([e[0] for e in ends], axis=0)
-            hi = np.max([e[1] for e in ends], axis=0)
-        lengths = [a.shape[0] for a in arrays]
+        return cls.of_items([(item, arrays, notes, repairs)])
+
+    @classmethod
+    def of_items(cls, entries) -> RangeStats:
+        """:meth:`of` of several items at once: the same as merging theirs.
+
+        Parameters
+        ----------
+        entries : sequence of (int, sequence of ndarray, sequence, sequence)
+            Per item (at least one): its index, the value arrays of its
+            demonstrations (at least one), their notes and its repairs, as
+            :meth:`of` takes them.
+
+        Returns
+        -------
+        stats : RangeStats
+        """
+        ends, notes, short, long = [], [], [], []
+        for item, arrays, item_notes, _ in entries:
+            if len(arrays) == 1:
+                ends.append(column_extremes(arrays[0]))
+            else:
+                e = [column_extremes(a) for a in arrays]
+                lo = np.min([x[0] for x in e], axis=0)
+                ends.append((lo, np.max([x[1] for x in e], axis=0)))
+            lengths = [a.shape[0] for a in arrays]
+            short.append((min(lengths), item))
+            long.append((-max(lengths), item))
+            if item_notes:
+                notes.extend((t, item, c) for t, c in Counter(item_notes).items())
+        items = np.array([e[0] for e in entries], dtype=np.int64)
+        order = _sorted_unique_index(items, "item")
+        per_item = np.array([len(e[1]) for e in entries], dtype=np.int64)
+        (min_samples, shortest), (max_samples, longest) = min(short), min(long)
         return cls(
-            lo,
-            hi,
-            int(sum(lengths)),
-            np.array([item], dtype=np.int64),
-            np.array([len(arrays)], dtype=np.int64),
-            min(lengths),
-            max(lengths),
-            item,
-            item,
-            tuple((t, item, c) for t, c in Counter(notes).items()) if notes else (),
-            tuple(repairs),
+            np.min([e[0] for e in ends], axis=0),
+            np.max([e[1] for e in ends], axis=0),
+            sum(a.shape[0] for e in entries for a in e[1]),
+            _take(items, order),
+            _take(per_item, order),
+            min_samples,
+            -max_samples,
+            shortest,
+            longest,
+            _merged_notes(notes),
+            merge_repairs(*(e[3] for e in entries)),
         )
 
     @property
@@ -192,10 +221,6 @@ class RangeStats:
         order = _sorted_unique_index(items, "item")
         short = min(parts, key=lambda p: (p.min_samples, p.shortest_item))
         long = min(parts, key=lambda p: (-p.max_samples, p.longest_item))
-        notes: dict[str, list[int]] = {}
-        for text, first, n in (x for p in parts for x in p.notes):
-            seen = notes.setdefault(text, [first, 0])
-            seen[0], seen[1] = min(seen[0], first), seen[1] + n
         return RangeStats(
             np.min([p.data_min for p in parts], axis=0),
             np.max([p.data_max for p in parts], axis=0),
@@ -206,11 +231,20 @@ class RangeStats:
             long.max_samples,
             short.shortest_item,
             long.longest_item,
-            tuple(sorted(((t, f, n) for t, (f, n) in notes.items()), key=_by_item)),
+            _merged_notes(x for p in parts for x in p.notes),
             merge_repairs(*(p.repairs for p in parts)),
         )
 
     __add__ = merge
+
+
+def _merged_notes(notes) -> tuple:
+    """Notes (text, first item, count), one per text, in the order of first items."""
+    seen: dict[str, list[int]] = {}
+    for text, first, n in notes:
+        got = seen.setdefault(text, [first, 0])
+        got[0], got[1] = min(got[0], first), got[1] + n
+    return tuple(sorted(((t, f, n) for t, (f, n) in seen.items()), key=_by_item))
 
 
 def merge_repairs(*groups) -> tuple:
@@ -237,8 +271,8 @@ class DemoStats(NamedTuple):
         The demonstration's index in the training set.
     values : ndarray of shape (n_samples, n_dims)
         Its normalized (unweighted) values.
-    tau : ndarray of shape (n_samples,)
-        Its normalized times (0 to 1).
+    tau : ndarray of shape (n_samples,) or None
+        Its normalized times (0 to 1); read for a template only.
     keypoints, key_states, key_bins : ndarray of shape (n_keys,), dtype int64
         Key-point indices, and the codebook state and time bin of each.
     n_clipped : int
@@ -249,7 +283,7 @@ class DemoStats(NamedTuple):
 
     index: int
     values: np.ndarray
-    tau: np.ndarray
+    tau: np.ndarray | None
     keypoints: np.ndarray
     key_states: np.ndarray
     key_bins: np.ndarray
@@ -280,6 +314,8 @@ _FIELDS = {
     "template_tau": (np.float64, "sample"),
     "n_clipped": (np.int64, "scalar"),
 }
+#: The fields of the templates' full values and times (see ``FitStats``).
+_PIECED = ("template_values", "template_tau")
 
 
 class FitStats:
@@ -328,7 +364,10 @@ class FitStats:
     True
     """
 
-    __slots__ = tuple(_FIELDS)
+    # the templates' values and times are held as one piece per template
+    # (``_pieces``) and joined into the flat fields only when those are read
+    # (``_joined``): merging never copies them
+    __slots__ = (*(k for k in _FIELDS if k not in _PIECED), "_pieces", "_joined")
     __hash__ = None  # mutable arrays inside; compared by value
 
     def __init__(self, **arrays) -> None:
@@ -340,7 +379,53 @@ class FitStats:
                 f" {sorted(missing)}, unexpected {sorted(extra)}"
             )
         for name, (dtype, _) in _FIELDS.items():
-            object.__setattr__(self, name, np.asarray(arrays[name], dtype=dtype))
+            if name not in _PIECED:
+                object.__setattr__(self, name, np.asarray(arrays[name], dtype=dtype))
+        joined = tuple(np.asarray(arrays[k], dtype=np.float64) for k in _PIECED)
+        object.__setattr__(self, "_joined", joined)
+        object.__setattr__(self, "_pieces", None)
+
+    @classmethod
+    def _of_pieces(cls, pieces, **arrays) -> FitStats:
+        """Statistics whose templates are ``(values, tau)`` pieces, one each."""
+        d = np.asarray(arrays["exponents"]).size
+        out = cls(template_values=np.zeros((0, d)), template_tau=np.zeros(0), **arrays)
+        object.__setattr__(out, "_pieces", tuple(pieces))
+        object.__setattr__(out, "_joined", None)
+        return out
+
+    def _template_pieces(self) -> tuple:
+        """``(values, tau)`` of each template, in template order."""
+        pieces = self._pieces
+        if pieces is None:
+            values, tau = self._joined
+            counts = self.template_counts
+            pieces = tuple(
+                zip(_split(values, counts), _split(tau, counts), strict=True)
+            )
+            object.__setattr__(self, "_pieces", pieces)
+        return pieces
+
+    def _joined_templates(self) -> tuple[np.ndarray, np.ndarray]:
+        joined = self._joined
+        if joined is None:  # the same arrays whichever thread joins them first
+            pieces = self._pieces
+            if pieces:
+                joined = tuple(np.concatenate(a) for a in zip(*pieces, strict=True))
+            else:
+                joined = (np.zeros((0, self.exponents.size)), np.zeros(0))
+            object.__setattr__(self, "_joined", joined)
+        return joined
+
+    @property
+    def template_values(self) -> np.ndarray:
+        """The templates' normalized values, one after another (n_samples, n_dims)."""
+        return self._joined_templates()[0]
+
+    @property
+    def template_tau(self) -> np.ndarray:
+        """The templates' normalized times, one after another (n_samples,)."""
+        return self._joined_templates()[1]
 
     # ------------------------------------------------------------ building
     @classmethod
@@ -403,8 +488,8 @@ class FitStats:
         keys = [np.asarray(r.keypoints, dtype=np.int64) for r in demos]
         states = cat([np.asarray(r.key_states, dtype=np.int64) for r in demos])
         kept = [(r, v) for r, v in zip(demos, values, strict=True) if r.template]
-        d = values[0].shape[1]
-        raw = cls(  # one row per key point in the centroids: merge groups them
+        raw = cls._of_pieces(  # one row per key point in the centroids: merge sums them
+            [(v, np.asarray(r.tau, dtype=np.float64)) for r, v in kept],
             exponents=exponents,
             demo_index=[r.index for r in demos],
             n_samples=[v.shape[0] for v in values],
@@ -421,8 +506,6 @@ class FitStats:
             ),
             template_index=[r.index for r, _ in kept],
             template_counts=[v.shape[0] for _, v in kept],
-            template_values=cat([v for _, v in kept]) if kept else np.zeros((0, d)),
-            template_tau=cat([r.tau for r, _ in kept]) if kept else np.zeros(0),
             n_clipped=sum(int(r.n_clipped) for r in demos),
         )
         return raw.merge()
@@ -448,10 +531,8 @@ class FitStats:
 
     def templates(self):
         """Per template: normalized values and normalized times (lists)."""
-        return (
-            _split(self.template_values, self.template_counts),
-            _split(self.template_tau, self.template_counts),
-        )
+        pieces = self._template_pieces()
+        return [v for v, _ in pieces], [t for _, t in pieces]
 
     def centroids(self) -> tuple[np.ndarray, np.ndarray]:
         """Sorted states and the mean normalized key-point value in each.
@@ -487,13 +568,17 @@ class FitStats:
                     "cannot merge statistics of different fits (columns or scales"
                     f" differ: {self.exponents.tolist()} and {p.exponents.tolist()})"
                 )
-        cat = np.concatenate
+
+        def cat(arrays, axis=0):  # one part (of_demos): its arrays, not a copy
+            return arrays[0] if len(arrays) == 1 else np.concatenate(arrays, axis)
+
         index = cat([p.demo_index for p in parts])
         order = _sorted_unique_index(index, "demonstration")
         n_keys = cat([p.n_keys for p in parts])
         t_index = cat([p.template_index for p in parts])
         t_order = _sorted_unique_index(t_index, "template")
         t_counts = cat([p.template_counts for p in parts])
+        pieces = [x for p in parts for x in p._template_pieces()]
         ids, counts, sums = _group_sum(
             cat([p.centroid_states for p in parts]),
             cat([p.centroid_counts for p in parts]),
@@ -504,7 +589,8 @@ class FitStats:
                 f"a codebook state holds {int(counts.max())} key points, more than"
                 f" the {2**LIMB_BITS} the exact centroid sums allow"
             )
-        return FitStats(
+        return FitStats._of_pieces(
+            pieces if t_order is None else [pieces[k] for k in t_order],
             exponents=self.exponents,
             demo_index=_take(index, order),
             n_samples=_take(cat([p.n_samples for p in parts]), order),
@@ -519,12 +605,6 @@ class FitStats:
             centroid_limbs=sums,
             template_index=_take(t_index, t_order),
             template_counts=_take(t_counts, t_order),
-            template_values=_ragged_take(
-                cat([p.template_values for p in parts]), t_counts, t_order
-            ),
-            template_tau=_ragged_take(
-                cat([p.template_tau for p in parts]), t_counts, t_order
-            ),
             n_clipped=int(sum(int(p.n_clipped) for p in parts)),
         )
 
