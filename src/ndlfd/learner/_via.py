@@ -31,17 +31,23 @@ the path to pass through ``values`` at ``time``. Two steps:
 **Continuing an execution.** ``generate(times, observed=prefix)`` takes what
 the robot executed so far, at the first time stamps of ``times``:
 
-* *the route and phase*: the prefix's time stamps are on the same normalized
-  clock as ``times``; every demonstration is weighted by the mean, over up to
-  :data:`PREFIX_POINTS` prefix samples spread evenly, of the same log kernel
-  as for a via point (the prefix is a series of via points:
-  :func:`observed_log_weights`). Template matching, not forward filtering on
-  the segment model: the templates hold the demonstrations' full values,
-  where the segment model sees the codebook's cells;
+* *the route*: by forward filtering on the segment model
+  (:mod:`ndlfd.learner._filtering`): the prefix's mean in each time bin is an
+  observation of the segment state of that bin, and every route's posterior
+  is its prior times the exact likelihood of the prefix under its segment
+  model; the route followed is the most probable (``sample`` draws by the
+  posterior). Within the route the templates are weighted by the mean, over
+  up to :data:`PREFIX_POINTS` prefix samples spread evenly, of the same log
+  kernel as for a via point (the prefix is a series of via points:
+  :func:`observed_log_weights`): the templates hold the demonstrations' full
+  values, where the segment model sees the codebook's cells;
 * *the phase* (:mod:`ndlfd.learner._phase`): the blend runs at the rate
   that matches the prefix's samples up to the last one, then on to the end;
   it is conditioned on up to :data:`PREFIX_POINTS` of them
-  (:func:`blend_observations`, noise :data:`PREFIX_RIDGE`);
+  (:func:`blend_observations`, noise :data:`PREFIX_RIDGE`). The filtered
+  segment state at the last observed bin places the robot only to within a
+  segment; used for the phase it scored worse (measured in
+  :mod:`ndlfd.learner._filtering`);
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
@@ -373,9 +379,7 @@ def prefix_rows(n: int) -> np.ndarray:
     return np.unique(np.linspace(0, n - 1, min(n, PREFIX_POINTS)).round().astype(int))
 
 
-def observed_log_weights(
-    est, prefix, tq: np.ndarray, cache: dict, *, total: bool = False
-) -> np.ndarray:
+def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray:
     """Every demonstration's log weight for an executed prefix.
 
     Parameters
@@ -388,18 +392,13 @@ def observed_log_weights(
         Normalized times of the whole timing.
     cache : dict
         See :func:`demo_values_at`.
-    total : bool, default=False
-        The sum instead of the mean: every prefix sample is an observation
-        of the route, so the probability of a route given the prefix
-        (:func:`~ndlfd.learner._sampling.sample_paths` draws routes by it)
-        takes the product of their kernels. The mean, a tempered weight,
-        keeps several templates of the route in the blend.
 
     Returns
     -------
     log_weights : ndarray of shape (n_demos,)
-        The mean (or sum), over up to :data:`PREFIX_POINTS` prefix samples,
-        of the kernels' logarithms.
+        The mean, over up to :data:`PREFIX_POINTS` prefix samples, of the
+        kernels' logarithms (a tempered weight: it keeps several templates
+        of the route in the blend).
     """
     rows = prefix_rows(prefix.t.size)
     U = est.scaler_.transform(prefix.X[rows], weighted=False)
@@ -408,7 +407,7 @@ def observed_log_weights(
     for k in range(rows.size):
         pts = V[:, k]
         logw += condition_log_weights(pts, U[k], condition_bandwidth(pts))
-    return logw if total else logw / rows.size
+    return logw / rows.size
 
 
 def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
