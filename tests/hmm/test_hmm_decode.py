@@ -16,6 +16,7 @@ from ndlfd._errors import DecodeError, OptionError, ValidationError
 from ndlfd.hmm import DENSE_LIMIT_BYTES, STARTS, estimate, posterior, viterbi
 from ndlfd.hmm._counts import Counts, count
 from ndlfd.hmm._decode import (
+    filter_tables,
     forward_backward,
     forward_filter,
     log_tables,
@@ -378,6 +379,9 @@ def test_forward_filter_matches_brute_force_enumeration(case, observe, values, g
             forward_filter(counts, obs, start, log_likelihood=loglik)
         return
     got = forward_filter(counts, obs, start, log_likelihood=loglik)
+    again = forward_filter(counts, obs, start, loglik, filter_tables(counts, start))
+    for a, b in zip(got, again, strict=True):
+        np.testing.assert_array_equal(a, b)  # the tables built once: bit for bit
     np.testing.assert_array_equal(got.states, seen)
     np.testing.assert_allclose(got.probabilities, want[seen], rtol=1e-9, atol=1e-12)
     unseen = np.setdiff1d(np.arange(m), seen)
@@ -420,3 +424,6 @@ def test_forward_filter_errors():
         forward_filter(counts, [0, 1], log_likelihood=[[0.0, np.nan], [0.0, 0.0]])
     with pytest.raises(DecodeError, match="probability zero"):
         forward_filter(counts, [0, 1], log_likelihood=[[0.0, 0.0], [0.0, -np.inf]])
+    tables = filter_tables(counts, "state1")
+    with pytest.raises(ValidationError, match="start='state1'; got start='learned'"):
+        forward_filter(counts, [0, 1], tables=tables)

@@ -12,6 +12,7 @@ from ndlfd.learner import KeypointHMM
 from ndlfd.learner._filtering import (
     bin_observations,
     observation_noise,
+    path_log_likelihoods,
     route_posterior,
 )
 from ndlfd.learner._segments import segment_model
@@ -103,6 +104,16 @@ def test_route_posterior_matches_enumerating_every_state_path(tiny, who, fractio
     assert np.argmax(got) == routes[who]
 
 
+def _centroid_at(model, j, b):
+    """Demonstration j's segment centroid at bin b: its last key point's state."""
+    stats = model.fit_stats_
+    end = int(np.cumsum(stats.n_keys)[j])
+    kb = np.asarray(stats.key_bins)[end - stats.n_keys[j] : end]
+    ks = np.asarray(stats.key_states)[end - stats.n_keys[j] : end]
+    s = ks[np.flatnonzero(kb <= b)[-1]]
+    return model.centroids_[np.searchsorted(model.centroid_states_, s)]
+
+
 def test_observation_noise_is_the_templates_residual_at_least_a_cell(tiny):
     _, model = tiny
     var = observation_noise(model, {})
@@ -112,21 +123,37 @@ def test_observation_noise_is_the_templates_residual_at_least_a_cell(tiny):
     # the state of its last key point at or before the bin
     nt = model.n_time_bins
     sq, count = np.zeros(2), 0
-    stats = model.fit_stats_
-    ends = np.cumsum(stats.n_keys)
     for k, j in enumerate(model.template_indices_):
-        kb = stats.key_bins[ends[j] - stats.n_keys[j] : ends[j]]
-        ks = stats.key_states[ends[j] - stats.n_keys[j] : ends[j]]
         U, tau = model.train_values_[k], model.train_tau_[k]
         bins = np.minimum(np.floor(tau * nt).astype(int), nt - 1)
         for b in range(nt):
-            if not np.any(bins == b):
-                continue
-            s = ks[np.flatnonzero(kb <= b)[-1]]
-            c = model.centroids_[np.searchsorted(model.centroid_states_, s)]
-            sq += (U[bins == b].mean(axis=0) - c) ** 2
-            count += 1
+            if np.any(bins == b):
+                sq += (U[bins == b].mean(axis=0) - _centroid_at(model, j, b)) ** 2
+                count += 1
     np.testing.assert_allclose(var, np.maximum(sq / count, floor))
+
+
+@pytest.mark.parametrize(("who", "fraction"), [(0, 0.5), (4, 0.9), (2, 0.05)])
+def test_path_log_likelihoods_against_a_loop(tiny, who, fraction):
+    demos, model = tiny
+    d = demos[who]
+    n = max(int(fraction * d.t.size), 1)
+    U = model.scaler_.transform(d.X[:n], weighted=False)
+    tau = model.time_bins_.normalize(d.t)[:n]
+    cache = {}
+    got = path_log_likelihoods(model, U, tau, cache)
+    var = observation_noise(model, cache)
+    nt = model.n_time_bins
+    bins = np.minimum(np.floor(tau * nt).astype(int), nt - 1)
+    want = np.zeros(len(demos))
+    for j in range(len(demos)):
+        for b in np.unique(bins):
+            r = U[bins == b].mean(axis=0) - _centroid_at(model, j, b)
+            want[j] -= 0.5 * np.sum(r * r / var)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12)
+    # past the shared start, a path of its own route fits best (3 levels a
+    # side are too coarse to tell demonstrations of one route apart)
+    assert (np.argmax(got) >= 3) == (who >= 3) or fraction < 0.1
 
 
 def test_a_prefix_decides_the_route_that_generate_and_sample_follow():

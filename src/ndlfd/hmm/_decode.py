@@ -30,11 +30,13 @@ from ._kernels import sample_backward, viterbi_sparse
 
 __all__ = [
     "STARTS",
+    "FilterTables",
     "Filtered",
     "LogTables",
     "Posterior",
     "check_symbols",
     "ffbs",
+    "filter_tables",
     "forward_backward",
     "forward_filter",
     "log_tables",
@@ -386,17 +388,51 @@ class _Forward(NamedTuple):
     shift: float = 0.0  # log of the factors taken out of the observations' terms
 
 
+class FilterTables(NamedTuple):
+    """A model's tables for repeated forward passes (:func:`filter_tables`)."""
+
+    start: str
+    pieces: tuple  # _probability_tables(counts, start)
+    delta_t: object  # csr, the counted part of A transposed
+
+
+def filter_tables(counts: Counts, start: str = "learned") -> FilterTables:
+    """The tables :func:`forward_filter` builds from the counts, built once.
+
+    Pass them to :func:`forward_filter` to filter many sequences of one
+    model without building them again (``O(n_seen + counted entries)``).
+
+    Examples
+    --------
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1]], [[0, 1]], 2, 2, 0.0, 0.0)
+    >>> tables = filter_tables(counts)
+    >>> forward_filter(counts, [0, 1], tables=tables).probabilities
+    array([0., 1.])
+    """
+    mode = STARTS.get(start)
+    pieces = _probability_tables(counts, mode)
+    return FilterTables(mode, pieces, pieces[1].T.tocsr())
+
+
 def _forward(
-    counts: Counts, obs: np.ndarray, mode: str, loglik: np.ndarray | None = None
+    counts: Counts,
+    obs: np.ndarray,
+    mode: str,
+    loglik: np.ndarray | None = None,
+    tables: FilterTables | None = None,
 ) -> _Forward:
     """Scaled forward pass over the seen states and the unseen class.
 
     ``loglik`` (shape ``(n_steps, n_seen)``, optional) adds an observation
     term per step and seen state; the unseen class then has none (it has no
-    value to compare with) and takes probability zero.
+    value to compare with) and takes probability zero. ``tables``: the
+    model's :func:`filter_tables` for ``mode``, built here without.
     """
-    base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
-    delta_t = delta.T.tocsr()
+    if tables is None:
+        tables = filter_tables(counts, mode)
+    base, delta, unseen_row, n_unseen, pi, pi_u, em = tables.pieces
+    delta_t = tables.delta_t
     n_steps, n_seen = obs.size, pi.size
     check_work_size(  # alpha, and the emissions of every step
         8 * n_steps * (n_seen + 1),
@@ -533,7 +569,11 @@ class Filtered(NamedTuple):
 
 
 def forward_filter(
-    counts: Counts, symbols, start: str = "learned", log_likelihood=None
+    counts: Counts,
+    symbols,
+    start: str = "learned",
+    log_likelihood=None,
+    tables: FilterTables | None = None,
 ) -> Filtered:
     """Forward filtering: the last step's state given the symbols and observations.
 
@@ -554,6 +594,9 @@ def forward_filter(
         The start distribution (:data:`STARTS`).
     log_likelihood : array-like of shape (n_steps, n_seen), optional
         The observations' log-likelihoods per seen state (``-inf`` allowed).
+    tables : FilterTables, optional
+        :func:`filter_tables` of these counts and this start, to filter many
+        sequences of one model (built here without).
 
     Returns
     -------
@@ -592,7 +635,11 @@ def forward_filter(
             raise ValidationError(
                 "log_likelihood must hold finite values or -inf; got NaN or +inf"
             )
-    fw = _forward(counts, obs, mode, loglik)
+    if tables is not None and tables.start != mode:
+        raise ValidationError(
+            f"tables were built for start={tables.start!r}; got start={mode!r}"
+        )
+    fw = _forward(counts, obs, mode, loglik, tables)
     logp = float(np.log(fw.scale).sum()) + fw.shift
     return Filtered(counts.states.copy(), fw.alpha[-1], float(fw.alpha_u[-1]), logp)
 

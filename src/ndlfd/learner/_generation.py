@@ -254,9 +254,12 @@ def make_plan(
         Log weights added to the start's and goal's (via points, a prefix:
         :mod:`ndlfd.learner._via`).
     route : int, optional
-        The route to follow (a prefix's, :mod:`ndlfd.learner._filtering`);
+        The route to follow (a prefix's, :mod:`ndlfd.learner._filtering`),
+        its skeleton decoded from all its demonstrations (the prefix weighs
+        the templates only, so a replanning robot decodes once per route);
         by default the one of largest weight
-        (:func:`~ndlfd.learner._routes.choose_route`).
+        (:func:`~ndlfd.learner._routes.choose_route`), decoded from the
+        demonstrations that weigh.
 
     Returns
     -------
@@ -267,9 +270,13 @@ def make_plan(
     logw, routes = demo_log_weights(est, start, goal, cache)
     if extra is not None:
         logw = logw + extra
-    route = choose_route(routes, logw) if route is None else route
-    logw = np.where(routes == route, logw, -np.inf)
-    model, states, logp = decode_route(est, logw, cache)
+    if route is None:
+        logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
+        model, states, logp = decode_route(est, logw, cache)
+    else:  # the whole route's skeleton: one per route while a prefix grows
+        logw = np.where(routes == route, logw, -np.inf)
+        whole = np.where(routes == route, 0.0, -np.inf)
+        model, states, logp = decode_route(est, whole, cache)
     return plan_from_states(est, states, logp, model, logw, cache=cache)
 
 
