@@ -95,11 +95,12 @@ def bin_observations(U: np.ndarray, tau: np.ndarray, n_bins: int):
     """
     bins = np.clip(np.floor(tau * n_bins).astype(np.int64), 0, n_bins - 1)
     n = int(bins[-1]) + 1
-    counts = np.bincount(bins, minlength=n).astype(np.float64)
-    sums = np.zeros((n, U.shape[1]))
-    np.add.at(sums, bins, U)
-    with np.errstate(invalid="ignore"):  # 0 / 0: a bin without a sample
-        return sums / counts[:, None]
+    first = np.searchsorted(bins, np.arange(n))  # the samples are in time order
+    counts = np.diff(np.r_[first, bins.size])
+    means = np.full((n, U.shape[1]), np.nan)
+    has = counts > 0
+    means[has] = np.add.reduceat(U, first[has], axis=0) / counts[has, None]
+    return means
 
 
 def observation_noise(est, cache: dict) -> np.ndarray:
