@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import re
 import sys
 from pathlib import Path
@@ -9,11 +10,18 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ndlfd._errors import DecodeError, OptionError, ValidationError
 from ndlfd.hmm import DENSE_LIMIT_BYTES, STARTS, estimate, posterior, viterbi
 from ndlfd.hmm._counts import Counts, count
-from ndlfd.hmm._decode import forward_backward, log_tables, viterbi_path
+from ndlfd.hmm._decode import (
+    filter_tables,
+    forward_backward,
+    forward_filter,
+    log_tables,
+    viterbi_path,
+)
 
 TESTS = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(TESTS))
@@ -321,3 +329,101 @@ def test_start_modes_are_one_registry():
     assert ndlfd.hmm.STARTS is STARTS
     assert STARTS.names == ("learned", "state1")
     assert "STARTS" in ndlfd.hmm.__all__
+
+
+# --------------------------------------------------------------- forward filtering
+
+
+def _brute_filter(A, B, pi, obs, L):
+    """P(last state), log p(symbols, observations): every state path enumerated.
+
+    ``L[t, s]`` is the observation's likelihood in state ``s`` (all ones: the
+    symbols alone).
+    """
+    m = A.shape[0]
+    last = np.zeros(m)
+    for path in itertools.product(range(m), repeat=len(obs)):
+        p = pi[path[0]] * B[path[0], obs[0]] * L[0, path[0]]
+        for t in range(1, len(obs)):
+            p *= A[path[t - 1], path[t]] * B[path[t], obs[t]] * L[t, path[t]]
+        last[path[-1]] += p
+    total = last.sum()
+    return (last / total if total > 0 else last), ref.log(total)
+
+
+@settings(max_examples=120, deadline=None)
+@given(
+    training(max_m=4, max_nt=2, max_len=4),
+    st.booleans(),
+    st.lists(st.floats(-3.0, 3.0), min_size=16, max_size=16),
+    st.sampled_from([None, 0, 3]),
+)
+def test_forward_filter_matches_brute_force_enumeration(case, observe, values, gone):
+    m, nt, states, symbols, p, r, obs, start = case
+    counts = count(states, symbols, m, nt, p, r)
+    A, B, pi = ref.dense_model(states, symbols, m, nt, p, r)
+    if start == "state1":
+        pi = A[0]
+    seen = counts.states
+    L = np.ones((len(obs), m))
+    loglik = None
+    if observe:  # an observation per step and seen state; unseen states none
+        loglik = np.array(values[: len(obs) * seen.size]).reshape(len(obs), -1)
+        if gone is not None and gone < loglik.size:
+            loglik.flat[gone] = -np.inf  # a state that cannot be observed so
+        L = np.zeros((len(obs), m))
+        L[:, seen] = np.exp(loglik)
+    want, want_logp = _brute_filter(A, B, pi, obs, L)
+    if not want_logp > -np.inf:
+        with pytest.raises(DecodeError, match="probability zero"):
+            forward_filter(counts, obs, start, log_likelihood=loglik)
+        return
+    got = forward_filter(counts, obs, start, log_likelihood=loglik)
+    again = forward_filter(counts, obs, start, loglik, filter_tables(counts, start))
+    for a, b in zip(got, again, strict=True):
+        np.testing.assert_array_equal(a, b)  # the tables built once: bit for bit
+    np.testing.assert_array_equal(got.states, seen)
+    np.testing.assert_allclose(got.probabilities, want[seen], rtol=1e-9, atol=1e-12)
+    unseen = np.setdiff1d(np.arange(m), seen)
+    assert got.unseen == pytest.approx(want[unseen].sum(), rel=1e-9, abs=1e-12)
+    assert got.log_likelihood == pytest.approx(float(want_logp), rel=1e-9, abs=1e-9)
+    if loglik is None:  # the last row of the posterior, and its likelihood
+        post = forward_backward(counts, obs, start)
+        np.testing.assert_allclose(got.probabilities, post.probabilities[-1])
+        assert got.log_likelihood == pytest.approx(post.log_likelihood)
+
+
+def test_forward_filter_costs_the_seen_states_not_the_codebook():
+    # 10**15 codebook states, 5 seen: anything of size n_states would not fit;
+    # the same counts give the same filter whatever the codebook's size
+    states = [[5, 7, 9, 9], [5, 8, 9, 11]]
+    symbols = [[0, 1, 2, 3]] * 2
+    loglik = np.zeros((4, 5))
+    loglik[3, 4] = np.log(3.0)  # the last observation 3 times likelier in 11
+    got = [
+        forward_filter(count(states, symbols, m, 4, 0.0, 0.0), [0, 1, 2, 3],
+                       log_likelihood=loglik)
+        for m in (12, 10**15)
+    ]  # fmt: skip
+    # by hand: both paths reach 9 at step 2 (B[9, 2] = 2/3); then 9 -> 9 or
+    # 9 -> 11 (1/2 each), B[9, 3] = 1/3, B[11, 3] = 1, and the observation
+    # 1 : 3, so 1/6 : 3/2 = 1 : 9, and p = 2/3 * (1/6 + 3/2) = 10/9
+    for f in got:
+        np.testing.assert_array_equal(f.states, [5, 7, 8, 9, 11])
+        np.testing.assert_allclose(f.probabilities, [0, 0, 0, 0.1, 0.9])
+        assert f.log_likelihood == pytest.approx(np.log(10 / 9))
+    np.testing.assert_array_equal(got[0].probabilities, got[1].probabilities)
+
+
+def test_forward_filter_errors():
+    counts = count([[0, 1]], [[0, 1]], 3, 2, 0.0, 0.0)
+    expected = r"shape \(n_steps, n_seen\) = \(2, 2\); got \(2, 3\)"
+    with pytest.raises(ValidationError, match=expected):
+        forward_filter(counts, [0, 1], log_likelihood=np.zeros((2, 3)))
+    with pytest.raises(ValidationError, match="NaN or \\+inf"):
+        forward_filter(counts, [0, 1], log_likelihood=[[0.0, np.nan], [0.0, 0.0]])
+    with pytest.raises(DecodeError, match="probability zero"):
+        forward_filter(counts, [0, 1], log_likelihood=[[0.0, 0.0], [0.0, -np.inf]])
+    tables = filter_tables(counts, "state1")
+    with pytest.raises(ValidationError, match="start='state1'; got start='learned'"):
+        forward_filter(counts, [0, 1], tables=tables)

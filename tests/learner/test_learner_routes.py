@@ -7,7 +7,12 @@ from hypothesis import strategies as st
 
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
-from ndlfd.learner._routes import choose_route, route_labels, segment_paths
+from ndlfd.learner._routes import (
+    choose_route,
+    route_labels,
+    route_probabilities,
+    segment_paths,
+)
 from ndlfd.learner._segments import segment_states
 from ndlfd.synth import obstacle
 
@@ -168,3 +173,10 @@ def test_segment_paths_refuses_work_past_the_bound_before_allocating():
         segment_paths(stats, np.array([0]), n_bins)
     # one bin fewer fits the bound; checked on the bound itself, not by allocating
     assert 8 * n_demos * (n_bins - 1) <= MAX_WORK_BYTES
+
+
+def test_route_probabilities():
+    np.testing.assert_allclose(
+        route_probabilities(np.array([0, 1, 1, 0]), np.log([1.0, 1.0, 2.0, 4.0])),
+        [5 / 8, 3 / 8],
+    )

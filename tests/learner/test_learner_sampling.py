@@ -7,7 +7,7 @@ from scipy import stats
 from ndlfd import NotFittedError, ValidationError
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
-from ndlfd.learner._sampling import _seen_only, route_probabilities
+from ndlfd.learner._sampling import _seen_only
 from ndlfd.synth import obstacle
 
 T = np.linspace(0.0, 5.0, 400)
@@ -94,13 +94,6 @@ def test_key_points_when_not_dense(uneven):
     (path,) = model.sample(T, dense=False, random_state=0)
     assert 2 <= path.t.size < T.size
     assert path.t[0] == T[0] and path.t[-1] == T[-1]
-
-
-def test_route_probabilities():
-    np.testing.assert_allclose(
-        route_probabilities(np.array([0, 1, 1, 0]), np.log([1.0, 1.0, 2.0, 4.0])),
-        [5 / 8, 3 / 8],
-    )
 
 
 def test_errors(uneven):

@@ -30,11 +30,15 @@ from ._kernels import sample_backward, viterbi_sparse
 
 __all__ = [
     "STARTS",
+    "FilterTables",
+    "Filtered",
     "LogTables",
     "Posterior",
     "check_symbols",
     "ffbs",
+    "filter_tables",
     "forward_backward",
+    "forward_filter",
     "log_tables",
     "viterbi_path",
 ]
@@ -381,12 +385,54 @@ class _Forward(NamedTuple):
     unseen_row: float  # A[u, j] of an unseen row u
     n_unseen: float
     emis: list  # per step: B[:, o_t] over the seen states, and an unseen one's
+    shift: float = 0.0  # log of the factors taken out of the observations' terms
 
 
-def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
-    """Scaled forward pass over the seen states and the unseen class."""
-    base, delta, unseen_row, n_unseen, pi, pi_u, em = _probability_tables(counts, mode)
-    delta_t = delta.T.tocsr()
+class FilterTables(NamedTuple):
+    """A model's tables for repeated forward passes (:func:`filter_tables`)."""
+
+    start: str
+    pieces: tuple  # _probability_tables(counts, start)
+    delta_t: object  # csr, the counted part of A transposed
+
+
+def filter_tables(counts: Counts, start: str = "learned") -> FilterTables:
+    """The tables :func:`forward_filter` builds from the counts, built once.
+
+    Pass them to :func:`forward_filter` to filter many sequences of one
+    model without building them again (``O(n_seen + counted entries)``).
+
+    Examples
+    --------
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1]], [[0, 1]], 2, 2, 0.0, 0.0)
+    >>> tables = filter_tables(counts)
+    >>> forward_filter(counts, [0, 1], tables=tables).probabilities
+    array([0., 1.])
+    """
+    mode = STARTS.get(start)
+    pieces = _probability_tables(counts, mode)
+    return FilterTables(mode, pieces, pieces[1].T.tocsr())
+
+
+def _forward(
+    counts: Counts,
+    obs: np.ndarray,
+    mode: str,
+    loglik: np.ndarray | None = None,
+    tables: FilterTables | None = None,
+) -> _Forward:
+    """Scaled forward pass over the seen states and the unseen class.
+
+    ``loglik`` (shape ``(n_steps, n_seen)``, optional) adds an observation
+    term per step and seen state; the unseen class then has none (it has no
+    value to compare with) and takes probability zero. ``tables``: the
+    model's :func:`filter_tables` for ``mode``, built here without.
+    """
+    if tables is None:
+        tables = filter_tables(counts, mode)
+    base, delta, unseen_row, n_unseen, pi, pi_u, em = tables.pieces
+    delta_t = tables.delta_t
     n_steps, n_seen = obs.size, pi.size
     check_work_size(  # alpha, and the emissions of every step
         8 * n_steps * (n_seen + 1),
@@ -398,6 +444,7 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
     scale = np.empty(n_steps)
     emis = [_emissions(em, int(k)) for k in _symbol_ranks(em[3], obs)]
     a, au = pi, pi_u
+    shift = 0.0
     for t in range(n_steps):
         if t:
             prev, prev_u = alpha[t - 1], alpha_u[t - 1]
@@ -407,6 +454,13 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
         e, eu = emis[t]
         a = a * e
         au = au * eu
+        if loglik is not None:  # scaled by the likeliest state that has mass
+            row = loglik[t]
+            top = float(row[a > 0].max(initial=-np.inf))
+            top = top if np.isfinite(top) else 0.0
+            with np.errstate(invalid="ignore"):  # -inf - top is -inf: exp 0
+                a = a * np.exp(row - top)
+            au, shift = 0.0, shift + top
         c = float(a.sum() + au)
         if not c > 0:
             raise DecodeError(
@@ -422,7 +476,9 @@ def _forward(counts: Counts, obs: np.ndarray, mode: str) -> _Forward:
                 " space"
             )
         alpha[t], alpha_u[t], scale[t] = a / c, au / c, c
-    return _Forward(obs, alpha, alpha_u, scale, base, delta, unseen_row, n_unseen, emis)
+    return _Forward(
+        obs, alpha, alpha_u, scale, base, delta, unseen_row, n_unseen, emis, shift
+    )
 
 
 def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posterior:
@@ -485,6 +541,107 @@ def forward_backward(counts: Counts, symbols, start: str = "learned") -> Posteri
             f" zero; start={mode!r}); viterbi works in log space"
         )
     return Posterior(counts.states.copy(), gamma, gamma_u, float(np.log(scale).sum()))
+
+
+# ------------------------------------------------------------------- filtering
+
+
+class Filtered(NamedTuple):
+    """The state at the last step given every step up to it (forward filtering).
+
+    Attributes
+    ----------
+    states : ndarray of shape (n_seen,), dtype int64
+        The states seen in training (the entries of ``probabilities``).
+    probabilities : ndarray of shape (n_seen,)
+        ``P(state at the last step = states[k] | symbols, observations)``.
+    unseen : float
+        Total probability of the states never seen in training (zero with
+        observations, or unless ``pseudo_emission > 0``).
+    log_likelihood : float
+        ``log p(symbols, observations)`` under the model.
+    """
+
+    states: np.ndarray
+    probabilities: np.ndarray
+    unseen: float
+    log_likelihood: float
+
+
+def forward_filter(
+    counts: Counts,
+    symbols,
+    start: str = "learned",
+    log_likelihood=None,
+    tables: FilterTables | None = None,
+) -> Filtered:
+    """Forward filtering: the last step's state given the symbols and observations.
+
+    The forward pass of :func:`forward_backward`, optionally with an
+    observation of each step besides its symbol: ``log_likelihood[t, k]`` is
+    ``log p(observation t | state states[k])``, so every step's term is
+    ``B[j, o_t] * p(observation t | j)``. A state never seen in training has
+    no observation model and takes probability zero then. A step costs
+    ``O(n_seen + counted transitions)``, never ``O(n_states)``.
+
+    Parameters
+    ----------
+    counts : Counts
+        The model's arrays.
+    symbols : array-like of shape (n_steps,)
+        Symbols in ``0..n_symbols-1`` (at least one).
+    start : {"learned", "state1"}, default="learned"
+        The start distribution (:data:`STARTS`).
+    log_likelihood : array-like of shape (n_steps, n_seen), optional
+        The observations' log-likelihoods per seen state (``-inf`` allowed).
+    tables : FilterTables, optional
+        :func:`filter_tables` of these counts and this start, to filter many
+        sequences of one model (built here without).
+
+    Returns
+    -------
+    Filtered
+
+    Raises
+    ------
+    DecodeError
+        If the symbols and observations have probability zero.
+    ValidationError
+        If ``log_likelihood`` has another shape or holds NaN or ``+inf``.
+
+    Examples
+    --------
+    Two sequences, 0 then 1 and 0 then 2; the second step's observation is
+    twice as likely in state 2:
+
+    >>> from ndlfd.hmm._counts import count
+    >>> counts = count([[0, 1], [0, 2]], [[0, 1], [0, 1]], 3, 2, 0.0, 0.0)
+    >>> like = np.log([[1.0, 1.0, 1.0], [1.0, 1.0, 2.0]])
+    >>> f = forward_filter(counts, [0, 1], log_likelihood=like)
+    >>> np.round(f.probabilities, 4), round(f.log_likelihood, 4)
+    (array([0.    , 0.3333, 0.6667]), 0.4055)
+    """
+    mode, obs = check_symbols(symbols, counts.n_symbols, start)
+    loglik = None
+    if log_likelihood is not None:
+        loglik = np.asarray(log_likelihood, dtype=np.float64)
+        n_seen = counts.states.shape[0]
+        if loglik.shape != (obs.size, n_seen):
+            raise ValidationError(
+                f"log_likelihood must have shape (n_steps, n_seen) = ({obs.size},"
+                f" {n_seen}); got {loglik.shape}"
+            )
+        if np.isnan(loglik).any() or np.isposinf(loglik).any():
+            raise ValidationError(
+                "log_likelihood must hold finite values or -inf; got NaN or +inf"
+            )
+    if tables is not None and tables.start != mode:
+        raise ValidationError(
+            f"tables were built for start={tables.start!r}; got start={mode!r}"
+        )
+    fw = _forward(counts, obs, mode, loglik, tables)
+    logp = float(np.log(fw.scale).sum()) + fw.shift
+    return Filtered(counts.states.copy(), fw.alpha[-1], float(fw.alpha_u[-1]), logp)
 
 
 # ---------------------------------------------------------------- sampling (FFBS)

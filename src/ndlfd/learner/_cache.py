@@ -5,7 +5,8 @@ or a load starts a new one):
 
 * **once per model**, by plain ``dict`` access: what depends on the training
   data only (the conditioning kernel widths, the routes, the segment paths,
-  the two-valued columns). Computing one twice from two threads gives the
+  the two-valued columns, each route's segment counts and the observation
+  noise of a prefix's forward filter). Computing one twice from two threads gives the
   same value, so these need no lock;
 * **the last plans' parts**, through :meth:`ModelCache.memo`: a route's
   segment model and its decoded skeleton, and the templates aligned to a

@@ -37,6 +37,7 @@ from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
+from ._filtering import route_posterior
 from ._phase import warp_for
 from ._routes import choose_route, route_labels, segment_paths
 from ._segments import segment_model
@@ -68,6 +69,7 @@ __all__ = [
     "observations",
     "orient_conditions",
     "plan_from_states",
+    "prefix_routes",
     "render",
     "route_model",
     "template_weights",
@@ -204,7 +206,37 @@ def demo_log_weights(est, start, goal, cache: dict):
     return logw, cache["routes"]
 
 
-def make_plan(est, all_t, start, goal, cache: ModelCache, extra=None) -> Plan:
+def prefix_routes(est, prefix, tq, goal, cache: ModelCache):
+    """The routes' log posterior given a prefix (and a goal), and the filtered states.
+
+    :func:`~ndlfd.learner._filtering.route_posterior`, each route's prior its
+    share of the goal's weight (:func:`demo_log_weights`).
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    prefix : Demonstration
+        Checked (:func:`~ndlfd.learner._via.check_observed`).
+    tq : ndarray of shape (n_samples,)
+        Normalized times of the whole timing.
+    goal : dict of str to ndarray, or None
+    cache : ModelCache
+
+    Returns
+    -------
+    log_posterior : ndarray of shape (n_routes,)
+    filtered : list of ndlfd.hmm._decode.Filtered or None
+        Per route, the segment state at the last observed bin.
+    """
+    logw, routes = demo_log_weights(est, None, goal, cache)
+    U = est.scaler_.transform(prefix.X, weighted=False)
+    return route_posterior(est, U, tq[: prefix.t.size], routes, logw, cache)
+
+
+def make_plan(
+    est, all_t, start, goal, cache: ModelCache, extra=None, route=None
+) -> Plan:
     """Decode the skeleton and align the templates to it.
 
     Parameters
@@ -221,6 +253,13 @@ def make_plan(est, all_t, start, goal, cache: ModelCache, extra=None) -> Plan:
     extra : ndarray of shape (n_demos,), optional
         Log weights added to the start's and goal's (via points, a prefix:
         :mod:`ndlfd.learner._via`).
+    route : int, optional
+        The route to follow (a prefix's, :mod:`ndlfd.learner._filtering`),
+        its skeleton decoded from all its demonstrations (the prefix weighs
+        the templates only, so a replanning robot decodes once per route);
+        by default the one of largest weight
+        (:func:`~ndlfd.learner._routes.choose_route`), decoded from the
+        demonstrations that weigh.
 
     Returns
     -------
@@ -231,8 +270,13 @@ def make_plan(est, all_t, start, goal, cache: ModelCache, extra=None) -> Plan:
     logw, routes = demo_log_weights(est, start, goal, cache)
     if extra is not None:
         logw = logw + extra
-    logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
-    model, states, logp = decode_route(est, logw, cache)
+    if route is None:
+        logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
+        model, states, logp = decode_route(est, logw, cache)
+    else:  # the whole route's skeleton: one per route while a prefix grows
+        logw = np.where(routes == route, logw, -np.inf)
+        whole = np.where(routes == route, 0.0, -np.inf)
+        model, states, logp = decode_route(est, whole, cache)
     return plan_from_states(est, states, logp, model, logw, cache=cache)
 
 
@@ -655,13 +699,14 @@ def generate_blend(
     start, goal = orient_conditions(est, start, goal)
     via = orient_via(est, check_via(via, all_t, cols, groups), cache)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
-    extra = None
+    extra = route = None
     if via is not None:
         extra = via_log_weights(est, via, cache)
     elif prefix is not None:
         tq = est.time_bins_.normalize(all_t)
         extra = observed_log_weights(est, prefix, tq, cache)
-    plan = make_plan(est, all_t, start, goal, cache, extra)
+        route = int(np.argmax(prefix_routes(est, prefix, tq, goal, cache)[0]))
+    plan = make_plan(est, all_t, start, goal, cache, extra, route)
     path, band_tau = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                             via=via, prefix=prefix)  # fmt: skip
     if not return_std:

@@ -32,7 +32,13 @@ import numpy as np
 
 from .._validation import check_work_size
 
-__all__ = ["LINK_FACTOR", "choose_route", "route_labels", "segment_paths"]
+__all__ = [
+    "LINK_FACTOR",
+    "choose_route",
+    "route_labels",
+    "route_probabilities",
+    "segment_paths",
+]
 
 #: Two templates are on one route when their curves lie within this many
 #: times the median nearest-neighbour distance between templates (chained:
@@ -190,3 +196,29 @@ def choose_route(labels: np.ndarray, log_weights: np.ndarray) -> int:
     """
     w = np.exp(log_weights - log_weights.max())
     return int(np.argmax(np.bincount(labels, weights=w)))
+
+
+def route_probabilities(routes: np.ndarray, log_weights: np.ndarray) -> np.ndarray:
+    """Probability of each route: its share of the demonstrations' weight.
+
+    Parameters
+    ----------
+    routes : ndarray of shape (n_demos,), dtype int64
+        Each demonstration's route (numbered from 0).
+    log_weights : ndarray of shape (n_demos,)
+        The demonstrations' log weights (0 without a start or goal).
+
+    Returns
+    -------
+    p : ndarray of shape (n_routes,)
+        Sums to 1; the route :func:`~ndlfd.learner._routes.choose_route`
+        follows has the largest.
+
+    Examples
+    --------
+    >>> route_probabilities(np.array([0, 0, 0, 1]), np.zeros(4))
+    array([0.75, 0.25])
+    """
+    w = np.exp(log_weights - log_weights.max())
+    total = np.bincount(routes, weights=w)
+    return total / total.sum()

@@ -8,9 +8,10 @@ takes the most probable choice:
   :func:`~ndlfd.learner._routes.choose_route` sums (one per demonstration
   without a start or goal, so a route shown by 9 of 12 demonstrations is
   drawn 3 times in 4; with a start, goal or via points the conditioned
-  kernel weights; with an executed prefix the product of its samples'
-  kernels, :func:`~ndlfd.learner._via.observed_log_weights`, so a prefix
-  well on one route draws that route only);
+  kernel weights; with an executed prefix the route's exact posterior by
+  forward filtering on the segment model,
+  :func:`~ndlfd.learner._filtering.route_posterior`, so a prefix well on
+  one route draws that route only);
 * **the skeleton**, the segment state of every time bin, drawn from its exact
   posterior under the route's segment model by forward-filtering
   backward-sampling (:func:`ndlfd.hmm.sample_paths`), instead of the decoded
@@ -45,21 +46,22 @@ from ._generation import (
     demo_log_weights,
     orient_conditions,
     plan_from_states,
+    prefix_routes,
     render,
     route_model,
     template_weights,
     times_of,
 )
+from ._routes import route_probabilities
 from ._via import (
     check_observed,
     check_via,
     observed_log_weights,
     orient_via,
-    prefix_rows,
     via_log_weights,
 )
 
-__all__ = ["CONCENTRATION", "route_probabilities", "sample_paths"]
+__all__ = ["CONCENTRATION", "sample_paths"]
 
 #: Total Dirichlet concentration of a sample's template weights. The variance
 #: of a Dirichlet-weighted mean of ``n`` points is about their variance over
@@ -70,32 +72,6 @@ __all__ = ["CONCENTRATION", "route_probabilities", "sample_paths"]
 #: 0.79 at 0.3. At 1 a sample is a mix of the templates (not a copy of one)
 #: that varies about two thirds as much as they do.
 CONCENTRATION = 1.0
-
-
-def route_probabilities(routes: np.ndarray, log_weights: np.ndarray) -> np.ndarray:
-    """Probability of each route: its share of the demonstrations' weight.
-
-    Parameters
-    ----------
-    routes : ndarray of shape (n_demos,), dtype int64
-        Each demonstration's route (numbered from 0).
-    log_weights : ndarray of shape (n_demos,)
-        The demonstrations' log weights (0 without a start or goal).
-
-    Returns
-    -------
-    p : ndarray of shape (n_routes,)
-        Sums to 1; the route :func:`~ndlfd.learner._routes.choose_route`
-        follows has the largest.
-
-    Examples
-    --------
-    >>> route_probabilities(np.array([0, 0, 0, 1]), np.zeros(4))
-    array([0.75, 0.25])
-    """
-    w = np.exp(log_weights - log_weights.max())
-    total = np.bincount(routes, weights=w)
-    return total / total.sum()
 
 
 def _seen_only(states: np.ndarray, seen: np.ndarray) -> np.ndarray:
@@ -169,11 +145,10 @@ def sample_paths(
     logw = logw + via_log_weights(est, via, cache)
     if prefix is None:
         p = route_probabilities(routes, logw)
-    else:  # the route by every prefix sample, the blend as generate's
+    else:  # the route's exact posterior, the blend as generate's
         tq = est.time_bins_.normalize(all_t)
-        total = observed_log_weights(est, prefix, tq, cache, total=True)
-        p = route_probabilities(routes, logw + total)
-        logw = logw + total / prefix_rows(prefix.t.size).size
+        p = np.exp(prefix_routes(est, prefix, tq, goal, cache)[0])
+        logw = logw + observed_log_weights(est, prefix, tq, cache)
     drawn = rng.choice(p.size, size=n_samples, p=p)
     bins = np.arange(est.n_time_bins)
     out: list[Demonstration | None] = [None] * n_samples
