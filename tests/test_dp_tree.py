@@ -259,3 +259,47 @@ def test_leave_one_out_keys_keep_the_same_points_with_or_without_tree(
         finally:
             sys.setrecursionlimit(old)
     assert simplify(Q, 0.1, distance=mode, n_jobs=1).tolist() == ref.tolist()
+
+
+@pytest.mark.parametrize("d", [1, 2, 6])
+def test_a_flat_zigzag_is_pruned_exactly_in_sed_mode(d):
+    """The doorway takes the drift out, the exact sed bounds skip the ties."""
+    n = 40_000
+    P = _flat_zigzag(n, d + 1)[:, 1:] if d == 1 else _flat_zigzag(n, d)
+    times = np.arange(n, dtype=float)
+    job = _simplify._prepare(P, 0.1, "sed", None, times, None)
+    keep = np.zeros(n, np.uint8)
+    tree = _simplify._tree(job)
+    dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
+    work = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    assert keep.all()
+    assert work < 4 * T.LEAF * n, work  # a few leaves a split; a plain scan: n²/2
+    # the same points as the plain scans, and on a short one the reference's
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(_simplify, "TREE_MIN", n)  # no tree
+        assert simplify(P, 0.1, distance="sed", times=times).tolist() == list(range(n))
+    m = 600
+    Q = P[:m].copy()
+    Q[::5] += 0.5  # some corners higher: not all ties
+    with pytest.MonkeyPatch.context() as mp:
+        always_tree(mp)
+        got = simplify(Q, 0.1, distance="sed", times=times[:m], n_jobs=1)
+    assert got.tolist() == dp_reference(Q, 0.1, "sed", times[:m]).tolist()
+
+
+@SETTINGS
+@given(paths(max_d=4), st.data())
+def test_detrending_keeps_every_sed_distance(case, data):
+    """sed distances are the same before and after the drift is taken out."""
+    P, times = case
+    job = _simplify._prepare(P, 0.0, "sed", None, times, None)
+    t = job.t
+    a = data.draw(st.integers(0, P.shape[0] - 1))
+    b = data.draw(st.integers(a, P.shape[0] - 1))
+    if b - a < 2:
+        return
+    before = DISTANCE_FUNCTIONS["sed"](P, a, b, times)
+    after = DISTANCE_FUNCTIONS["sed"](job.P, a, b, t)
+    assert np.allclose(before, after, rtol=1e-12, atol=1e-9 * (1 + np.abs(P).max()))
+    # integer data stay exact: the drift removed is a short dyadic number
+    assert np.array_equal(np.round(job.P * 2.0**30), job.P * 2.0**30)

@@ -483,7 +483,8 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if loo else -1.0)
+            exact = loo or mode == MODE_SED
+            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
                 if lo < 0:
@@ -594,7 +595,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            exact = kind in (2, 3) or loo
+            exact = kind in (2, 3) or loo or mode == MODE_SED
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
             while True:
                 lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)

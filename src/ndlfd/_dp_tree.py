@@ -40,9 +40,9 @@ splits (a zigzag's), :func:`exact_key_bound` bounds the scan's own computed
 keys exactly (rounding is monotone; in 2-D and 3-D ``"line"`` keys are cross
 products, elsewhere the leave-one-out keys of :mod:`ndlfd._dp_exact`), so
 such a node is skipped too: a 1e6-point zigzag of constant height no longer
-costs ``n²/2``. The
-``"sed"`` keys are not bounded so (time and position are boxed apart, and
-on a path that moves with time the box corners are far from its points).
+costs ``n²/2``. So are the ``"sed"`` keys (each term is monotone in one
+coordinate and the time; the doorway removes the path's mean drift first,
+so that the boxes of a path that moves with time stay tight).
 """
 
 from __future__ import annotations
@@ -194,6 +194,7 @@ _U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS = 0, 1, 2, 3, 4, 5, 6, 7, 8
 _EXACT_CROSS = 1.0  # the 2-D and 3-D line scans' cross products
 _EXACT_LOO = 2.0  # the leave-one-out line keys (ndlfd._dp_exact)
 _EXACT_LOO_SEGMENT = 3.0  # the same, with the segment's end keys
+_EXACT_SED = 4.0  # the "sed" keys
 
 
 @njit(cache=True, nogil=True)
@@ -205,9 +206,10 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     for ``"sed"``) are bounded by the distance to ``P_a``. ``exact_eps2 >= 0``
     (the tolerance squared) turns on the exact bounds of the scan's own keys
     (:func:`exact_key_bound`): the caller passes it when its keys are
-    ``scan_line2``'s or ``scan_line3``'s (2-D and 3-D ``"line"``) or
+    ``scan_line2``'s or ``scan_line3``'s (2-D and 3-D ``"line"``),
     :func:`~ndlfd._dp_exact.scan_loo`'s (other ``"line"`` and ``"segment"``
-    scans of long segments from lopsided splits), else ``-1``.
+    scans of long segments from lopsided splits) or a ``"sed"`` scan's,
+    else ``-1``.
     """
     P, t, _, _, offs, kind, m, _, _ = tree
     d = P.shape[1]
@@ -236,6 +238,10 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     if on and d in (2, 3) and kind == TREE_LINE:
         S = U  # the scan's S (summed in the same order) and q > eps2 * S
         ws[s + _EXACT] = _EXACT_CROSS
+        ws[s + _QEPS] = exact_eps2 * S
+    elif exact_eps2 >= 0.0 and kind == TREE_SED:
+        S = ws[s + _DT] * ws[s + _DT]  # the scans' S = D * D
+        ws[s + _EXACT] = _EXACT_SED
         ws[s + _QEPS] = exact_eps2 * S
     elif on and b - a > EXACT_MIN:
         loo_scales(ws[d : 2 * d], ws[5 * d + 10 : 6 * d + 10])
@@ -321,11 +327,15 @@ def _cross_sq_bound(p0, p1, pa, s, q0, q1, qa, r):
 
 
 @njit(cache=True, nogil=True)
-def exact_key_bound(bmin, bmax, node, ws, d):
+def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
     """The largest key the scan can compute for a point of ``node``'s box.
 
     The leave-one-out keys of long segments are bounded by
-    :func:`~ndlfd._dp_exact.loo_key_bound`. The keys of ``scan_line2`` /
+    :func:`~ndlfd._dp_exact.loo_key_bound`. The ``"sed"`` keys are sums over
+    ``k`` of ``r_k²``, ``r_k = D (x_k - xa_k) - s u_k`` (``s = t - t_a``,
+    ``D = t_b - t_a``; the times of the node's rows lie in ``[t0, t1]``),
+    each ``r_k`` of the form :func:`_cross_sq_bound` bounds. The keys of
+    ``scan_line2`` /
     ``scan_line3`` (2-D and 3-D ``"line"``) are squared cross products,
     ``c = (x - xa) * uy - (y - ya) * ux`` in 2-D and the sum
     ``cx² + cy² + cz²`` of three such components in 3-D, evaluated in this
@@ -337,6 +347,14 @@ def exact_key_bound(bmin, bmax, node, ws, d):
     constant height).
     """
     exact = ws[5 * d + _EXACT]
+    if exact == _EXACT_SED:
+        D = ws[5 * d + _DT]
+        ta = ws[5 * d + _TA]
+        q = 0.0
+        for k in range(d):  # the scans' order
+            lo, hi = bmin[node, k], bmax[node, k]
+            q += _cross_sq_bound(lo, hi, ws[k], D, t0, t1, ta, ws[d + k])
+        return q
     if exact != _EXACT_CROSS:
         c = 5 * d + 10
         return loo_key_bound(
@@ -391,8 +409,10 @@ def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
         e0 = min(n, s0 + span)
         if e0 <= lo or s0 >= hi:
             continue
-        if exact and exact_key_bound(bmin, bmax, offs[lv] + j, ws, d) <= floor:
-            continue
+        if exact:
+            t0, t1 = (t[s0], t[e0 - 1]) if t.shape[0] > 0 else (0.0, 0.0)
+            if exact_key_bound(bmin, bmax, offs[lv] + j, ws, d, t0, t1) <= floor:
+                continue
         if node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0) <= best_d2:
             continue
         if lv == 0:
