@@ -303,3 +303,38 @@ def test_detrending_keeps_every_sed_distance(case, data):
     assert np.allclose(before, after, rtol=1e-12, atol=1e-9 * (1 + np.abs(P).max()))
     # integer data stay exact: the drift removed is a short dyadic number
     assert np.array_equal(np.round(job.P * 2.0**30), job.P * 2.0**30)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_a_flat_zigzag_is_pruned_exactly_in_paper_mode(d):
+    """The paper's determinant: a tree of exact bounds only, the same points."""
+    n = 40_000
+    P = np.column_stack([_flat_zigzag(n, 2), np.zeros((n, d - 2))])
+    job = _simplify._prepare(P, 0.1, "paper", None, None, None)
+    keep = np.zeros(n, np.uint8)
+    args = (job.P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
+    work = G.dp_generic(*args, _simplify._tree(job))
+    assert work < 4 * T.LEAF * n, work  # a few leaves a split; a plain scan: n²/2
+    plain = np.zeros(n, np.uint8)
+    G.dp_generic(*args[:5], plain, 0, n - 1, T.make_tree(job.P, job.t, None, 1, 1))
+    assert keep.tolist() == plain.tolist()
+    m = 600
+    with pytest.MonkeyPatch.context() as mp:
+        always_tree(mp)
+        got = simplify(P[:m], 0.1, distance="paper", n_jobs=1)
+    assert got.tolist() == dp_reference(P[:m], 0.1, "paper").tolist()
+
+
+@pytest.mark.parametrize("mode", ["line", "segment", "sed", "paper"])
+def test_a_zigzag_whose_corners_grow_is_pruned_too(mode):
+    """The farthest corner next to the segment's far end: found first."""
+    n = 40_000
+    i = np.arange(n, dtype=float)
+    P = np.column_stack([i, np.where(np.arange(n) % 2 == 0, 1.0, -1.0) * (i + 1)])
+    times = i if mode == "sed" else None
+    job = _simplify._prepare(P, 0.5, mode, None, times, None)
+    keep = np.zeros(n, np.uint8)
+    args = (job.P, job.t, job.mode, job.eps2, job.utol2, keep, 0, n - 1)
+    work = G.dp_generic(*args, _simplify._tree(job))
+    assert keep.all()
+    assert work < 4 * T.LEAF * n, work  # a plain scan: n²/2

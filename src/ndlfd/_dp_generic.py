@@ -158,10 +158,11 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
             # the tree loop: written out in each dp_* kernel, like the stack
             far, q, S, bd2 = -1, -1.0, 1.0, eps2
             w0 = work
-            exact = eps2 if mode == MODE_SED else -1.0  # sed keys: bounded exactly
+            # the sed and paper keys are bounded exactly (ndlfd._dp_tree)
+            exact = eps2 if mode in (MODE_SED, MODE_PAPER) else -1.0
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack, exact)
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
                 if lo < 0:
                     break
                 f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)

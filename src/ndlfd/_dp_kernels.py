@@ -486,7 +486,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
             exact = loo or mode == MODE_SED
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
                 if lo < 0:
                     break
                 if loo:
@@ -598,7 +598,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
             exact = kind in (2, 3) or loo or mode == MODE_SED
             ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
             while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q)
+                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
                 if lo < 0:
                     break
                 if loo:

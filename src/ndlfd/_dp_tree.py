@@ -27,7 +27,9 @@ Bounds (``v = p - P_a``, ``u = P_b - P_a``, box center ``c``, half widths
   |u|²``): ``sqrt(B² + (o |u|)²)``;
 - sed: the distance of ``c`` to the chord at the box's middle time ``+ |h|
   + (half time span) |u| / (t_b - t_a)``;
-- coincident endpoints: ``|c - P_a| + |h|``.
+- coincident endpoints: ``|c - P_a| + |h|``;
+- ``"paper"``: none (its determinant is no distance); only its exact bound
+  below prunes.
 
 Every bound is then widened by a relative ``1e-8`` and an absolute ``1e-8 R``
 (``R = 4 max|P| sqrt(d)``, a bound of ``|v|`` and ``|u|``): many orders of
@@ -42,7 +44,8 @@ products, elsewhere the leave-one-out keys of :mod:`ndlfd._dp_exact`), so
 such a node is skipped too: a 1e6-point zigzag of constant height no longer
 costs ``n²/2``. So are the ``"sed"`` keys (each term is monotone in one
 coordinate and the time; the doorway removes the path's mean drift first,
-so that the boxes of a path that moves with time stay tight).
+so that the boxes of a path that moves with time stay tight) and the
+paper's determinant (a linear form of two or three coordinates).
 """
 
 from __future__ import annotations
@@ -57,6 +60,7 @@ from ._dp_exact import EXACT_MIN, loo_key_bound, loo_scales, lopsided
 __all__ = [
     "LEAF",
     "TREE_LINE",
+    "TREE_PAPER",
     "TREE_POINT",
     "TREE_SED",
     "TREE_SEGMENT",
@@ -81,6 +85,7 @@ TREE_LINE = 0
 TREE_SEGMENT = 1
 TREE_SED = 2
 TREE_POINT = 3
+TREE_PAPER = 4
 
 _WIDEN = 1e-8
 
@@ -160,7 +165,8 @@ def tree_workspace(tree, d, n):
     if tree[8] == 0 and tree[2].shape[0] > 0:
         fill_tree(tree[0], tree[2], tree[3], tree[4])
         flags[0] = 1.0
-    return np.zeros(8 * d + 10), np.empty(4 * (levels + 4), np.int64), flags
+    depth = 4 * (levels + 4)  # the walk's stack: (level, node) pairs
+    return np.zeros(8 * d + 10 + depth), np.empty(depth, np.int64), flags
 
 
 @njit(cache=True, nogil=True)
@@ -187,7 +193,8 @@ def tree_split(tree, flags, a, b, far):
 
 # workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
 # ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars at 5d + these; then
-# the leave-one-out scales C at 5d + 10 and scratch of 2d after them
+# the leave-one-out scales C at 5d + 10 and scratch of 2d after them; from
+# 8d + 10 on, the bound of each node on the walk's stack (tree_next)
 _U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS = 0, 1, 2, 3, 4, 5, 6, 7, 8
 
 # ws[5d + _EXACT]: which keys exact_key_bound bounds (0: none)
@@ -195,6 +202,26 @@ _EXACT_CROSS = 1.0  # the 2-D and 3-D line scans' cross products
 _EXACT_LOO = 2.0  # the leave-one-out line keys (ndlfd._dp_exact)
 _EXACT_LOO_SEGMENT = 3.0  # the same, with the segment's end keys
 _EXACT_SED = 4.0  # the "sed" keys
+_EXACT_PAPER = 5.0  # the paper's determinant
+
+
+@njit(cache=True, nogil=True)
+def _paper_weights(ws, d):
+    """The paper determinant's weights of its columns, at ``ws[5d + 10 + k]``.
+
+    As ``scan_generic`` computes them: in 2-D ``(u_1, -u_0)``, else, over the
+    last three columns ``a, b, c``, ``(u_b - u_c, u_c - u_a, u_a - u_b)``.
+    """
+    c0 = 5 * d + 10
+    if d == 2:
+        ws[c0] = ws[d + 1]
+        ws[c0 + 1] = -ws[d]
+        return
+    ka = d - 3
+    ua, ub, uc = ws[d + ka], ws[d + ka + 1], ws[d + ka + 2]
+    ws[c0 + ka] = ub - uc
+    ws[c0 + ka + 1] = uc - ua
+    ws[c0 + ka + 2] = ua - ub
 
 
 @njit(cache=True, nogil=True)
@@ -239,6 +266,10 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
         S = U  # the scan's S (summed in the same order) and q > eps2 * S
         ws[s + _EXACT] = _EXACT_CROSS
         ws[s + _QEPS] = exact_eps2 * S
+    elif exact_eps2 >= 0.0 and kind == TREE_PAPER and U > utol2 and d >= 2:
+        _paper_weights(ws, d)
+        ws[s + _EXACT] = _EXACT_PAPER
+        ws[s + _QEPS] = exact_eps2 * U  # the scan's S = U
     elif exact_eps2 >= 0.0 and kind == TREE_SED:
         S = ws[s + _DT] * ws[s + _DT]  # the scans' S = D * D
         ws[s + _EXACT] = _EXACT_SED
@@ -251,6 +282,7 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
         ws[s + _QEPS] = exact_eps2 * S
     stack[0] = offs.shape[0] - 2  # the root: its level, then its index
     stack[1] = 0
+    ws[8 * d + 10] = math.inf  # its bound: computed when it is taken
     return 1
 
 
@@ -283,6 +315,8 @@ def node_bound(bmin, bmax, node, ws, d, t, s0, e0):
         hm += h * ws[2 * d + k]
         hu += h * abs(ws[d + k])
     hn = math.sqrt(hh)
+    if kind == TREE_PAPER:  # not a distance: only its exact bound prunes
+        return math.inf
     if kind == TREE_POINT:
         dist = math.sqrt(cc) + hn
     elif kind == TREE_SED:
@@ -334,7 +368,9 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
     :func:`~ndlfd._dp_exact.loo_key_bound`. The ``"sed"`` keys are sums over
     ``k`` of ``r_k²``, ``r_k = D (x_k - xa_k) - s u_k`` (``s = t - t_a``,
     ``D = t_b - t_a``; the times of the node's rows lie in ``[t0, t1]``),
-    each ``r_k`` of the form :func:`_cross_sq_bound` bounds. The keys of
+    each ``r_k`` of the form :func:`_cross_sq_bound` bounds. The paper's
+    determinant (``"paper"``, ``d >= 2``) is a sum of ``(x_k - xa_k) w_k``
+    over two or three columns, largest and smallest at corners. The keys of
     ``scan_line2`` /
     ``scan_line3`` (2-D and 3-D ``"line"``) are squared cross products,
     ``c = (x - xa) * uy - (y - ya) * ux`` in 2-D and the sum
@@ -347,6 +383,18 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
     constant height).
     """
     exact = ws[5 * d + _EXACT]
+    if exact == _EXACT_PAPER:
+        # c = sum of (x_k - xa_k) w_k over its 2 or 3 columns, in order
+        k0 = 0 if d == 2 else d - 3
+        hi = 0.0
+        lo = 0.0
+        for k in range(k0, d):
+            w = ws[5 * d + 10 + k]
+            p1 = (bmin[node, k] - ws[k]) * w
+            p2 = (bmax[node, k] - ws[k]) * w
+            hi = max(p1, p2) if k == k0 else hi + max(p1, p2)
+            lo = min(p1, p2) if k == k0 else lo + min(p1, p2)
+        return max(hi * hi, lo * lo)
     if exact == _EXACT_SED:
         D = ws[5 * d + _DT]
         ta = ws[5 * d + _TA]
@@ -385,46 +433,90 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
 
 
 @njit(cache=True, nogil=True)
-def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key):
+def _bound(tree, ws, d, lv, j, exact):
+    """Node ``j`` of level ``lv``: ``(first row, end row, bound)``.
+
+    The bound is the exact key bound when on (:func:`exact_key_bound`), else
+    the widened squared distance (:func:`node_bound`): comparable between
+    nodes of one segment either way.
+    """
+    _, t, bmin, bmax, offs, _, _, _, _ = tree
+    s0 = j * (LEAF << lv)
+    e0 = min(int(ws[5 * d + _N]), s0 + (LEAF << lv))
+    if exact:
+        t0, t1 = (t[s0], t[e0 - 1]) if t.shape[0] > 0 else (0.0, 0.0)
+        return s0, e0, exact_key_bound(bmin, bmax, offs[lv] + j, ws, d, t0, t1)
+    return s0, e0, node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0)
+
+
+@njit(cache=True, nogil=True)
+def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key, best_far):
     """The next leaf range to scan for the interior ``lo..hi-1``.
 
     Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
     hold a point with squared distance above ``best_d2`` (the larger of
-    ``epsilon²`` and the best so far), in index order; ``(-1, -1, 0)`` when
-    none is left. With the exact bounds on (:func:`tree_begin`), a node
-    is also skipped when no key of its points can exceed ``best_key`` (the
-    best key so far, ``-1`` before any) or ``epsilon² S``.
+    ``epsilon²`` and the best so far); ``(-1, -1, 0)`` when none is left.
+    With the exact bounds on (:func:`tree_begin`), a node is also skipped
+    when no key of its points can exceed ``epsilon² S`` or the best key so
+    far, ``best_key`` (``-1`` before any) at ``best_far``, nor equal it at an
+    index before ``best_far`` (ties go to the first index).
+
+    The walk is depth first, the child with the larger bound first: a
+    zigzag's farthest point lies next to one end of the segment, either one,
+    and once it is found the rest of the segment is skipped. The leaves come
+    out of index order; :func:`tree_keep` keeps the first index of the
+    largest key.
     """
-    _, t, bmin, bmax, offs, _, _, _, _ = tree
-    d = bmin.shape[1]
-    n = int(ws[5 * d + _N])
+    offs = tree[4]
+    d = tree[2].shape[1]
     exact = ws[5 * d + _EXACT] > 0.0
-    floor = max(best_key, ws[5 * d + _QEPS])
+    qeps = ws[5 * d + _QEPS]
+    bounds = 8 * d + 10  # each stacked node's bound, computed when pushed
     while sp > 0:
         sp -= 1
         lv = stack[2 * sp]
         j = stack[2 * sp + 1]
-        span = LEAF << lv
-        s0 = j * span
-        e0 = min(n, s0 + span)
+        s0 = j * (LEAF << lv)
+        e0 = min(int(ws[5 * d + _N]), s0 + (LEAF << lv))
         if e0 <= lo or s0 >= hi:
             continue
+        bound = ws[bounds + sp]
+        if bound == math.inf:
+            bound = _bound(tree, ws, d, lv, j, exact)[2]
         if exact:
-            t0, t1 = (t[s0], t[e0 - 1]) if t.shape[0] > 0 else (0.0, 0.0)
-            if exact_key_bound(bmin, bmax, offs[lv] + j, ws, d, t0, t1) <= floor:
+            if bound <= qeps or bound < best_key:
                 continue
-        if node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0) <= best_d2:
+            if bound == best_key and max(s0, lo) > best_far:
+                continue
+        elif bound <= best_d2:
+            continue
+        if (
+            exact
+            and node_bound(tree[2], tree[3], offs[lv] + j, ws, d, tree[1], s0, e0)
+            <= best_d2
+        ):
             continue
         if lv == 0:
             return max(s0, lo), min(e0, hi), sp
         c = 2 * j
         if c + 1 < offs[lv] - offs[lv - 1]:
+            # push the child with the smaller bound first: the other is next
+            b0 = _bound(tree, ws, d, lv - 1, c, exact)[2]
+            b1 = _bound(tree, ws, d, lv - 1, c + 1, exact)[2]
+            first, second = (c, c + 1) if b1 > b0 else (c + 1, c)
             stack[2 * sp] = lv - 1
-            stack[2 * sp + 1] = c + 1
+            stack[2 * sp + 1] = first
+            ws[bounds + sp] = b0 if first == c else b1
             sp += 1
-        stack[2 * sp] = lv - 1
-        stack[2 * sp + 1] = c
-        sp += 1
+            stack[2 * sp] = lv - 1
+            stack[2 * sp + 1] = second
+            ws[bounds + sp] = b0 if second == c else b1
+            sp += 1
+        else:
+            stack[2 * sp] = lv - 1
+            stack[2 * sp + 1] = c
+            ws[bounds + sp] = math.inf
+            sp += 1
     return -1, -1, 0
 
 
@@ -449,9 +541,10 @@ def tree_done(tree, flags, scanned, length):
 def tree_keep(far, q, S, f, qq, SS, eps2):
     """Fold a leaf's ``(f, qq, SS)`` into the best ``(far, q, S)`` so far.
 
-    Returns ``(far, q, S, best_d2)``; a later leaf wins only with a strictly
-    larger key, so the first index of the maximum is kept.
+    Returns ``(far, q, S, best_d2)``. The leaves come in any order
+    (:func:`tree_next`): a leaf wins with a larger key, or the same key at
+    an earlier index, so the first index of the maximum is kept.
     """
-    if qq > q:
+    if qq > q or (qq == q and 0 <= f < far):
         far, q, S = f, qq, SS
     return far, q, S, max(eps2, q / S)

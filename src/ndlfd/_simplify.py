@@ -44,7 +44,7 @@ from . import _dp_kernels as K
 from ._dp_budget import dp_budget
 from ._dp_exact import lopsided
 from ._dp_generic import dp_generic
-from ._dp_tree import TREE_LINE, TREE_SED, TREE_SEGMENT, make_tree
+from ._dp_tree import TREE_LINE, TREE_PAPER, TREE_SED, TREE_SEGMENT, make_tree
 from ._errors import ValidationError
 from ._parallel import thread_pool
 from ._registry import Registry
@@ -252,6 +252,7 @@ _TREE_KINDS = {
     K.MODE_LINE: TREE_LINE,
     K.MODE_SEGMENT: TREE_SEGMENT,
     K.MODE_SED: TREE_SED,
+    K.MODE_PAPER: TREE_PAPER,
 }
 
 
@@ -259,6 +260,8 @@ def _tree(job: _Job):
     """The (unbuilt) box tree for ``job``, built by the kernel when needed."""
     n = job.P.shape[0]
     kind = _TREE_KINDS.get(job.mode) if n > TREE_MIN else None
+    if kind == TREE_PAPER and job.P.shape[1] == 1:
+        kind = TREE_LINE  # in 1-D the paper's distance is the line's
     return make_tree(job.P, job.t, kind, job.m, TREE_MIN, TREE_BUDGET * n)
 
 
