@@ -134,6 +134,21 @@ def _checked_points(points, name):
     return P, K.finite_maxabs(P)[1]
 
 
+def _shifted_times(times, n, name):
+    """``times - times[0]``, checked: finite and strictly increasing, length ``n``.
+
+    One compiled pass checks and shifts; the shared :func:`check_times`
+    (slower on long vectors) explains any problem.
+    """
+    t = as_float_array(times, name)
+    if t.ndim == 1 and t.shape[0] == n and n >= 1:
+        out = np.empty(n)
+        if K.shifted_times(t, out):
+            return out
+    t = check_times(times, n, name=name)
+    return t - t[0] if t.size else t
+
+
 def _prepare(
     points,
     epsilon,
@@ -169,7 +184,7 @@ def _prepare(
                 f"distance={mode.name!r} needs times (one strictly increasing"
                 f" time per point, length {n}); got times=None"
             )
-        t = check_times(times, n, name=times_name)
+        t = _shifted_times(times, n, times_name)
     else:
         if times is not None:
             raise ValidationError(
@@ -183,7 +198,6 @@ def _prepare(
         eps *= s
         m *= s
     if t.size:
-        t = t - t[0]
         ts = _pow2_scale(float(t[-1]))
         if ts != 1.0:
             t = t * ts
