@@ -26,10 +26,9 @@ The keys, with ``v = P_i - P_a``, ``u = P_b - P_a``, ``U = |u|²``:
   ``S = U²`` (``U`` times the distance to the closest point of the segment,
   ``P_a + (w / U) u``). Between the ends (``0 < v·u < U``) it is the line's
   key, bit for bit; before ``P_a`` it is ``|U v|²``, past ``P_b``
-  ``|U v - U u|²``. The clamp costs one ``min`` and one ``max`` per point
-  where three distances and two selections did before; like the line's, the
-  error stays at a few ulps of ``|v|`` (and the keys are exact integers on
-  integer data).
+  ``|U v - U u|²``: one ``min`` and one ``max`` per point more than the
+  line's key, no selection. Like the line's, its error stays at a few ulps of
+  ``|v|``, and it is an exact integer on integer data.
 - ``"sed"``: ``D = t_b - t_a``, ``s = t_i - t_a``, ``q = |D v - s u|²``,
   ``S = D²``.
 - ``"paper"``: ``q = det(A_d)²``, ``S = U``. Row operations reduce the paper's
