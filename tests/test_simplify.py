@@ -334,7 +334,7 @@ def test_weights_known_answer():
     assert simplify(P, 6.0, weights=[0.0, 3.0]).tolist() == [0, 3]
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9, 16])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9, 10, 11, 16])
 @pytest.mark.parametrize("mode", MODES)
 def test_long_integer_walks_cross_block_boundaries(d, mode):
     # several blocks of the vectorized scans, many exact ties across blocks
@@ -358,8 +358,8 @@ def block_crossing_paths(draw, d):
     Walks folded into a small box (so distances repeat), points drawn from
     {-1, 0, 1}^d, and a folded 2-D walk placed in two of d columns (the others
     zero, so ties stay as common as in 2-D), in every dimension family of the
-    line kernels (2-D, 3-D, column tuples for 4-8, transposed data for 1 and
-    9+). Drawn from a seed: drawing thousands of values one by one is slow.
+    line kernels (2-D, 3-D, column tuples for 4-10, transposed data for 1 and
+    11+). Drawn from a seed: drawing thousands of values one by one is slow.
     """
     n = draw(st.integers(300, 1600))
     kind = draw(st.sampled_from(["box", "grid", "flat"]))
@@ -376,7 +376,7 @@ def block_crossing_paths(draw, d):
     return P
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9, 16])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9, 10, 11, 16])
 @settings(max_examples=8, deadline=None)
 @given(
     data=st.data(),

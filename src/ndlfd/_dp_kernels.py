@@ -588,8 +588,9 @@ def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi):
 def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
-    See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
-    for ``"segment"`` and ``"sed"`` with ``d <= 8``. Explicit stack, no recursion;
+    See :func:`scan_line_cols`; used for ``"line"`` from ``d = 4`` and for
+    ``"segment"`` and ``"sed"`` from ``d = 1``, up to the last of
+    ``ndlfd._simplify.COLS_DIMS``. Explicit stack, no recursion;
     ``tree`` as in :func:`dp_generic`. Returns the number of distance
     evaluations.
     """
