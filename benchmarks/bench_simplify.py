@@ -108,10 +108,12 @@ def kernel_profile(dims, modes, sizes, eps, reps):
     """Where the time of one serial call goes, per dimension and mode.
 
     For each size: the kernel's distance evaluations per input point (the
-    levels of splitting), its CPU time per evaluation (ns), and the CPU time
-    of the column layout (the transposition the kernels scan). A kernel
-    whose data fit in the caches (the smaller size) and one whose data do
-    not (the larger) show whether a mode is memory- or compute-bound.
+    levels of splitting), its CPU time per evaluation (ns), the CPU time per
+    point of one scan of the whole walk (the top level alone: a plain stream
+    over the data), and the CPU time of the column layout (the transposition
+    the kernels scan). One scan over data that fit in the caches (the smaller
+    size) and over data that do not (the larger) shows whether a mode's
+    scans are memory- or compute-bound.
     """
     from ndlfd import _simplify
 
@@ -123,7 +125,7 @@ def kernel_profile(dims, modes, sizes, eps, reps):
             for mode in modes:
                 t = times if mode == "sed" else None
                 job = _simplify._prepare(X, eps, mode, None, t, None)
-                dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
+                dp, scan, args = _simplify._line_layout(job.P, job.t, job.mode)
                 tree = _simplify._tree(job)
                 box = {}
 
@@ -135,11 +137,15 @@ def kernel_profile(dims, modes, sizes, eps, reps):
                 def layout(job=job):
                     _simplify._line_layout(job.P, job.t, job.mode)
 
-                fns = {"run": run, "layout": layout}
+                def top(scan=scan, args=args, job=job, n=n):
+                    scan(*args, 0, n - 1, job.utol2, 1, n - 1)
+
+                fns = {"run": run, "layout": layout, "top": top}
                 cpu = best_of_each(fns, reps, time.process_time)
                 out[d, n, mode] = {
                     "work": box["work"] / n,
                     "ns": cpu["run"] / box["work"] * 1e9,
+                    "scan": cpu["top"] / n * 1e9,
                     "kept": box["kept"] / n,
                     "layout": cpu["layout"],
                 }
@@ -147,6 +153,7 @@ def kernel_profile(dims, modes, sizes, eps, reps):
                 f"{d:2d}-D n={n:,d} "
                 + " ".join(
                     f"{m} {out[d, n, m]['work']:.1f}/pt {out[d, n, m]['ns']:.2f} ns"
+                    f" (scan {out[d, n, m]['scan']:.2f})"
                     for m in modes
                 )
                 + f" | layout {out[d, n, modes[0]]['layout'] * 1e3:.1f} ms"
@@ -523,42 +530,46 @@ def main(argv=None):
     n_small, n_large = sizes
     lines += [
         "",
-        "Where a serial call's time goes (`kernel_profile`: the epsilon kernel"
-        f" alone, 1 thread, best CPU time of {reps}): distance evaluations per"
-        " input point (the levels of splitting) and CPU ns per evaluation on"
-        f" walks of {n_small:,d} and of {n_large:,d} points (data: 8·d bytes a"
-        f" point; caches: {cache_sizes()}), and the CPU time of the column"
-        " layout (the transposition the kernels scan, with its allocation) at"
-        " the larger size. Cost per evaluation rising from the small walk to"
-        " the large one is memory; the small walk's cost is the kernel's"
-        " compute and its per-segment overhead.",
+        "Where a serial call's time goes (`kernel_profile`: 1 thread, best CPU"
+        f" time of {reps}; data: 8·d bytes a point; caches: {cache_sizes()})."
+        " One scan = the top level alone, one plain stream over the whole walk,"
+        f" in CPU ns per point, on walks of {n_small:,d} points (in the caches"
+        f" up to the last level) and of {n_large:,d}: a cost that rises with the"
+        " size is memory, one that does not is compute. Then the epsilon"
+        f" kernel on the {n_large:,d}-point walks: distance evaluations per"
+        " point (the levels of splitting) and CPU ns per evaluation (short"
+        " segments deep in the split cost more per point than the top's long"
+        " scans), and the CPU time of the column layout (the transposition the"
+        " kernels scan, with its allocation).",
         "",
-        f"| d | data at {n_large:,d} (MB) | mode | kept | evaluations / point"
-        f" | ns / evaluation, {n_small:,d} | ns / evaluation, {n_large:,d}"
-        " | layout (ms) |",
-        "|---:|---:|---|---:|---:|---:|---:|---:|",
+        f"| d | data at {n_large:,d} (MB) | mode | one scan, ns / point,"
+        f" {n_small:,d} | one scan, {n_large:,d} | kept | evaluations / point"
+        " | ns / evaluation | layout (ms) |",
+        "|---:|---:|---|---:|---:|---:|---:|---:|---:|",
     ]
     for d in MODE_DIMS:
         for m in modes:
             p_small, p_big = prof[d, n_small, m], prof[d, n_large, m]
             lines.append(
-                f"| {d} | {8 * d * n_large / 1e6:.0f} | {m} | {p_big['kept']:.1%}"
-                f" | {p_big['work']:.1f}"
-                f" | {p_small['ns']:.2f} | {p_big['ns']:.2f}"
+                f"| {d} | {8 * d * n_large / 1e6:.0f} | {m} | {p_small['scan']:.2f}"
+                f" | {p_big['scan']:.2f} | {p_big['kept']:.1%}"
+                f" | {p_big['work']:.1f} | {p_big['ns']:.2f}"
                 f" | {p_big['layout'] * 1e3:.1f} |"
             )
     if 2 in MODE_DIMS and 6 in MODE_DIMS:
         l6 = {size: prof[6, size, "line"] for size in sizes}
         l2 = {size: prof[2, size, "line"] for size in sizes}
+        big6, big2 = l6[n_large], l2[n_large]
         lines += [
             "",
-            f"`line` at 6-D against 2-D: each evaluation costs"
-            f" {l6[n_small]['ns'] / l2[n_small]['ns']:.1f}x as much on the small"
-            f" walks (compute) and {l6[n_large]['ns'] / l2[n_large]['ns']:.1f}x"
-            f" on the large ones; {l6[n_large]['work']:.1f} against"
-            f" {l2[n_large]['work']:.1f} evaluations per point; layout"
-            f" {l6[n_large]['layout'] * 1e3:.1f} against"
-            f" {l2[n_large]['layout'] * 1e3:.1f} ms.",
+            "`line` at 6-D against 2-D: one scan costs"
+            f" {l6[n_small]['scan'] / l2[n_small]['scan']:.1f}x as much per point"
+            f" at {n_small:,d} points and"
+            f" {big6['scan'] / big2['scan']:.1f}x at {n_large:,d}; in the kernel"
+            f" each evaluation {big6['ns'] / big2['ns']:.1f}x, with"
+            f" {big6['work']:.1f} against {big2['work']:.1f} evaluations per"
+            f" point; layout {big6['layout'] * 1e3:.1f} against"
+            f" {big2['layout'] * 1e3:.1f} ms.",
         ]
     lines += [
         "",
