@@ -438,77 +438,61 @@ def scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
                 for j in range(m):
                     r = Pt[k, np.uint64(i0 + j)] - pk
                     buf[j] += r * r
-        elif sed:
-            for j in range(m):
-                vu[j] = t[np.uint64(i0 + j)] - ta  # s, the time since t_a
-            # four columns per pass over the block, then one: the sums in
-            # the same order, a quarter of the loads and stores of buf
-            k4 = 0
-            while k4 + 4 <= d:
-                k = k4
-                p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
-                u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
-                for j in range(m):
-                    i = np.uint64(i0 + j)
-                    s = vu[j]
-                    r0 = D * (Pt[k, i] - p0) - s * u0
-                    r1 = D * (Pt[k + 1, i] - p1) - s * u1
-                    r2 = D * (Pt[k + 2, i] - p2) - s * u2
-                    r3 = D * (Pt[k + 3, i] - p3) - s * u3
-                    buf[j] = buf[j] + r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3
-                k4 += 4
-            for k in range(k4, d):
-                pk = pa[k]
-                uk = u[k]
-                for j in range(m):
-                    r = D * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
-                    buf[j] += r * r
         else:
-            for j in range(m):
-                vu[j] = 0.0
-            # four columns per pass, as above, in each of the two sums
-            k4 = 0
+            # r = A (x - xa) - c u with A = D, c = s (the time since t_a) for
+            # "sed", A = U, c = v·u for the others; vu holds c
+            if sed:
+                A = D
+                for j in range(m):
+                    vu[j] = t[np.uint64(i0 + j)] - ta
+            else:
+                A = U
+                for j in range(m):
+                    vu[j] = 0.0
+                # four columns per pass over the block, then one by one: the
+                # sums in the same order, a quarter of the loads and stores
+                k4 = 0
+                while k4 + 4 <= d:
+                    k = k4
+                    p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
+                    u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
+                    for j in range(m):
+                        i = np.uint64(i0 + j)
+                        vu[j] = (
+                            vu[j]
+                            + (Pt[k, i] - p0) * u0
+                            + (Pt[k + 1, i] - p1) * u1
+                            + (Pt[k + 2, i] - p2) * u2
+                            + (Pt[k + 3, i] - p3) * u3
+                        )
+                    k4 += 4
+                for k in range(k4, d):
+                    pk = pa[k]
+                    uk = u[k]
+                    for j in range(m):
+                        vu[j] += (Pt[k, np.uint64(i0 + j)] - pk) * uk
+                if mode == MODE_SEGMENT:  # the projection clamped to the segment
+                    for j in range(m):
+                        vu[j] = min(max(vu[j], 0.0), U)
+            k4 = 0  # four columns per pass, as above
             while k4 + 4 <= d:
                 k = k4
                 p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
                 u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
                 for j in range(m):
                     i = np.uint64(i0 + j)
-                    vu[j] = (
-                        vu[j]
-                        + (Pt[k, i] - p0) * u0
-                        + (Pt[k + 1, i] - p1) * u1
-                        + (Pt[k + 2, i] - p2) * u2
-                        + (Pt[k + 3, i] - p3) * u3
-                    )
-                k4 += 4
-            for k in range(k4, d):
-                pk = pa[k]
-                uk = u[k]
-                for j in range(m):
-                    vu[j] += (Pt[k, np.uint64(i0 + j)] - pk) * uk
-            if mode == MODE_SEGMENT:  # the projection clamped to the segment
-                for j in range(m):
-                    vu[j] = min(max(vu[j], 0.0), U)
-            k4 = 0
-            while k4 + 4 <= d:
-                k = k4
-                p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
-                u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
-                for j in range(m):
-                    i = np.uint64(i0 + j)
-                    w = vu[j]
-                    r0 = U * (Pt[k, i] - p0) - w * u0
-                    r1 = U * (Pt[k + 1, i] - p1) - w * u1
-                    r2 = U * (Pt[k + 2, i] - p2) - w * u2
-                    r3 = U * (Pt[k + 3, i] - p3) - w * u3
+                    c = vu[j]
+                    r0 = A * (Pt[k, i] - p0) - c * u0
+                    r1 = A * (Pt[k + 1, i] - p1) - c * u1
+                    r2 = A * (Pt[k + 2, i] - p2) - c * u2
+                    r3 = A * (Pt[k + 3, i] - p3) - c * u3
                     buf[j] = buf[j] + r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3
                 k4 += 4
             for k in range(k4, d):
                 pk = pa[k]
                 uk = u[k]
                 for j in range(m):
-                    r = U * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
+                    r = A * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
                     buf[j] += r * r
         # block max, written out in each scan on purpose (see the note on the
         # line-mode scans above: a helper returning a tuple cost twice the time)
