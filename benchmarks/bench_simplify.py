@@ -68,21 +68,97 @@ def best_of(fn, reps):
     return min(times), out
 
 
-def best_cpu_of(fn, reps):
-    """Best process CPU time of ``fn`` (for serial calls: less noisy than the
-    wall clock when other jobs share the cores)."""
-    fn()
-    return min(_cpu_time(fn) for _ in range(reps))
+def best_of_each(fns, reps, clock=time.perf_counter):
+    """Best time of each of ``fns`` (a dict), timed in turn, round by round.
 
-
-def _cpu_time(fn):
-    t = time.process_time()
-    fn()
-    return time.process_time() - t
+    Peers whose times are compared take their turns in the same rounds, so a
+    change of load on the shared cores touches them alike.
+    """
+    for fn in fns.values():
+        fn()  # warm-up (compilation, caches)
+    best = dict.fromkeys(fns, float("inf"))
+    for _ in range(reps):
+        for key, fn in fns.items():
+            t = clock()
+            fn()
+            best[key] = min(best[key], clock() - t)
+    return best
 
 
 def load():
     return os.getloadavg()[0]
+
+
+def cache_sizes():
+    """The data caches of CPU 0, e.g. ``"L1 48K, L2 1024K, L3 32768K"``."""
+    root = Path("/sys/devices/system/cpu/cpu0/cache")
+    out = []
+    for index in sorted(root.glob("index*")):
+        try:
+            if (index / "type").read_text().strip() == "Instruction":
+                continue
+            level = (index / "level").read_text().strip()
+            out.append(f"L{level} {(index / 'size').read_text().strip()}")
+        except OSError:
+            continue
+    return ", ".join(out) or "unknown"
+
+
+def kernel_profile(dims, modes, sizes, eps, reps):
+    """Where the time of one serial call goes, per dimension and mode.
+
+    For each size: the kernel's distance evaluations per input point (the
+    levels of splitting), its CPU time per evaluation (ns), the CPU time per
+    point of one scan of the whole walk (the top level alone: a plain stream
+    over the data), and the CPU time of the column layout (the transposition
+    the kernels scan). One scan over data that fit in the caches (the smaller
+    size) and over data that do not (the larger) shows whether a mode's
+    scans are memory- or compute-bound.
+    """
+    from ndlfd import _simplify
+
+    out = {}
+    for d in dims:
+        for n in sizes:
+            X = random_walk(n, d)
+            times = np.arange(n, dtype=float)
+            for mode in modes:
+                t = times if mode == "sed" else None
+                job = _simplify._prepare(X, eps, mode, None, t, None)
+                dp, scan, args = _simplify._line_layout(job.P, job.t, job.mode)
+                tree = _simplify._tree(job)
+                box = {}
+
+                def run(dp=dp, args=args, job=job, tree=tree, box=box, n=n):
+                    keep = np.zeros(n, np.uint8)
+                    box["work"] = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+                    box["kept"] = int(keep.sum())
+
+                def layout(job=job):
+                    _simplify._line_layout(job.P, job.t, job.mode)
+
+                def top(scan=scan, args=args, job=job, n=n):
+                    scan(*args, 0, n - 1, job.utol2, 1, n - 1)
+
+                fns = {"run": run, "layout": layout, "top": top}
+                cpu = best_of_each(fns, reps, time.process_time)
+                out[d, n, mode] = {
+                    "work": box["work"] / n,
+                    "ns": cpu["run"] / box["work"] * 1e9,
+                    "scan": cpu["top"] / n * 1e9,
+                    "kept": box["kept"] / n,
+                    "layout": cpu["layout"],
+                }
+            print(
+                f"{d:2d}-D n={n:,d} "
+                + " ".join(
+                    f"{m} {out[d, n, m]['work']:.1f}/pt {out[d, n, m]['ns']:.2f} ns"
+                    f" (scan {out[d, n, m]['scan']:.2f})"
+                    for m in modes
+                )
+                + f" | layout {out[d, n, modes[0]]['layout'] * 1e3:.1f} ms"
+            )
+    return out
 
 
 # ---------------------------------------------------------------- peers
@@ -304,25 +380,32 @@ def main(argv=None):
     t6s, _ = best_of(lambda: simplify(X6, eps2d, n_jobs=1), reps)
     add("6-D walk", "ndlfd line, 1 thread", n, t6s)
 
-    # 4. every distance mode by dimension, in this one run
+    # 4. every distance mode by dimension, in this one run, the modes of one
+    # dimension timed in turn (round by round, so they share the load)
     modes = ("line", "segment", "sed")
     mode_rates = {}  # (d, mode) -> best wall seconds, default threads
     mode_cpu = {}  # (d, mode) -> best CPU seconds, one thread
     for d in MODE_DIMS:
         Xd = random_walk(n, d)
         times = np.arange(n, dtype=float)
-        for mode in modes:
-            kw = {"times": times} if mode == "sed" else {}
-            sec, _ = best_of(partial(simplify, Xd, eps2d, distance=mode, **kw), reps)
-            mode_rates[d, mode] = sec
-            call = partial(simplify, Xd, eps2d, distance=mode, n_jobs=1, **kw)
-            mode_cpu[d, mode] = best_cpu_of(call, reps)
+        kws = {m: {"times": times} if m == "sed" else {} for m in modes}
+        calls = {m: partial(simplify, Xd, eps2d, distance=m, **kws[m]) for m in modes}
+        for m, sec in best_of_each(calls, reps).items():
+            mode_rates[d, m] = sec
+        calls = {m: partial(c, n_jobs=1) for m, c in calls.items()}
+        for m, sec in best_of_each(calls, reps, time.process_time).items():
+            mode_cpu[d, m] = sec
         print(
             f"{d:2d}-D walk "
             + " ".join(f"{m} {fmt_rate(n, mode_rates[d, m])}" for m in modes)
             + " | 1 thread, CPU: "
             + " ".join(f"{m} {fmt_rate(n, mode_cpu[d, m])}" for m in modes)
         )
+
+    # 4b. where a serial call's time goes: levels, cost per evaluation in and
+    # out of the caches, the column layout
+    sizes = (n // 10, n)
+    prof = kernel_profile(MODE_DIMS, modes, sizes, eps2d, reps)
 
     # 5. worst case zigzag, with the tree of bounding boxes and without
     Z = zigzag(n_zig)
@@ -444,6 +527,50 @@ def main(argv=None):
     for d in MODE_DIMS:
         row = cells(mode_rates, d) + cells(mode_cpu, d)
         lines.append(f"| {d} | {' | '.join(row)} |")
+    n_small, n_large = sizes
+    lines += [
+        "",
+        "Where a serial call's time goes (`kernel_profile`: 1 thread, best CPU"
+        f" time of {reps}; data: 8·d bytes a point; caches: {cache_sizes()})."
+        " One scan = the top level alone, one plain stream over the whole walk,"
+        f" in CPU ns per point, on walks of {n_small:,d} points (in the caches"
+        f" up to the last level) and of {n_large:,d}: a cost that rises with the"
+        " size is memory, one that does not is compute. Then the epsilon"
+        f" kernel on the {n_large:,d}-point walks: distance evaluations per"
+        " point (the levels of splitting) and CPU ns per evaluation (short"
+        " segments deep in the split cost more per point than the top's long"
+        " scans), and the CPU time of the column layout (the transposition the"
+        " kernels scan, with its allocation).",
+        "",
+        f"| d | data at {n_large:,d} (MB) | mode | one scan, ns / point,"
+        f" {n_small:,d} | one scan, {n_large:,d} | kept | evaluations / point"
+        " | ns / evaluation | layout (ms) |",
+        "|---:|---:|---|---:|---:|---:|---:|---:|---:|",
+    ]
+    for d in MODE_DIMS:
+        for m in modes:
+            p_small, p_big = prof[d, n_small, m], prof[d, n_large, m]
+            lines.append(
+                f"| {d} | {8 * d * n_large / 1e6:.0f} | {m} | {p_small['scan']:.2f}"
+                f" | {p_big['scan']:.2f} | {p_big['kept']:.1%}"
+                f" | {p_big['work']:.1f} | {p_big['ns']:.2f}"
+                f" | {p_big['layout'] * 1e3:.1f} |"
+            )
+    if 2 in MODE_DIMS and 6 in MODE_DIMS:
+        l6 = {size: prof[6, size, "line"] for size in sizes}
+        l2 = {size: prof[2, size, "line"] for size in sizes}
+        big6, big2 = l6[n_large], l2[n_large]
+        lines += [
+            "",
+            "`line` at 6-D against 2-D: one scan costs"
+            f" {l6[n_small]['scan'] / l2[n_small]['scan']:.1f}x as much per point"
+            f" at {n_small:,d} points and"
+            f" {big6['scan'] / big2['scan']:.1f}x at {n_large:,d}; in the kernel"
+            f" each evaluation {big6['ns'] / big2['ns']:.1f}x, with"
+            f" {big6['work']:.1f} against {big2['work']:.1f} evaluations per"
+            f" point; layout {big6['layout'] * 1e3:.1f} against"
+            f" {big2['layout'] * 1e3:.1f} ms.",
+        ]
     lines += [
         "",
         f"Zigzag at {n_big:,d} points (depth {n_big - 3:,d}), each implementation in"

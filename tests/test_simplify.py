@@ -13,6 +13,7 @@ from hypothesis.extra.numpy import arrays
 from ndlfd import _simplify
 from ndlfd._errors import OptionError, ValidationError
 from ndlfd._simplify import DISTANCES, simplify, simplify_many
+from ndlfd._validation import check_times
 from reference_simplify import (
     DISTANCE_FUNCTIONS,
     budget_reference,
@@ -136,6 +137,30 @@ def test_sed_compares_with_the_chord_at_the_same_time():
     assert simplify(P, 1, distance="sed", times=[0, 9, 10]).tolist() == [0, 2]
 
 
+@pytest.mark.parametrize("d", range(1, 17))
+def test_segment_past_the_ends_known_answer_in_every_kernel(d):
+    # chord (0, 0)-(4, 0). Point 1, (-3, 4), lies before P_a: 5 from the
+    # segment (4 from the line). Then chord (-3, 4)-(4, 0), u = (7, -4),
+    # |u|² = 65: point 2, (7, 0), has v·u = 10·7 + 4·4 = 86 > 65, past P_b,
+    # so it is |(7, 0) - (4, 0)| = 3 from the segment (12 / sqrt(65) = 1.49
+    # from the line). The two columns sit in two of d columns (every kernel
+    # family); in 1-D only the x column: distances 3 (before P_a) and 3.
+    P2 = np.array([[0.0, 0.0], [-3.0, 4.0], [7.0, 0.0], [4.0, 0.0]])
+    cols = np.random.default_rng(d).choice(d, size=min(d, 2), replace=False)
+    P = np.zeros((4, d))
+    P[:, cols] = P2[:, : cols.size]
+    seg = {"distance": "segment"}
+    if d == 1:
+        assert simplify(P, 2.9, **seg).tolist() == [0, 1, 2, 3]
+        assert simplify(P, 3.0, **seg).tolist() == [0, 3]
+        return
+    assert simplify(P, 4.5).tolist() == [0, 3]
+    assert simplify(P, 4.5, **seg).tolist() == [0, 1, 3]
+    assert simplify(P, 2.9, **seg).tolist() == [0, 1, 2, 3]
+    assert simplify(P, 3.0, **seg).tolist() == [0, 1, 3]
+    assert simplify(P, 5.0, **seg).tolist() == [0, 3]
+
+
 def test_registry_lists_the_modes():
     assert DISTANCES.names == tuple(MODES)
 
@@ -204,6 +229,34 @@ def test_monotone_in_epsilon(case, e1, e2):
 
 
 @SETTINGS
+@st.composite
+def overshooting_paths(draw):
+    """Integer paths that run back and forth along a line, past both ends.
+
+    Positions along a random integer direction (some before the first point
+    and past the last) plus small integer offsets: many points whose closest
+    point of a chord is one of its ends, in every dimension 1..16.
+    """
+    n = draw(st.integers(3, 60))
+    d = draw(st.integers(1, 16))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    direction = rng.integers(-2, 3, size=d)
+    direction[rng.integers(d)] = 3
+    along = rng.integers(-8, 9, size=n)
+    along[[0, -1]] = draw(st.sampled_from([(0, 4), (-2, 6), (3, 3), (0, 1)]))
+    side = rng.integers(-2, 3, size=(n, d)) * (rng.random((n, 1)) < 0.5)
+    return (along[:, None] * direction + side).astype(float)
+
+
+@SETTINGS
+@given(overshooting_paths(), st.sampled_from(EPSILONS))
+def test_segment_mode_past_the_ends_matches_reference(P, eps):
+    # the clamped projection: points before P_a and past P_b are measured
+    # from that end, in every kernel family (integer keys: exact)
+    got = simplify(P, eps, distance="segment", n_jobs=1)
+    assert got.tolist() == dp_reference(P, eps, "segment").tolist()
+
+
 @given(integer_paths(), st.sampled_from(EPSILONS))
 def test_line_dropped_points_are_within_epsilon(P, eps):
     kept = simplify(P, eps)
@@ -281,7 +334,7 @@ def test_weights_known_answer():
     assert simplify(P, 6.0, weights=[0.0, 3.0]).tolist() == [0, 3]
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9, 16])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 8, 9, 10, 11, 16])
 @pytest.mark.parametrize("mode", MODES)
 def test_long_integer_walks_cross_block_boundaries(d, mode):
     # several blocks of the vectorized scans, many exact ties across blocks
@@ -305,8 +358,8 @@ def block_crossing_paths(draw, d):
     Walks folded into a small box (so distances repeat), points drawn from
     {-1, 0, 1}^d, and a folded 2-D walk placed in two of d columns (the others
     zero, so ties stay as common as in 2-D), in every dimension family of the
-    line kernels (2-D, 3-D, column tuples for 4-8, transposed data for 1 and
-    9+). Drawn from a seed: drawing thousands of values one by one is slow.
+    line kernels (2-D, 3-D, column tuples for 4-10, transposed data for 1 and
+    11+). Drawn from a seed: drawing thousands of values one by one is slow.
     """
     n = draw(st.integers(300, 1600))
     kind = draw(st.sampled_from(["box", "grid", "flat"]))
@@ -323,7 +376,7 @@ def block_crossing_paths(draw, d):
     return P
 
 
-@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9, 16])
+@pytest.mark.parametrize("d", [1, 2, 3, 4, 6, 9, 10, 11, 16])
 @settings(max_examples=8, deadline=None)
 @given(
     data=st.data(),
@@ -565,6 +618,33 @@ def test_bad_points(points, match):
 def test_bad_options(kwargs, error, match):
     with pytest.raises(error, match=match):
         simplify([[0, 0], [1, 1], [2, 0]], **kwargs)
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    st.lists(
+        st.one_of(
+            st.floats(-1e3, 1e3),
+            st.sampled_from([np.nan, np.inf, -np.inf, 0.0, 1.0]),
+        ),
+        min_size=1,
+        max_size=12,
+    ),
+    st.booleans(),
+)
+def test_times_fast_path_agrees_with_check_times(values, sort):
+    # the compiled check-and-shift of "sed" times: the shifted times of
+    # check_times when it accepts them, its own error when it does not
+    t = np.array(sorted(values) if sort else values)
+    try:
+        want = check_times(t, len(t))
+    except ValidationError as exc:
+        with pytest.raises(ValidationError) as got:
+            _simplify._shifted_times(t, len(t), "times")
+        assert str(got.value) == str(exc)
+    else:
+        got = _simplify._shifted_times(t, len(t), "times")
+        assert got.tobytes() == (want - want[0]).tobytes()
 
 
 def test_extreme_scales_are_exact():

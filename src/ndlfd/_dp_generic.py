@@ -102,23 +102,12 @@ def scan_generic(P, t, a, b, mode, utol2, lo, hi, u):
         vu = 0.0
         for k in range(d):
             vu += (P[i, k] - P[a, k]) * u[k]
-        if segment and vu <= 0.0:
-            q = 0.0
-            for k in range(d):
-                r = P[i, k] - P[a, k]
-                q += r * r
-            q *= UU
-        elif segment and vu >= U:
-            q = 0.0
-            for k in range(d):
-                r = P[i, k] - P[b, k]
-                q += r * r
-            q *= UU
-        else:
-            q = 0.0
-            for k in range(d):
-                r = U * (P[i, k] - P[a, k]) - vu * u[k]
-                q += r * r
+        if segment:  # the projection clamped to the segment
+            vu = min(max(vu, 0.0), U)
+        q = 0.0
+        for k in range(d):
+            r = U * (P[i, k] - P[a, k]) - vu * u[k]
+            q += r * r
         if q > best:
             best = q
             far = i

@@ -21,8 +21,14 @@ The keys, with ``v = P_i - P_a``, ``u = P_b - P_a``, ``U = |u|²``:
   ulps of ``|v|``. In 2-D the key is the squared cross product
   ``(v_x u_y - v_y u_x)²`` with ``S = U`` (the same distance), and in 3-D the
   squared norm of the cross product ``|v × u|²`` with ``S = U``.
-- ``"segment"``: ``t = v·u``; ``t <= 0`` → distance to ``P_a``, ``t >= U`` →
-  distance to ``P_b``, else the line residual; all scaled by ``S = U²``.
+- ``"segment"``: the line's residual with the projection clamped to the
+  segment, ``r = U v - w u`` with ``w = min(max(v·u, 0), U)``, ``q = |r|²``,
+  ``S = U²`` (``U`` times the distance to the closest point of the segment,
+  ``P_a + (w / U) u``). Between the ends (``0 < v·u < U``) it is the line's
+  key, bit for bit; before ``P_a`` it is ``|U v|²``, past ``P_b``
+  ``|U v - U u|²``: one ``min`` and one ``max`` per point more than the
+  line's key, no selection. Like the line's, its error stays at a few ulps of
+  ``|v|``, and it is an exact integer on integer data.
 - ``"sed"``: ``D = t_b - t_a``, ``s = t_i - t_a``, ``q = |D v - s u|²``,
   ``S = D²``.
 - ``"paper"``: ``q = det(A_d)²``, ``S = U``. Row operations reduce the paper's
@@ -36,6 +42,8 @@ The keys, with ``v = P_i - P_a``, ``u = P_b - P_a``, ``U = |u|²``:
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from numba import njit
@@ -60,6 +68,7 @@ __all__ = [
     "finite_maxabs",
     "scan_cols_range",
     "scan_line_range",
+    "shifted_times",
     "transpose",
 ]
 
@@ -90,6 +99,21 @@ def finite_maxabs(P):
     out = np.empty(1, np.int64)
     out[0] = m
     return m < _EXP_ALL_ONES, out.view(np.float64)[0]
+
+
+@njit(cache=True, nogil=True)
+def shifted_times(t, out):
+    """``out = t - t[0]``, and whether ``t`` is finite and strictly increasing.
+
+    One pass over ``t`` (length >= 1); a NaN anywhere makes it ``False``.
+    """
+    t0 = t[0]
+    up = np.uint8(1)
+    out[0] = 0.0
+    for i in range(1, t.shape[0]):
+        up &= t[i] > t[i - 1]
+        out[i] = t[i] - t0
+    return bool(up) and math.isfinite(t0) and math.isfinite(t[t.shape[0] - 1])
 
 
 @njit(cache=True, nogil=True)
@@ -266,39 +290,62 @@ def scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
                 for j in range(m):
                     r = Pt[k, np.uint64(i0 + j)] - pk
                     buf[j] += r * r
-        elif sed:
-            for j in range(m):
-                vu[j] = t[np.uint64(i0 + j)] - ta  # s, the time since t_a
-            for k in range(d):
-                pk = pa[k]
-                uk = u[k]
-                for j in range(m):
-                    r = D * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
-                    buf[j] += r * r
         else:
-            for j in range(m):
-                vu[j] = 0.0
-            for k in range(d):
+            # r = A (x - xa) - c u with A = D, c = s (the time since t_a) for
+            # "sed", A = U, c = v·u for the others; vu holds c
+            if sed:
+                A = D
+                for j in range(m):
+                    vu[j] = t[np.uint64(i0 + j)] - ta
+            else:
+                A = U
+                for j in range(m):
+                    vu[j] = 0.0
+                # four columns per pass over the block, then one by one: the
+                # sums in the same order, a quarter of the loads and stores
+                k4 = 0
+                while k4 + 4 <= d:
+                    k = k4
+                    p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
+                    u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
+                    for j in range(m):
+                        i = np.uint64(i0 + j)
+                        vu[j] = (
+                            vu[j]
+                            + (Pt[k, i] - p0) * u0
+                            + (Pt[k + 1, i] - p1) * u1
+                            + (Pt[k + 2, i] - p2) * u2
+                            + (Pt[k + 3, i] - p3) * u3
+                        )
+                    k4 += 4
+                for k in range(k4, d):
+                    pk = pa[k]
+                    uk = u[k]
+                    for j in range(m):
+                        vu[j] += (Pt[k, np.uint64(i0 + j)] - pk) * uk
+                if mode == MODE_SEGMENT:  # the projection clamped to the segment
+                    for j in range(m):
+                        vu[j] = min(max(vu[j], 0.0), U)
+            k4 = 0  # four columns per pass, as above
+            while k4 + 4 <= d:
+                k = k4
+                p0, p1, p2, p3 = pa[k], pa[k + 1], pa[k + 2], pa[k + 3]
+                u0, u1, u2, u3 = u[k], u[k + 1], u[k + 2], u[k + 3]
+                for j in range(m):
+                    i = np.uint64(i0 + j)
+                    c = vu[j]
+                    r0 = A * (Pt[k, i] - p0) - c * u0
+                    r1 = A * (Pt[k + 1, i] - p1) - c * u1
+                    r2 = A * (Pt[k + 2, i] - p2) - c * u2
+                    r3 = A * (Pt[k + 3, i] - p3) - c * u3
+                    buf[j] = buf[j] + r0 * r0 + r1 * r1 + r2 * r2 + r3 * r3
+                k4 += 4
+            for k in range(k4, d):
                 pk = pa[k]
                 uk = u[k]
                 for j in range(m):
-                    vu[j] += (Pt[k, np.uint64(i0 + j)] - pk) * uk
-            for k in range(d):
-                pk = pa[k]
-                uk = u[k]
-                for j in range(m):
-                    r = U * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
+                    r = A * (Pt[k, np.uint64(i0 + j)] - pk) - vu[j] * uk
                     buf[j] += r * r
-            if mode == MODE_SEGMENT:
-                # points whose projection falls outside: distance to the end
-                for j in range(m):
-                    if vu[j] <= 0.0 or vu[j] >= U:
-                        e = a if vu[j] <= 0.0 else b
-                        q = 0.0
-                        for k in range(d):
-                            r = Pt[k, i0 + j] - Pt[k, e]
-                            q += r * r
-                        buf[j] = q * UU
         # block max, written out in each scan on purpose (see the note on the
         # line-mode scans above: a helper returning a tuple cost twice the time)
         bm = np.int64(-1)
@@ -368,28 +415,17 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
                     q += r * r
                 buf[j] = q
         elif mode == MODE_SEGMENT:
-            # "segment" and "line" each have their own flat loop on purpose:
-            # the three keys of every point in one vectorized pass
+            # "segment" and "line" each have their own flat loop on purpose
             for j in range(m):
                 i = np.uint64(i0 + j)
                 vu = 0.0
                 for k in range(d):
                     vu += (cols[k][i] - pa[k]) * u[k]
-                qa = 0.0
-                qb = 0.0
-                qr = 0.0
+                w = min(max(vu, 0.0), U)  # the projection clamped to the segment
+                q = 0.0
                 for k in range(d):
-                    ra = cols[k][i] - pa[k]
-                    rb = cols[k][i] - cols[k][b]
-                    rr = U * (cols[k][i] - pa[k]) - vu * u[k]
-                    qa += ra * ra
-                    qb += rb * rb
-                    qr += rr * rr
-                q = qr
-                if vu <= 0.0:
-                    q = qa * UU
-                if vu >= U:
-                    q = qb * UU
+                    r = U * (cols[k][i] - pa[k]) - w * u[k]
+                    q += r * r
                 buf[j] = q
         else:
             for j in range(m):
@@ -442,13 +478,13 @@ def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi, lop=False):
 def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
     """Epsilon-mode Douglas–Peucker on ``[a0, b0]``, columns as a tuple.
 
-    See :func:`scan_line_cols`; used for ``"line"`` with ``4 <= d <= 8`` and
-    for ``"segment"`` and ``"sed"`` with ``d <= 8``. Segments longer than
+    See :func:`scan_line_cols`; used for ``"line"`` from ``d = 4`` and for
+    ``"segment"`` and ``"sed"`` from ``d = 1``, up to the last of
+    ``ndlfd._simplify.COLS_DIMS``. Segments longer than
     :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split
     (:func:`~ndlfd._dp_exact.lopsided`; ``lop0`` for ``(a0, b0)``), but in
     ``"sed"``, are scanned by :func:`~ndlfd._dp_exact.scan_loo` (keys the
-    tree bounds exactly).
-    Explicit stack, no recursion; ``tree`` as in
+    tree bounds exactly). Explicit stack, no recursion; ``tree`` as in
     :func:`~ndlfd._dp_generic.dp_generic`. Returns the number of distance
     evaluations.
     """

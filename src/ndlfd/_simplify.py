@@ -162,6 +162,21 @@ def _checked_points(points, name):
     return P, K.finite_maxabs(P)[1]
 
 
+def _shifted_times(times, n, name):
+    """``times - times[0]``, checked: finite and strictly increasing, length ``n``.
+
+    One compiled pass checks and shifts; the shared :func:`check_times`
+    (slower on long vectors) explains any problem.
+    """
+    t = as_float_array(times, name)
+    if t.ndim == 1 and t.shape[0] == n and n >= 1:
+        out = np.empty(n)
+        if K.shifted_times(t, out):
+            return out
+    t = check_times(times, n, name=name)
+    return t - t[0] if t.size else t
+
+
 def _prepare(
     points,
     epsilon,
@@ -197,7 +212,7 @@ def _prepare(
                 f"distance={mode.name!r} needs times (one strictly increasing"
                 f" time per point, length {n}); got times=None"
             )
-        t = check_times(times, n, name=times_name)
+        t = _shifted_times(times, n, times_name)
     else:
         if times is not None:
             raise ValidationError(
@@ -211,7 +226,6 @@ def _prepare(
         eps *= s
         m *= s
     if t.size:
-        t = t - t[0]
         ts = _pow2_scale(float(t[-1]))
         if ts != 1.0:
             t = t * ts
@@ -235,8 +249,11 @@ SPLIT_MIN = 20_000
 PENDING_PER_WORKER = 4
 #: Dimensions handled by the column-tuple kernels (one compiled version each):
 #: ``"line"`` from 4 (2 and 3 have their own), ``"segment"`` and ``"sed"``
-#: from 1; above, the transposed-array kernel.
-COLS_DIMS = range(1, 9)
+#: from 1; above, the transposed-array kernel. Measured (1e6-point walks, one
+#: thread, AVX-512): the tuples take 0.57-0.81x the time at d = 9 and 10 and
+#: 1.05-2.8x from 11 on, where the columns' constants no longer fit in the
+#: vector registers.
+COLS_DIMS = range(1, 11)
 
 
 #: Segments longer than this are scanned through a tree of bounding boxes
