@@ -32,6 +32,15 @@ def _setup(P, a, b):
     return buf, bits, W, B, V, U
 
 
+def _box_bound(V, U, segment, box_lo, box_hi):
+    """loo_key_bound of one box, with the workspace laid out as it expects."""
+    d = V.shape[1]
+    ws = np.full(7 * d, np.nan)  # P_a, u, -, P_b, C (at 4d), scratch
+    ws[:d], ws[d : 2 * d], ws[3 * d : 4 * d], ws[4 * d : 5 * d] = V[0], V[1], V[2], V[3]
+    box = (np.array([box_lo], float), np.array([box_hi], float))
+    return E.loo_key_bound(*box, 0, ws, d, 4 * d, U, segment)
+
+
 def _keys(P, a, b, segment):
     """loo_key of every point, one call each."""
     _, _, W, _, V, U = _setup(P, a, b)
@@ -141,19 +150,16 @@ def test_scan_loo_takes_coincident_ends_as_a_point():
 def test_loo_key_bound_holds_bitwise(case, segment, data):
     """No key of a point in the box exceeds the bound; a point box is tight."""
     P, a, b = case
-    n, d = P.shape
+    n = P.shape[0]
     _, _, _, _, V, U = _setup(P, a, b)
     if U == 0.0:
         return
     lo = data.draw(st.integers(0, n - 1))
     hi = data.draw(st.integers(lo + 1, n))
-    box_lo, box_hi = P[lo:hi].min(axis=0), P[lo:hi].max(axis=0)
-    scratch = np.empty(2 * d)
-    args = (V[0], V[1], V[2], V[3], U, segment, scratch)
-    bound = E.loo_key_bound(box_lo, box_hi, *args)
+    bound = _box_bound(V, U, segment, P[lo:hi].min(axis=0), P[lo:hi].max(axis=0))
     keys = _keys(P, a, b, segment)
     assert keys[lo:hi].max() <= bound
-    assert E.loo_key_bound(P[lo], P[lo], *args) == keys[lo]
+    assert _box_bound(V, U, segment, P[lo], P[lo]) == keys[lo]
 
 
 @pytest.mark.parametrize("segment", [False, True])
@@ -165,8 +171,5 @@ def test_a_flat_box_is_bounded_by_the_tie(segment):
     _, _, _, _, V, U = _setup(P, 0, 998)
     keys = _keys(P, 0, 998, segment)
     box = P[100:400]
-    bound = E.loo_key_bound(
-        box.min(axis=0), box.max(axis=0), V[0], V[1], V[2], V[3], U, segment,
-        np.empty(8),
-    )  # fmt: skip
+    bound = _box_bound(V, U, segment, box.min(axis=0), box.max(axis=0))
     assert bound == keys[101] == keys[100:400].max()

@@ -386,12 +386,14 @@ def _end_sq_bound(lo, hi, pe):
 
 
 @njit(cache=True, nogil=True)
-def loo_key_bound(lo, hi, pa, u, pb, C, U, segment, scratch):
+def loo_key_bound(bmin, bmax, node, ws, d, c0, U, segment):
     """The largest key :func:`scan_loo` can compute for a point of a box.
 
-    The box is ``lo[k] <= x_k <= hi[k]``; ``pa``, ``u``, ``pb``, ``C`` and
-    ``U`` are the segment's, computed as :func:`scan_loo` computes them
-    (``U > utol2``). ``scratch`` is a workspace of length ``2 d``.
+    The box is ``bmin[node, k] <= x_k <= bmax[node, k]``. ``ws`` holds the
+    segment's ``P_a`` at ``0``, ``u`` at ``d``, ``P_b`` at ``3 d``, ``C``
+    at ``c0`` (the layout of ``ndlfd._dp_tree``'s workspace), computed as
+    :func:`scan_loo` computes them (``U > utol2``), and ``2 d`` values of
+    scratch after ``C``.
 
     Every quantity of the key is monotone in each coordinate (rounding is
     monotone), so its extremes over the box are the same operations at box
@@ -406,45 +408,47 @@ def loo_key_bound(lo, hi, pa, u, pb, C, U, segment, scratch):
     (``|x - P_a|² U²``, ``|x - P_b|² U²``) a point of the box can take.
     The bound holds bitwise: a key of a point in the box never exceeds it.
     """
-    d = pa.shape[0]
-    wl, wh = scratch[:d], scratch[d:]
+    sl = c0 + d  # the suffix sums of the smallest products, then the largest
+    sh = c0 + 2 * d
     al = 0.0
     ah = 0.0
-    for k in range(d):  # prefix sums of the smallest and largest products
-        p1 = (lo[k] - pa[k]) * u[k]
-        p2 = (hi[k] - pa[k]) * u[k]
-        wl[k] = al
-        wh[k] = ah
+    for k in range(d - 1, -1, -1):
+        p1 = (bmin[node, k] - ws[k]) * ws[d + k]
+        p2 = (bmax[node, k] - ws[k]) * ws[d + k]
+        ws[sl + k] = al
+        ws[sh + k] = ah
         al += min(p1, p2)
         ah += max(p1, p2)
-    vu_lo, vu_hi = al, ah
-    al = 0.0
+    al = 0.0  # now the prefix sums, w_k = prefix + suffix as the scan adds
     ah = 0.0
-    for k in range(d - 1, -1, -1):  # + the suffix sums
-        p1 = (lo[k] - pa[k]) * u[k]
-        p2 = (hi[k] - pa[k]) * u[k]
-        wl[k] = wl[k] + al
-        wh[k] = wh[k] + ah
-        al += min(p1, p2)
-        ah += max(p1, p2)
     q = 0.0
     for k in range(d):
-        up, down = (wl[k], wh[k]) if u[k] >= 0.0 else (wh[k], wl[k])
-        r_hi = C[k] * (hi[k] - pa[k]) - up * u[k]
-        r_lo = C[k] * (lo[k] - pa[k]) - down * u[k]
+        xa = ws[k]
+        uk = ws[d + k]
+        lo = bmin[node, k] - xa
+        hi = bmax[node, k] - xa
+        wl = al + ws[sl + k]
+        wh = ah + ws[sh + k]
+        up, down = (wl, wh) if uk >= 0.0 else (wh, wl)
+        r_hi = ws[c0 + k] * hi - up * uk
+        r_lo = ws[c0 + k] * lo - down * uk
         q += max(r_hi * r_hi, r_lo * r_lo)
+        p1 = lo * uk
+        p2 = hi * uk
+        al += min(p1, p2)
+        ah += max(p1, p2)
     if not segment:
         return q
     UU = U * U
-    best = q if vu_hi > 0.0 and vu_lo < U else 0.0
-    if vu_lo <= 0.0:
+    best = q if ah > 0.0 and al < U else 0.0  # (al, ah): the range of v·u
+    if al <= 0.0:
         qa = 0.0
         for k in range(d):
-            qa += _end_sq_bound(lo[k], hi[k], pa[k])
+            qa += _end_sq_bound(bmin[node, k], bmax[node, k], ws[k])
         best = max(best, qa * UU)
-    if vu_hi >= U:
+    if ah >= U:
         qb = 0.0
         for k in range(d):
-            qb += _end_sq_bound(lo[k], hi[k], pb[k])
+            qb += _end_sq_bound(bmin[node, k], bmax[node, k], ws[3 * d + k])
         best = max(best, qb * UU)
     return best

@@ -526,7 +526,7 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
                 if lo < 0:
                     break
                 if loo:
-                    f, qq, SS = scan_loo(cols, segment, a, b, utol2, lo, hi, lw, True)
+                    f, qq, SS = scan_loo(cols, segment, a, b, utol2, lo, hi, lw)
                 else:
                     f, qq, SS = scan_line_cols(
                         cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
@@ -638,7 +638,7 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
                 if lo < 0:
                     break
                 if loo:
-                    f, qq, SS = scan_loo(Pt, segment, a, b, utol2, lo, hi, lw, True)
+                    f, qq, SS = scan_loo(Pt, segment, a, b, utol2, lo, hi, lw)
                     far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                     work += hi - lo
                     continue

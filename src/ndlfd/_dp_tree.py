@@ -166,7 +166,7 @@ def tree_workspace(tree, d, n):
         fill_tree(tree[0], tree[2], tree[3], tree[4])
         flags[0] = 1.0
     depth = 4 * (levels + 4)  # the walk's stack: (level, node) pairs
-    return np.zeros(8 * d + 10 + depth), np.empty(depth, np.int64), flags
+    return np.zeros(8 * d + 10), np.empty(depth, np.int64), flags
 
 
 @njit(cache=True, nogil=True)
@@ -193,9 +193,8 @@ def tree_split(tree, flags, a, b, far):
 
 # workspace layout: ws[0:d] = P_a, ws[d:2d] = u, ws[2d:3d] = |M e_k|,
 # ws[3d:4d] = P_b, ws[4d:5d] = scratch; then the scalars at 5d + these; then
-# the leave-one-out scales C at 5d + 10 and scratch of 2d after them; from
-# 8d + 10 on, the bound of each node on the walk's stack (tree_next)
-_U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS = 0, 1, 2, 3, 4, 5, 6, 7, 8
+# the leave-one-out scales C at 5d + 10 and scratch of 2d after them
+_U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS, _PROBE = 0, 1, 2, 3, 4, 5, 6, 7, 8, 9
 
 # ws[5d + _EXACT]: which keys exact_key_bound bounds (0: none)
 _EXACT_CROSS = 1.0  # the 2-D and 3-D line scans' cross products
@@ -282,8 +281,12 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
         ws[s + _QEPS] = exact_eps2 * S
     stack[0] = offs.shape[0] - 2  # the root: its level, then its index
     stack[1] = 0
-    ws[8 * d + 10] = math.inf  # its bound: computed when it is taken
-    return 1
+    # on top, the leaf of the last interior point, taken first: a zigzag's
+    # farthest point lies next to one end, and the walk goes left to right
+    stack[2] = 0
+    stack[3] = (b - 1) // LEAF
+    ws[s + _PROBE] = stack[3] + 0.5  # .5: not taken yet
+    return 2
 
 
 @njit(cache=True, nogil=True)
@@ -404,18 +407,9 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
             q += _cross_sq_bound(lo, hi, ws[k], D, t0, t1, ta, ws[d + k])
         return q
     if exact != _EXACT_CROSS:
-        c = 5 * d + 10
-        return loo_key_bound(
-            bmin[node],
-            bmax[node],
-            ws[:d],
-            ws[d : 2 * d],
-            ws[3 * d : 4 * d],
-            ws[c : c + d],
-            ws[5 * d + _U],
-            exact == _EXACT_LOO_SEGMENT,
-            ws[c + d : c + 3 * d],
-        )
+        segment = exact == _EXACT_LOO_SEGMENT
+        U = ws[5 * d + _U]
+        return loo_key_bound(bmin, bmax, node, ws, d, 5 * d + 10, U, segment)
     x0 = bmin[node, 0]
     x1 = bmax[node, 0]
     y0 = bmin[node, 1]
@@ -433,90 +427,62 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
 
 
 @njit(cache=True, nogil=True)
-def _bound(tree, ws, d, lv, j, exact):
-    """Node ``j`` of level ``lv``: ``(first row, end row, bound)``.
-
-    The bound is the exact key bound when on (:func:`exact_key_bound`), else
-    the widened squared distance (:func:`node_bound`): comparable between
-    nodes of one segment either way.
-    """
-    _, t, bmin, bmax, offs, _, _, _, _ = tree
-    s0 = j * (LEAF << lv)
-    e0 = min(int(ws[5 * d + _N]), s0 + (LEAF << lv))
-    if exact:
-        t0, t1 = (t[s0], t[e0 - 1]) if t.shape[0] > 0 else (0.0, 0.0)
-        return s0, e0, exact_key_bound(bmin, bmax, offs[lv] + j, ws, d, t0, t1)
-    return s0, e0, node_bound(bmin, bmax, offs[lv] + j, ws, d, t, s0, e0)
-
-
-@njit(cache=True, nogil=True)
 def tree_next(tree, ws, stack, sp, lo, hi, best_d2, best_key, best_far):
     """The next leaf range to scan for the interior ``lo..hi-1``.
 
     Returns ``(lo', hi', sp)``: a sub-range of ``lo..hi-1`` whose leaf may
     hold a point with squared distance above ``best_d2`` (the larger of
     ``epsilon²`` and the best so far); ``(-1, -1, 0)`` when none is left.
-    With the exact bounds on (:func:`tree_begin`), a node is also skipped
+    With the exact bounds on (:func:`tree_begin`), a node is skipped instead
     when no key of its points can exceed ``epsilon² S`` or the best key so
     far, ``best_key`` (``-1`` before any) at ``best_far``, nor equal it at an
     index before ``best_far`` (ties go to the first index).
 
-    The walk is depth first, the child with the larger bound first: a
-    zigzag's farthest point lies next to one end of the segment, either one,
-    and once it is found the rest of the segment is skipped. The leaves come
-    out of index order; :func:`tree_keep` keeps the first index of the
-    largest key.
+    The leaf of the segment's last interior point comes first, then the
+    walk goes depth first, left to right: a zigzag's farthest point lies
+    next to one end of the segment, either one, and once it is found the
+    rest is skipped. :func:`tree_keep` keeps the first index of the largest
+    key whatever the order of the leaves.
     """
-    offs = tree[4]
-    d = tree[2].shape[1]
+    _, t, bmin, bmax, offs, _, _, _, _ = tree
+    d = bmin.shape[1]
+    n = int(ws[5 * d + _N])
     exact = ws[5 * d + _EXACT] > 0.0
     qeps = ws[5 * d + _QEPS]
-    bounds = 8 * d + 10  # each stacked node's bound, computed when pushed
     while sp > 0:
         sp -= 1
         lv = stack[2 * sp]
         j = stack[2 * sp + 1]
-        s0 = j * (LEAF << lv)
-        e0 = min(int(ws[5 * d + _N]), s0 + (LEAF << lv))
+        span = LEAF << lv
+        s0 = j * span
+        e0 = min(n, s0 + span)
         if e0 <= lo or s0 >= hi:
             continue
-        bound = ws[bounds + sp]
-        if bound == math.inf:
-            bound = _bound(tree, ws, d, lv, j, exact)[2]
+        if lv == 0 and j + 0.5 == ws[5 * d + _PROBE]:
+            ws[5 * d + _PROBE] = j  # the probe, taken now
+        elif lv == 0 and j == ws[5 * d + _PROBE]:
+            continue  # taken first
+        node = offs[lv] + j
+        # the widened bound first (cheap), then the exact one (skips ties)
+        if node_bound(bmin, bmax, node, ws, d, t, s0, e0) <= best_d2:
+            continue
         if exact:
+            t0, t1 = (t[s0], t[e0 - 1]) if t.shape[0] > 0 else (0.0, 0.0)
+            bound = exact_key_bound(bmin, bmax, node, ws, d, t0, t1)
             if bound <= qeps or bound < best_key:
                 continue
             if bound == best_key and max(s0, lo) > best_far:
                 continue
-        elif bound <= best_d2:
-            continue
-        if (
-            exact
-            and node_bound(tree[2], tree[3], offs[lv] + j, ws, d, tree[1], s0, e0)
-            <= best_d2
-        ):
-            continue
         if lv == 0:
             return max(s0, lo), min(e0, hi), sp
         c = 2 * j
         if c + 1 < offs[lv] - offs[lv - 1]:
-            # push the child with the smaller bound first: the other is next
-            b0 = _bound(tree, ws, d, lv - 1, c, exact)[2]
-            b1 = _bound(tree, ws, d, lv - 1, c + 1, exact)[2]
-            first, second = (c, c + 1) if b1 > b0 else (c + 1, c)
             stack[2 * sp] = lv - 1
-            stack[2 * sp + 1] = first
-            ws[bounds + sp] = b0 if first == c else b1
+            stack[2 * sp + 1] = c + 1
             sp += 1
-            stack[2 * sp] = lv - 1
-            stack[2 * sp + 1] = second
-            ws[bounds + sp] = b0 if second == c else b1
-            sp += 1
-        else:
-            stack[2 * sp] = lv - 1
-            stack[2 * sp + 1] = c
-            ws[bounds + sp] = math.inf
-            sp += 1
+        stack[2 * sp] = lv - 1
+        stack[2 * sp + 1] = c
+        sp += 1
     return -1, -1, 0
 
 
