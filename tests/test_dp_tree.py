@@ -207,6 +207,16 @@ def test_a_flat_zigzag_is_pruned_exactly_in_line_mode(d):
     assert tree_kept.tolist() == dp_reference(Q, 0.1).tolist()
 
 
+def _kernel_work(P, epsilon, mode, times=None):
+    """``(work, keep)`` of the column-major kernel on the whole of ``P``."""
+    n = P.shape[0]
+    job = _simplify._prepare(P, epsilon, mode, None, times, None)
+    keep = np.zeros(n, np.uint8)
+    dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
+    work = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, _simplify._tree(job))
+    return work, keep
+
+
 def _flat_zigzag(n, d):
     """Constant height in every column but the first: every corner ties."""
     k = np.arange(n)
@@ -221,11 +231,7 @@ def _flat_zigzag(n, d):
 def test_a_flat_zigzag_is_pruned_exactly_with_leave_one_out_keys(mode, d):
     """Segment mode, and line mode past 3-D: the ties are pruned, not scanned."""
     n = 40_000
-    job = _simplify._prepare(_flat_zigzag(n, d), 0.1, mode, None, None, None)
-    keep = np.zeros(n, np.uint8)
-    tree = _simplify._tree(job)
-    dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
-    work = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    work, keep = _kernel_work(_flat_zigzag(n, d), 0.1, mode)
     assert keep.all()
     assert work < 4 * T.LEAF * n, work  # a few leaves a split; a plain scan: n²/2
 
@@ -267,11 +273,7 @@ def test_a_flat_zigzag_is_pruned_exactly_in_sed_mode(d):
     n = 40_000
     P = _flat_zigzag(n, d + 1)[:, 1:] if d == 1 else _flat_zigzag(n, d)
     times = np.arange(n, dtype=float)
-    job = _simplify._prepare(P, 0.1, "sed", None, times, None)
-    keep = np.zeros(n, np.uint8)
-    tree = _simplify._tree(job)
-    dp, _, args = _simplify._line_layout(job.P, job.t, job.mode)
-    work = dp(*args, job.eps2, job.utol2, keep, 0, n - 1, tree)
+    work, keep = _kernel_work(P, 0.1, "sed", times)
     assert keep.all()
     assert work < 4 * T.LEAF * n, work  # a few leaves a split; a plain scan: n²/2
     # the same points as the plain scans, and on a short one the reference's
