@@ -57,9 +57,9 @@ __all__ = [
     "scan_loo_range",
 ]
 
-#: Segments longer than this many points get the leave-one-out keys; the
-#: tree (:func:`ndlfd._dp_tree.make_tree`) scans only segments at least this
-#: long (``ndlfd._simplify.TREE_MIN``).
+#: Segments from lopsided splits longer than this many points get the
+#: leave-one-out keys; the tree (:func:`ndlfd._dp_tree.make_tree`) scans only
+#: segments at least this long (``ndlfd._simplify.TREE_MIN``).
 EXACT_MIN = 4096
 
 #: Points per block of :func:`scan_loo`.

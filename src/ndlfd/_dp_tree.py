@@ -234,8 +234,9 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     (:func:`exact_key_bound`): the caller passes it when its keys are
     ``scan_line2``'s or ``scan_line3``'s (2-D and 3-D ``"line"``),
     :func:`~ndlfd._dp_exact.scan_loo`'s (other ``"line"`` and ``"segment"``
-    scans of long segments from lopsided splits) or a ``"sed"`` scan's,
-    else ``-1``.
+    scans of long segments from lopsided splits), a ``"sed"`` scan's or the
+    paper determinant's, else ``-1``. The walk starts with the leaf of the
+    last interior point (see :func:`tree_next`).
     """
     P, t, _, _, offs, kind, m, _, _ = tree
     d = P.shape[1]
