@@ -120,8 +120,8 @@ def test_plain_bounds_are_above_every_loo_key(case, segment, rowwise):
 
 
 @SETTINGS
-@given(segments(), st.booleans(), st.booleans(), st.booleans(), st.data())
-def test_scan_loo_finds_the_first_largest_key(case, segment, layout, direct, data):
+@given(segments(), st.booleans(), st.booleans(), st.data())
+def test_scan_loo_finds_the_first_largest_key(case, segment, layout, data):
     P, a, b = case
     lo = data.draw(st.integers(a + 1, b - 1))
     hi = data.draw(st.integers(lo + 1, b))
@@ -131,7 +131,7 @@ def test_scan_loo_finds_the_first_largest_key(case, segment, layout, direct, dat
     Pt = np.ascontiguousarray(P.T)
     cols = tuple(Pt) if layout else Pt
     work = (buf, bits, W, B, V)
-    far, q, S = E.scan_loo(cols, segment, a, b, 0.0, lo, hi, work, direct)
+    far, q, S = E.scan_loo(cols, segment, a, b, 0.0, lo, hi, work)
     keys = _keys(P, a, b, segment)[lo:hi]
     assert far == lo + int(np.argmax(keys))  # argmax: the first on ties
     assert q == keys.max()

@@ -289,7 +289,7 @@ LOO_MANY = 16
 
 
 @njit(cache=True, nogil=True)
-def scan_loo(cols, segment, a, b, utol2, lo, hi, work, direct=False):
+def scan_loo(cols, segment, a, b, utol2, lo, hi, work):
     """Farthest point of ``(a, b)`` among ``lo..hi-1``, leave-one-out keys.
 
     ``cols`` holds the ``d`` columns (a tuple of 1-D arrays, or the
@@ -302,10 +302,9 @@ def scan_loo(cols, segment, a, b, utol2, lo, hi, work, direct=False):
     The leave-one-out form costs twice the plain residual, so each point
     first gets the plain key plus a bound of the two forms' difference
     (:data:`LOO_SLACK`); only a point whose bound beats the best so far gets
-    its :func:`loo_key` (on a random walk, a few per segment). With
-    ``direct``, every block's keys are computed column by column at once
-    (:func:`loo_keys_block`): for the leaves the tree leaves to scan, where
-    the points mostly tie (a zigzag's).
+    its :func:`loo_key` (on a random walk, a few per segment); a block
+    where more than :data:`LOO_MANY` points are candidates (a zigzag's ties)
+    gets all its keys column by column (:func:`loo_keys_block`).
     """
     d = len(cols)
     buf, bits, W, B, V = work
@@ -328,15 +327,6 @@ def scan_loo(cols, segment, a, b, utol2, lo, hi, work, direct=False):
     i0 = lo
     while i0 < hi:
         m = min(LOO_BLOCK, hi - i0)
-        if direct and not degenerate:
-            loo_keys_block(cols, i0, m, segment, U, V, B, buf)
-            for j in range(m):
-                if bits[j] > best_bits:
-                    best_bits = bits[j]
-                    bestq = buf[j]
-                    far = i0 + j
-            i0 += m
-            continue
         _plain_bounds(cols, i0, m, U, slack, degenerate, rowwise, segment, B, buf, V)
         bm = np.int64(-1)  # the block's largest bound (see ndlfd._dp_kernels)
         for j in range(m):
