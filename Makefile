@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: all venv test test-explore lint format demo bench reproduce clean
+.PHONY: all venv test test-portable test-explore lint format demo bench reproduce clean
 
 all: test
 
@@ -32,8 +32,23 @@ format: $(STAMP)
 # `make test-explore` runs the property tests with fresh random examples to hunt
 # for new counterexamples (kept in .hypothesis/); turn each one found into an
 # explicit @example or known-answer test.
-test: lint
+test: lint test-portable
 	$(BIN)/python -m pytest -q
+
+# A machine unlike this one, simulated on every run (issue 25): the identity
+# tests (bit-identical fits from stored inputs) and a smoke of the kernels,
+# the decoder and the estimator, with numpy's AVX-512 paths disabled, then its
+# AVX2/FMA paths too, and numba compiling for a generic x86-64 CPU.
+PORTABLE_TESTS := tests/learner/test_learner_identity.py tests/test_simplify.py \
+	tests/hmm/test_hmm_decode.py tests/learner/test_learner_estimator.py \
+	tests/learner/test_learner_persist.py
+test-portable: $(STAMP)
+	@for level in avx512 avx2; do \
+	  off="$$($(BIN)/python tests/cpu_dispatch.py $$level)"; \
+	  echo "portable: NPY_DISABLE_CPU_FEATURES='$$off' NUMBA_CPU_NAME=generic"; \
+	  NPY_DISABLE_CPU_FEATURES="$$off" NUMBA_CPU_NAME=generic \
+	    $(BIN)/python -m pytest -q -p no:cacheprovider $(PORTABLE_TESTS) || exit 1; \
+	done
 
 test-explore: $(STAMP)
 	NDLFD_HYPOTHESIS=explore $(BIN)/python -m pytest -q

@@ -1,18 +1,37 @@
 """Fitted models stay bit for bit what they were (issue 20: "no result changes").
 
-A small fixed data set (made here from a seeded generator, so that changes
-elsewhere cannot move it) is fitted with a few parameter sets that reach
-every per-demonstration stage of a fit: velocity given and derived (with
-regular and jittery time stamps), orientation, a gripper, the group,
-per-dimension and no normalization, weights, the ``line``, ``segment`` and
-``sed`` distances, a key-point budget, more demonstrations than templates and
-the paper's generation. The saved model file's every array and its metadata,
-and a generated path, are digested; the known answers were made with the code
-of ``main`` before the fit's per-demonstration work went into kernels.
+A small fixed data set is fitted with a few parameter sets that reach every
+per-demonstration stage of a fit: velocity given and derived (with regular and
+jittery time stamps), orientation, a gripper, the group, per-dimension and no
+normalization, weights, the ``line``, ``segment`` and ``sed`` distances, a
+key-point budget, more demonstrations than templates and the paper's
+generation. The saved model file's every array and its metadata are digested;
+the known answers were made with the code of ``main`` before the fit's
+per-demonstration work went into kernels.
+
+The data are stored (``tests/data/identity_inputs.npz``, made once by
+``tests/data/make_identity_inputs.py``), not made here: made here with
+``np.sin``/``np.cos``, their last bits followed the CPU features numpy
+dispatches to, and so did every digest (issue 25). From exact inputs, the fit
+is bit-identical on every machine: it uses only exactly rounded arithmetic,
+``np.sqrt`` and numba kernels compiled without fast-math (checked with numpy's
+AVX-512 and AVX2 paths disabled and ``NUMBA_CPU_NAME=generic``, see
+``make test-portable``).
+
+A generated path is not: its blend and its conditioning multiply small
+matrices with BLAS (``@``, ``np.linalg.solve``), and OpenBLAS picks its kernel
+by CPU, which moves the last bits (measured: at most 1.1e-12 of a column's
+range between OpenBLAS's Haswell, SkylakeX, Zen and Prescott kernels). The
+path is compared with the stored one (``tests/data/identity_paths.npz``, made
+with the Haswell kernel; its digests are those of commit 8de859a) within
+``PATH_RTOL`` of each column's range: a thousand times that spread, and far
+below any change of the method (the smallest deliberate one, issue 17, moved
+the path by 6 % of its range).
 """
 
 import hashlib
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,6 +41,14 @@ from ndlfd._fileformat import load_npz
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 
+DATA = Path(__file__).resolve().parents[1] / "data"
+INPUTS = DATA / "identity_inputs.npz"
+PATHS = DATA / "identity_paths.npz"
+
+#: Tolerance of a generated path against the stored one, relative to each
+#: column's range (see the module's docstring).
+PATH_RTOL = 1e-9
+
 
 def _digest(a) -> str:
     a = np.ascontiguousarray(a)
@@ -30,57 +57,27 @@ def _digest(a) -> str:
     return h.hexdigest()[:16]
 
 
-def _arm(n_demos=14, seed=11):
-    """3-D reaches with a turning orientation and a gripper closing mid-way.
-
-    Lengths 300 to 1,000 samples; every third has jittery time stamps (the
-    velocity is then derived by the window fit), one has a pause.
-    """
-    rng = np.random.default_rng(seed)
-    demos = []
-    for k in range(n_demos):
-        n = int(rng.integers(300, 1001))
-        dt = np.full(n - 1, rng.uniform(0.004, 0.012))
-        if k % 3 == 2:
-            dt *= rng.uniform(0.6, 1.4, n - 1)  # logging jitter
-        t = np.concatenate([[rng.uniform(0.0, 5.0)], np.cumsum(dt)])
-        t[1:] += t[0]
-        s = (t - t[0]) / (t[-1] - t[0])
-        s = s**3 * (10 - 15 * s + 6 * s**2)  # minimum jerk
-        if k == 5:
-            s = np.where(s > 0.5, np.maximum(s, 0.5), s)  # a pause
-        a = np.array([0.4, -0.2, 0.3]) + rng.normal(0, 0.02, 3)
-        b = np.array([0.9, 0.35, 0.1]) + rng.normal(0, 0.02, 3)
-        bow = np.outer(np.sin(np.pi * s), [0.0, 0.0, rng.uniform(0.05, 0.2)])
-        P = a + s[:, None] * (b - a) + bow + rng.normal(0, 0.002, (n, 3))
-        half = 0.5 * (0.9 * s + rng.normal(0, 0.01, n))
-        q = np.column_stack(
-            [np.cos(half), np.sin(half) * 0.6, np.sin(half) * 0.8, 0 * half]
-        )
-        if k % 2:
-            q = -q  # the same rotations, sign-aligned on construction
-        grip = (s > rng.uniform(0.4, 0.6)).astype(float)
-        demos.append(
-            Demonstration.from_arrays(t, position=P, orientation=q, gripper=grip)
-        )
-    return demos
+def _stored(name: str) -> list[Demonstration]:
+    """The demonstrations of data set ``name`` from the stored inputs."""
+    with np.load(INPUTS, allow_pickle=False) as z:
+        arrays = {key: z[key] for key in z.files if key.startswith(f"{name}/")}
+    demos: dict[str, dict[str, np.ndarray]] = {}
+    for key, value in arrays.items():
+        _, k, field = key.split("/")
+        demos.setdefault(k, {})[field] = value
+    return [
+        Demonstration.from_arrays(d.pop("t"), **d) for _, d in sorted(demos.items())
+    ]
 
 
-def _loops(n_demos=10, seed=4):
-    """2-D loops with given velocity, 120 to 200 samples, variable speed."""
-    rng = np.random.default_rng(seed)
-    demos = []
-    for _ in range(n_demos):
-        n = int(rng.integers(120, 201))
-        t = np.linspace(0.0, rng.uniform(1.5, 2.5), n)
-        s = t / t[-1]
-        s = s + 0.1 * np.sin(2 * np.pi * s) / (2 * np.pi)
-        r = 1.0 + rng.normal(0, 0.03)
-        P = np.column_stack([r * np.cos(2 * np.pi * s), 0.5 * np.sin(4 * np.pi * s)])
-        P += rng.normal(0, 0.01, P.shape)
-        V = np.gradient(P, t, axis=0) + rng.normal(0, 0.05, P.shape)
-        demos.append(Demonstration.from_arrays(t, position=P, velocity=V))
-    return demos
+def _arm():
+    """3-D reaches with orientation and a gripper (make_identity_inputs.arm)."""
+    return _stored("arm")
+
+
+def _loops():
+    """2-D loops with given velocity (make_identity_inputs.loops)."""
+    return _stored("loops")
 
 
 #: name -> (data, parameters, generation keywords)
@@ -119,8 +116,12 @@ CASES = {
 }
 
 
-def fit_digests(name: str, tmp_path) -> dict[str, str]:
-    """Digest of every array and of the metadata of the saved model, and of a path."""
+def fit_digests(name: str, tmp_path) -> tuple[dict[str, str], np.ndarray]:
+    """Digests of the saved model's arrays and metadata and of the path's times.
+
+    Returns them and the generated path's values, of shape (157, n_dims) (or
+    the paper's key points).
+    """
     data, params, gen = CASES[name]
     demos = data()
     if data is _arm:
@@ -141,21 +142,19 @@ def fit_digests(name: str, tmp_path) -> dict[str, str]:
     else:
         path = model.generate(times, dense=True, **gen)
     out["path_t"] = _digest(path.t)
-    out["path_X"] = _digest(path.X)
-    return out
+    return out, path.X
 
 
-#: Made with the code of main at 236076e (before the kernels of issue 20).
-#: Two generated paths changed since, on purpose and not in the fit: the
+#: Made with the code of main at 236076e (before the kernels of issue 20); every
+#: array of the fitted models is still the one of 236076e. The generated paths
+#: are in PATHS (two of them changed since, on purpose and not in the fit: the
 #: conditioned generation of "arm" (a start) and "arm-segment-weights" (a goal)
-#: now absorbs the offset by the gripper's first switch and conditions the blend
-#: on the point (issue 17; largest change 0.016 m of a 0.26 m range); every
-#: array of the fitted models is still the one of 236076e.
+#: absorbs the offset by the gripper's first switch and conditions the blend on
+#: the point, issue 17; largest change 0.016 m of a 0.26 m range).
 KNOWN = {
     "arm": {
         "levels": "5592826e066ab9dd",
         "metadata": "630ab416e5447dd8",
-        "path_X": "3de3b0ad70460fee",  # see the note above KNOWN
         "path_t": "6bd512c94f06d691",
         "scaler_max": "87608c841d35f4b2",
         "scaler_min": "816b7231b8a541a9",
@@ -180,7 +179,6 @@ KNOWN = {
     "arm-segment-weights": {
         "levels": "ed5bcc4dfb38dae6",
         "metadata": "8ffc3fb481fd6517",
-        "path_X": "2282804d341580b0",  # see the note above KNOWN
         "path_t": "6bd512c94f06d691",
         "scaler_max": "87608c841d35f4b2",
         "scaler_min": "816b7231b8a541a9",
@@ -205,7 +203,6 @@ KNOWN = {
     "loops-none": {
         "levels": "792106b82d551d65",
         "metadata": "eaedcbcf6cf3aa15",
-        "path_X": "68155d117e76eefc",
         "path_t": "089f2fcb5a2fc37d",
         "scaler_max": "38a2dac65eada0dc",
         "scaler_min": "15cd8b7cd8b89d38",
@@ -230,7 +227,6 @@ KNOWN = {
     "loops-paper": {
         "levels": "792106b82d551d65",
         "metadata": "bbc18c976e5bd589",
-        "path_X": "ae4f6fbf59ffcc42",
         "path_t": "ba384e32f1d7e751",
         "scaler_max": "fcf06f708090494f",
         "scaler_min": "39c5246347b58bea",
@@ -255,7 +251,6 @@ KNOWN = {
     "loops-sed-budget": {
         "levels": "792106b82d551d65",
         "metadata": "beb4d0027c742327",
-        "path_X": "8ada2ea9d196370b",
         "path_t": "089f2fcb5a2fc37d",
         "scaler_max": "1ef73a5339fa336b",
         "scaler_min": "7c47a99cb6da902c",
@@ -282,7 +277,39 @@ KNOWN = {
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_fitted_models_are_bit_identical_to_the_known_answer(name, tmp_path):
-    got = fit_digests(name, tmp_path)
+    got, path = fit_digests(name, tmp_path)
     want = KNOWN[name]
     changed = sorted(k for k in set(got) | set(want) if got.get(k) != want.get(k))
     assert not changed, f"{name}: changed {changed}"
+    with np.load(PATHS, allow_pickle=False) as z:
+        known = z[name]
+    assert path.shape == known.shape
+    scale = np.ptp(known, axis=0)
+    scale[scale == 0] = 1.0
+    worst = float((np.abs(path - known) / scale).max())
+    assert worst <= PATH_RTOL, f"{name}: path moved by {worst:.3g} of its range"
+
+
+def test_stored_inputs_are_the_documented_data():
+    """The stored inputs are what make_identity_inputs.py's generator makes.
+
+    Compared within 1e-12 (relative), not bitwise: the generator's np.sin and
+    np.cos round differently on different CPUs, which is why the data are
+    stored; anything else (a wrong seed, shape or field) is far outside.
+    """
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "make_identity_inputs", DATA / "make_identity_inputs.py"
+    )
+    maker = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(maker)
+    for name, make in (("arm", maker.arm), ("loops", maker.loops)):
+        stored = _stored(name)
+        fresh = make()
+        assert len(stored) == len(fresh)
+        for demo, raw in zip(stored, fresh, strict=True):
+            want = Demonstration.from_arrays(raw.pop("t"), **raw)
+            assert demo.columns == want.columns
+            np.testing.assert_array_equal(demo.t, want.t)
+            np.testing.assert_allclose(demo.X, want.X, rtol=1e-12, atol=1e-15)
