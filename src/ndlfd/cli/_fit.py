@@ -22,6 +22,7 @@ from ..learner import (
     KeypointHMM,
     check_params,
     resolve_groups,
+    route_columns,
 )
 from ._options import (
     add_column_options,
@@ -188,6 +189,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         decoder=args.decoder,
         n_jobs=args.n_jobs,
         match_window=args.match_window,
+        n_routes=args.routes,
+        route_groups=args.route_groups,
         random_state=args.random_state,
     )
     check_params(model.get_params())  # as fit does, before connecting
@@ -228,6 +231,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         f" {model.n_states_used_} of {model.codebook_.n_states} states used,"
         f" {time_bins} time bins{note} -> {out}",
     )
+    say(args, describe_routes(model))
     unused = [g for g in first.group_names if g not in groups]
     if unused:
         say(
@@ -237,6 +241,25 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             f" {','.join([*groups, *unused])})",
         )
     return 0
+
+
+def describe_routes(model) -> str:
+    """One line: the routes found, their demonstrations, the groups judged."""
+    sizes = np.bincount(model.routes_)
+    judged = sorted({model.column_groups_[c] for c in route_columns(
+        model.column_groups_, model.route_groups)})  # fmt: skip
+    how = "asked for (--routes)" if model.n_routes is not None else "found"
+    if sizes.size == 1:
+        return (
+            f"routes: 1 {how} on {', '.join(judged)}: every demonstration"
+            " blended (--routes N to ask for more)"
+        )
+    each = ", ".join(f"route {r}: {n}" for r, n in enumerate(sizes))
+    return (
+        f"routes: {sizes.size} {how} on {', '.join(judged)} ({each}"
+        " demonstrations); a path follows one (the largest unless a start, goal,"
+        " via point or prefix selects another)"
+    )
 
 
 def add_fit(sub) -> None:
@@ -310,6 +333,22 @@ def add_fit(sub) -> None:
         help="the blend matches key points on each demonstration's moving average"
         " over this fraction of its samples each side, 0 to 0.5 (default"
         f" {defaults.match_window}; 0: raw samples, which spike on noisy data)",
+    )
+    p.add_argument(
+        "--routes",
+        type=int,
+        default=None,
+        metavar="N",
+        help="how many routes the demonstrations take (default: found from the"
+        " gaps between them on the route groups)",
+    )
+    p.add_argument(
+        "--route-groups",
+        type=lambda text: [g.strip() for g in text.split(",") if g.strip()],
+        default=None,
+        metavar="G1,G2",
+        help="the groups routes are judged on (default: position, else every"
+        " group but velocity, orientation, force and gripper)",
     )
     p.add_argument(
         "--random-state",

@@ -24,6 +24,7 @@ from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_params
 from ._passes import collect_statistics, scan_ranges
 from ._persist import load_model, model_file_errors, save_model
+from ._routes import model_routes
 from ._sampling import sample_paths
 from ._segments import learned_from_stats
 from ._spec import DemoSpec
@@ -90,6 +91,12 @@ class KeypointHMM(ParamsMixin):
         average over this fraction of its samples on each side (0: raw
         samples, which spike towards the key points on noisy data; see
         :mod:`ndlfd.learner._blend`). Between 0 and 0.5.
+    n_routes : int, optional
+        How many routes the demonstrations take; by default found
+        (:mod:`ndlfd.learner._routes`: gaps on the route groups).
+    route_groups : list of str, optional
+        The groups routes are judged on; by default ``position``, else every
+        group but velocity, orientation, force and gripper.
     random_state : None, int or Generator, default=None
         Chooses the templates when there are more than ``max_templates``
         demonstrations (:mod:`ndlfd.learner._templates`); ``None`` is seed 0.
@@ -123,6 +130,8 @@ class KeypointHMM(ParamsMixin):
         The statistics the model was built from (the attributes above view it).
     n_clipped_ : int
         Values clipped by the codebook while fitting.
+    routes_ : ndarray of shape (n_demos,), dtype int64
+        Each demonstration's route, numbered from 0 by first demonstration.
 
     Examples
     --------
@@ -154,6 +163,8 @@ class KeypointHMM(ParamsMixin):
         n_jobs=None,
         max_templates=200,
         match_window=MATCH_WINDOW,
+        n_routes=None,
+        route_groups=None,
         random_state=None,
     ):
         self.groups = groups
@@ -173,6 +184,8 @@ class KeypointHMM(ParamsMixin):
         self.n_jobs = n_jobs
         self.max_templates = max_templates
         self.match_window = match_window
+        self.n_routes = n_routes
+        self.route_groups = route_groups
         self.random_state = random_state
 
     def _check_fitted(self) -> None:
@@ -231,26 +244,8 @@ class KeypointHMM(ParamsMixin):
                 self.set_params(**changes)
                 check_params(self.get_params())
             spec, stats = collect_statistics(self.get_params(), scanned)
-        self._set_fitted(spec, stats)
+        _set_fitted(self, spec, stats)
         return self
-
-    def _set_fitted(self, spec: DemoSpec, stats: FitStats | None) -> None:
-        """The learned attributes: the groups, the stages and the statistics."""
-        self.columns_, self.column_groups_ = spec.columns, spec.col_groups
-        self.groups_ = spec.groups
-        self.scaler_, self.codebook_ = spec.scaler, spec.codebook
-        self.time_bins_ = spec.time_bins
-        self._cache = ModelCache()  # computed when first asked (never saved)
-        if stats is not None:
-            vars(self).update(
-                learned_from_stats(
-                    stats,
-                    self.codebook_.n_states,
-                    self.n_time_bins,
-                    pseudo_transition=self.pseudo_transition,
-                    pseudo_emission=self.pseudo_emission,
-                )
-            )
 
     # ---------------------------------------------------------------- generate
     def timing(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -424,8 +419,28 @@ class KeypointHMM(ParamsMixin):
         with model_file_errors(path):
             file = load_model(path, make)
             self = file.estimator
-            self._set_fitted(file.spec(tuple(self.groups)), file.stats)
+            _set_fitted(self, file.spec(tuple(self.groups)), file.stats)
             vars(self).update(file.v1)  # a version-1 file: key points and HMM
             self.n_states_used_ = file.n_states_used
             self.n_clipped_ = file.n_clipped
         return self
+
+
+def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
+    """The learned attributes: the groups, the stages, the statistics, the routes."""
+    est.columns_, est.column_groups_ = spec.columns, spec.col_groups
+    est.groups_ = spec.groups
+    est.scaler_, est.codebook_ = spec.scaler, spec.codebook
+    est.time_bins_ = spec.time_bins
+    est._cache = ModelCache()  # computed when first asked (never saved)
+    if stats is not None:
+        vars(est).update(
+            learned_from_stats(
+                stats,
+                est.codebook_.n_states,
+                est.n_time_bins,
+                pseudo_transition=est.pseudo_transition,
+                pseudo_emission=est.pseudo_emission,
+            )
+        )
+        est.routes_ = model_routes(est)

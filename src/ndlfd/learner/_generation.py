@@ -39,7 +39,7 @@ from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
 from ._filtering import route_posterior
 from ._phase import warp_for
-from ._routes import choose_route, route_labels, segment_paths
+from ._routes import choose_route
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 from ._via import (
@@ -180,15 +180,14 @@ def demo_log_weights(est, start, goal, cache: dict):
     cache : dict
         What depends on the training data only, computed on first use: the
         conditioning kernel widths (see
-        :func:`~ndlfd.learner._conditioning.log_weights_for`) and the routes
-        (:func:`~ndlfd.learner._routes.route_labels`, under ``"routes"``).
+        :func:`~ndlfd.learner._conditioning.log_weights_for`).
 
     Returns
     -------
     log_weights : ndarray of shape (n_demos,)
         0 for every demonstration without a start or goal.
     routes : ndarray of shape (n_demos,), dtype int64
-        Each demonstration's route.
+        Each demonstration's route (``est.routes_``, found at fit).
     """
     if not hasattr(est, "train_values_"):
         raise ValidationError(
@@ -200,10 +199,7 @@ def demo_log_weights(est, start, goal, cache: dict):
     logw = logw + log_weights_for(
         goal, est.last_values_, est.scaler_, groups, cache, -1
     )
-    if "routes" not in cache:  # the training data's only: once per model
-        paths = segment_paths(est.fit_stats_, est.centroid_states_, est.n_time_bins)
-        cache["routes"] = route_labels(paths, est.template_indices_, est.centroids_)
-    return logw, cache["routes"]
+    return logw, est.routes_
 
 
 def prefix_routes(est, prefix, tq, goal, cache: ModelCache):

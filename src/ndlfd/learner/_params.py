@@ -39,6 +39,8 @@ PARAM_NAMES = (
     "n_jobs",
     "max_templates",
     "match_window",
+    "n_routes",
+    "route_groups",
     "random_state",
 )
 
@@ -85,6 +87,16 @@ def check_params(p: Mapping) -> None:
     if w > 0.5:
         raise ValidationError(
             f"match_window must be between 0 and 0.5; got {p['match_window']!r}"
+        )
+    if p["n_routes"] is not None:
+        check_positive_int(p["n_routes"], "n_routes")
+    rg = p["route_groups"]
+    if rg is not None and (
+        isinstance(rg, str) or not all(isinstance(g, str) for g in rg) or len(rg) == 0
+    ):
+        raise ValidationError(
+            "route_groups must be a non-empty list of group names, e.g."
+            f" ['position']; got {rg!r}"
         )
     rs = p["random_state"]
     if not (rs is None or isinstance(rs, (np.random.Generator, np.random.RandomState))):

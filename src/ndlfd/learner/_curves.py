@@ -1,0 +1,195 @@
+"""Route curves: demonstrations as comparable curves, and the distances between them.
+
+What :mod:`ndlfd.learner._routes` judges routes on:
+
+* :func:`route_curves`: each template as a curve of :data:`ROUTE_POINTS`
+  points on the route columns (normalized units), averaged over short windows
+  of time, then spaced half by time and half by the distance travelled (so a
+  rest takes few points and a brief detour keeps some);
+* :func:`frechet_matrix`: their discrete Fréchet distances (the least, over
+  monotone pairings of their points, of the largest distance of a pair:
+  pace-free, and where two curves differ most), compiled and on threads;
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+from numba import njit
+
+from .._parallel import thread_pool
+
+__all__ = [
+    "BAND",
+    "ROUTE_POINTS",
+    "frechet_matrix",
+    "route_curves",
+]
+
+#: Points of a template's route curve (:func:`route_curves`).
+ROUTE_POINTS = 64
+
+#: How far (a share of its points) a Fréchet pairing may run one curve ahead
+#: of the other (:func:`frechet_matrix`).
+BAND = 0.25
+
+#: Time windows a template is averaged over before its curve is spaced.
+_WINDOWS = 128
+
+
+def _window_means(U: np.ndarray, tau: np.ndarray, n: int) -> np.ndarray:
+    """The mean of the samples in each of ``n`` equal windows of time (filled)."""
+    if U.shape[0] <= 2 * n:
+        return U
+    w = np.clip((tau * n).astype(np.int64), 0, n - 1)
+    counts = np.bincount(w, minlength=n).astype(np.float64)
+    sums = np.stack([np.bincount(w, weights=c, minlength=n) for c in U.T], axis=1)
+    has = counts > 0
+    centres = (np.arange(n) + 0.5) / n
+    means = sums[has] / counts[has, None]
+    return np.stack([np.interp(centres, centres[has], c) for c in means.T], axis=1)
+
+
+def route_curves(values, taus, cols, n_points: int = ROUTE_POINTS) -> np.ndarray:
+    """Each template as a curve of ``n_points`` points on the route columns.
+
+    The samples are averaged over :data:`_WINDOWS` windows of time (when
+    there are more than twice as many), then the curve is resampled evenly
+    in ``(time + distance travelled) / 2``: the distance counts only the
+    steps above the tenth percentile of a step (what noise at rest adds).
+
+    Parameters
+    ----------
+    values : list of ndarray of shape (n_j, n_columns)
+        The templates' normalized values.
+    taus : list of ndarray of shape (n_j,)
+        Their normalized times.
+    cols : ndarray of int
+        :func:`route_columns`.
+    n_points : int, default=:data:`ROUTE_POINTS`
+
+    Returns
+    -------
+    curves : ndarray of shape (n_templates, n_points, len(cols))
+
+    Examples
+    --------
+    A line at constant speed is spaced evenly:
+
+    >>> tau = np.linspace(0.0, 1.0, 11)
+    >>> route_curves([tau[:, None]], [tau], np.array([0]), 3)[0, :, 0]
+    array([0. , 0.5, 1. ])
+    """
+    out = np.empty((len(values), n_points, len(cols)))
+    grid = np.linspace(0.0, 1.0, n_points)
+    for k, (U, tau) in enumerate(zip(values, taus, strict=True)):
+        M = _window_means(np.asarray(U, dtype=np.float64)[:, cols], tau, _WINDOWS)
+        if M.shape[0] == 1:
+            out[k] = M[0]
+            continue
+        step = np.sqrt(np.sum(np.diff(M, axis=0) ** 2, axis=1))
+        step = np.maximum(step - np.quantile(step, 0.1), 0.0)
+        length = np.r_[0.0, np.cumsum(step)]
+        clock = np.linspace(0.0, 1.0, M.shape[0])
+        u = clock if length[-1] <= 0 else 0.5 * (clock + length / length[-1])
+        out[k] = np.stack([np.interp(grid, u, c) for c in M.T], axis=1)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _frechet(A, B, band, prev, cur):  # pragma: no cover - compiled
+    """Discrete Fréchet distance of two curves, pairings within ``band`` points."""
+    n, k = A.shape[0], B.shape[0]
+    for i in range(n):
+        cur[:] = np.inf
+        lo = max(0, i - band)
+        hi = min(k, i + band + 1)
+        for j in range(lo, hi):
+            s = 0.0
+            for c in range(A.shape[1]):
+                diff = A[i, c] - B[j, c]
+                s += diff * diff
+            if i == 0 and j == 0:
+                best = s
+            elif i == 0:
+                best = cur[j - 1]
+            elif j == 0:
+                best = prev[0]
+            else:
+                best = min(prev[j], prev[j - 1], cur[j - 1])
+            cur[j] = max(best, s)
+        prev, cur = cur, prev
+    return np.sqrt(prev[k - 1])
+
+
+@njit(cache=True, nogil=True)
+def _frechet_rows(curves, others, lo, hi, lower, band):  # pragma: no cover
+    """Fréchet distances of curves ``lo..hi-1`` to every other (or to ``others``)."""
+    m = others.shape[0]
+    out = np.zeros((hi - lo, m))
+    prev = np.empty(others.shape[1])
+    cur = np.empty(others.shape[1])
+    for i in range(lo, hi):
+        for j in range(i + 1 if lower else 0, m):
+            out[i - lo, j] = _frechet(curves[i], others[j], band, prev, cur)
+    return out
+
+
+def frechet_matrix(
+    curves: np.ndarray,
+    others: np.ndarray | None = None,
+    n_jobs=None,
+    band: float = BAND,
+) -> np.ndarray:
+    """Discrete Fréchet distances between curves of one length.
+
+    The pairings run neither curve more than ``band`` of its points ahead of
+    the other (the curves are spaced alike, :func:`route_curves`);
+    each distance is computed alone, so the result does not depend on
+    ``n_jobs``.
+
+    Parameters
+    ----------
+    curves : ndarray of shape (n, n_points, n_dims)
+    others : ndarray of shape (m, n_points, n_dims), optional
+        Distances of each curve to these instead of to each other.
+    n_jobs : int, optional
+        Threads (``None``: one per CPU).
+    band : float, default=:data:`BAND`
+        A share of the points (1: every monotone pairing).
+
+    Returns
+    -------
+    distances : ndarray of shape (n, n) (symmetric, zero diagonal) or (n, m)
+
+    Examples
+    --------
+    A curve and the same curve run at another pace are 0 apart; a detour
+    counts in full:
+
+    >>> a = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> slow = np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 0.0], [2.0, 0.0]])
+    >>> detour = np.array([[0.0, 0.0], [1.0, 0.3], [1.0, 0.0], [2.0, 0.0]])
+    >>> frechet_matrix(a[None], np.stack([slow, detour]))
+    array([[0. , 0.3]])
+    """
+    curves = np.ascontiguousarray(curves, dtype=np.float64)
+    lower = others is None
+    others = curves if lower else np.ascontiguousarray(others, dtype=np.float64)
+    band = max(1, int(np.ceil(band * curves.shape[1])))
+    n = curves.shape[0]
+    workers = max(1, min(n_jobs or os.cpu_count() or 1, n // 16))
+    cuts = np.linspace(0, n, workers + 1).astype(np.int64)
+    if lower:  # the upper triangle: rows of equal work, not equal count
+        cuts = np.round(n - np.sqrt(np.linspace(1.0, 0.0, workers + 1)) * n)
+        cuts = cuts.astype(np.int64)
+
+    def rows(k):
+        return _frechet_rows(curves, others, cuts[k], cuts[k + 1], lower, band)
+
+    if workers == 1:
+        D = rows(0)
+    else:
+        D = np.concatenate(list(thread_pool(workers).map(rows, range(workers))))
+    return D + D.T if lower else D
