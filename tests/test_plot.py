@@ -255,3 +255,27 @@ def test_plot_samples_draws_thin_lines_with_one_label():
         plot_samples(ax, [])
     with pytest.raises(ValidationError, match=r"shape \(n_samples, 2 or 3\)"):
         plot_samples(ax, [s])
+
+
+def test_plot_demos_colours_each_route_and_labels_its_size():
+    from ndlfd.plot import ROUTE_COLORS
+
+    demos = [_demo(2, s) for s in range(5)]
+    routes = [0, 1, 0, 2, 1]
+    ax = plot_demos(demos, keypoints=[np.array([0, 29])] * 5, routes=routes)
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == [
+        "route 0 (2 demonstrations)",
+        "route 1 (2 demonstrations)",
+        "route 2 (1 demonstrations)",
+    ]
+    # every demonstration: line, key points, start, goal; line and dots in
+    # the route's colour
+    for i, r in enumerate(routes):
+        line, dots = ax.lines[4 * i], ax.lines[4 * i + 1]
+        assert line.get_color() == ROUTE_COLORS[r] == dots.get_color()
+    # one route: the plain colour and label
+    ax = plot_demos(demos, routes=[0] * 5)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["demonstrations"]
+    with pytest.raises(ValidationError, match="one route per demonstration"):
+        plot_demos(demos, routes=[0, 1])

@@ -40,6 +40,10 @@ GEN_COLOR = "#d62728"
 TEST_COLOR = "#222222"
 #: Colours of an orientation triad's x, y and z axes (red, green, blue, as RViz).
 TRIAD_COLORS = ("#d62728", "#2ca02c", "#1f77b4")
+#: Colours of the demonstrations' routes, in order (lines and key points;
+#: none is GEN_COLOR, the generated path's).
+ROUTE_COLORS = ("#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b")
+
 #: Colours of compared generators, in order (ndlfd itself is always GEN_COLOR).
 PALETTE = (
     "#1f77b4",
@@ -130,7 +134,9 @@ def _xyz(values: np.ndarray) -> list[np.ndarray]:
     return [values[:, c] for c in range(min(values.shape[1], 3))]
 
 
-def plot_path(ax, values, *, keypoints=None, label=None, color=DEMO_COLOR, **kw):
+def plot_path(
+    ax, values, *, keypoints=None, label=None, color=DEMO_COLOR, key_color=None, **kw
+):
     """Draw one path (2-D or 3-D) with optional key points, start and goal marks.
 
     Parameters
@@ -145,6 +151,8 @@ def plot_path(ax, values, *, keypoints=None, label=None, color=DEMO_COLOR, **kw)
         Legend label.
     color : str
         Line colour.
+    key_color : str, optional
+        Colour of the key-point dots (default: one dark blue for all).
     **kw
         Passed to ``ax.plot`` for the line.
 
@@ -161,7 +169,8 @@ def plot_path(ax, values, *, keypoints=None, label=None, color=DEMO_COLOR, **kw)
     ax.plot(*cols, color=color, label=label, **kw)
     if keypoints is not None:
         K = V[np.asarray(keypoints, dtype=np.int64)]
-        ax.plot(*_xyz(K), "o", color=KEY_COLOR, markersize=3.5, linestyle="none")
+        dots = KEY_COLOR if key_color is None else key_color
+        ax.plot(*_xyz(K), "o", color=dots, markersize=3.5, linestyle="none")
     ax.plot(*_xyz(V[:1]), "x", color="black", markersize=8, mew=2, linestyle="none")
     ax.plot(*_xyz(V[-1:]), "*", color="black", markersize=11, linestyle="none")
     return ax
@@ -328,6 +337,7 @@ def plot_demos(
     ax=None,
     title: str | None = None,
     max_demos: int | None = 30,
+    routes=None,
 ):
     """Plot demonstrations, their key points, a generated path and a test path.
 
@@ -349,6 +359,9 @@ def plot_demos(
         Axes title.
     max_demos : int or None, default=30
         Draw at most this many demonstrations (all if None).
+    routes : array-like of int, optional
+        Each demonstration's route (``KeypointHMM.routes_``): with more than
+        one, each route in its own colour, labelled with its number and size.
 
     Returns
     -------
@@ -362,17 +375,25 @@ def plot_demos(
     if ax is None:
         _, (ax,) = new_figure(1, dims=dims)
     shown = demos if max_demos is None else demos[:max_demos]
+    routes = None if routes is None else np.asarray(routes, dtype=np.int64)
+    if routes is not None and routes.shape != (len(demos),):
+        raise ValidationError(
+            f"routes must hold one route per demonstration ({len(demos)}); got"
+            f" shape {routes.shape}"
+        )
+    several = routes is not None and np.unique(routes).size > 1
+    labelled: set = set()
     for i, d in enumerate(shown):
         kp = None if keypoints is None else keypoints[i]
-        plot_path(
-            ax,
-            d.get(group),
-            keypoints=kp,
-            color=DEMO_COLOR,
-            lw=0.8,
-            alpha=0.7,
-            label="demonstrations" if i == 0 else None,
-        )
+        color, label = DEMO_COLOR, "demonstrations" if i == 0 else None
+        if several:
+            r = int(routes[i])
+            color = ROUTE_COLORS[r % len(ROUTE_COLORS)]
+            n_r = int(np.sum(routes == r))
+            label = None if r in labelled else f"route {r} ({n_r} demonstrations)"
+            labelled.add(r)
+        plot_path(ax, d.get(group), keypoints=kp, color=color, lw=0.8, alpha=0.7,
+                  label=label, key_color=color if several else None)  # fmt: skip
     if test is not None:
         plot_path(ax, test.get(group), color=TEST_COLOR, lw=1.2, ls="--", label="test")
     if generated is not None:

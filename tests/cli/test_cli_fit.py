@@ -417,3 +417,33 @@ def test_fit_records_euler_angles_for_the_output(tmp_path, capsys):
     back = euler_to_quaternions(data[:, -3:], "xyz")
     # the same rotation (q and -q alike)
     np.testing.assert_allclose(np.abs(np.sum(q * back, axis=1)), 1.0, atol=1e-8)
+
+
+def test_fit_reports_the_routes_and_takes_an_override(tmp_path, capsys):
+    from ndlfd.synth import obstacle
+
+    folder = tmp_path / "d"
+    folder.mkdir()
+    for i, d in enumerate(obstacle(5, 3)):  # 5 over the top, 3 underneath
+        rows = np.column_stack([d.t, d.X])
+        np.savetxt(folder / f"o{i}.csv", rows, delimiter=",", header="t,x,y",
+                   comments="")  # fmt: skip
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd")
+    assert rc == 0, err
+    assert err[-1].startswith(
+        "routes: 2 found on position (route 0: 5, route 1: 3 demonstrations)"
+    )
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    np.testing.assert_array_equal(model.routes_, [0] * 5 + [1] * 3)
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "--routes", "1")
+    assert rc == 0, err
+    assert err[-1].startswith("routes: 1 asked for (--routes) on position")
+    assert KeypointHMM.load(tmp_path / "m.ndlfd").n_routes == 1
+    np.testing.assert_array_equal(KeypointHMM.load(tmp_path / "m.ndlfd").routes_, 0)
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd",
+                  "--route-groups", "velocity")  # fmt: skip
+    assert rc == 0, err
+    assert "on velocity" in err[-1]
+    rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd",
+                  "--route-groups", "force")  # fmt: skip
+    assert rc == 2 and "route_groups names none of the learned groups" in err[-1]

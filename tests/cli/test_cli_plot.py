@@ -211,3 +211,33 @@ def test_plot_draws_orientation_triads_along_a_3d_path(tmp_path, capsys, monkeyp
     assert rc == 0 and "triads" not in err[-1], err
     rc, err = cli(capsys, "plot", folder, "--triads", "-1", "-o", tmp_path / "q.png")
     assert rc == 2 and "--triads" in err[0], err
+
+
+def test_plot_colours_the_demonstrations_by_route(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from ndlfd import plot
+    from ndlfd.synth import obstacle
+
+    folder = tmp_path / "d"
+    folder.mkdir()
+    for i, d in enumerate(obstacle(4, 2)):  # 4 over the top, 2 underneath
+        rows = np.column_stack([d.t, d.X])
+        np.savetxt(folder / f"o{i}.csv", rows, delimiter=",", header="t,x,y",
+                   comments="")  # fmt: skip
+    seen = {}
+
+    def spy(*args, routes=None, **kw):
+        seen["routes"] = routes
+        return real(*args, routes=routes, **kw)
+
+    real = plot.plot_demos
+    monkeypatch.setattr(plot, "plot_demos", spy)
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png")
+    assert rc == 0, err
+    assert "coloured by route (2 routes: 4, 2 demonstrations)" in err[-1]
+    np.testing.assert_array_equal(seen["routes"], [0, 0, 0, 0, 1, 1])
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png", "--routes", "1")
+    assert rc == 0 and "coloured by route" not in err[-1]
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png", "--routes", "7")
+    assert rc == 2
+    assert "n_routes=7 is more than the 6 demonstrations" in err[-1]

@@ -26,6 +26,7 @@ from ..learner import (
 )
 from ._options import (
     add_column_options,
+    add_route_options,
     check_datasets,
     check_output,
     check_range,
@@ -334,22 +335,7 @@ def add_fit(sub) -> None:
         " over this fraction of its samples each side, 0 to 0.5 (default"
         f" {defaults.match_window}; 0: raw samples, which spike on noisy data)",
     )
-    p.add_argument(
-        "--routes",
-        type=int,
-        default=None,
-        metavar="N",
-        help="how many routes the demonstrations take (default: found from the"
-        " gaps between them on the route groups)",
-    )
-    p.add_argument(
-        "--route-groups",
-        type=lambda text: [g.strip() for g in text.split(",") if g.strip()],
-        default=None,
-        metavar="G1,G2",
-        help="the groups routes are judged on (default: position, else every"
-        " group but velocity, orientation, force and gripper)",
-    )
+    add_route_options(p)
     p.add_argument(
         "--random-state",
         type=int,

@@ -564,6 +564,26 @@ def prepare_groups(demos, maps, groups: list[str]):
 # ------------------------------------------------------- a path from a model
 
 
+def add_route_options(p) -> None:
+    """``--routes N`` and ``--route-groups`` (fit; plot colours by route)."""
+    p.add_argument(
+        "--routes",
+        type=int,
+        default=None,
+        metavar="N",
+        help="how many routes the demonstrations take (default: found from the"
+        " gaps between them on the route groups)",
+    )
+    p.add_argument(
+        "--route-groups",
+        type=lambda text: [g.strip() for g in text.split(",") if g.strip()],
+        default=None,
+        metavar="G1,G2",
+        help="the groups routes are judged on (default: position, else every"
+        " group but velocity, orientation, force and gripper)",
+    )
+
+
 def add_timing_options(p) -> None:
     """``--like``, ``--duration`` and ``--samples``."""
     p.add_argument(

@@ -10,12 +10,13 @@ import numpy as np
 from .. import plot
 from .._errors import DataFileError, ValidationError
 from .._simplify import simplify_many
-from ..demonstration import Demonstration
+from ..demonstration import Demonstration, unit_time
 from ..io import CLI_HINTS, MAPPING_DEFAULTS, csv_header, parse_table, read_file
-from ..learner import NORMALIZATIONS, KeypointHMM, resolve_groups
+from ..learner import NORMALIZATIONS, KeypointHMM, demo_routes, resolve_groups
 from ..normalize import GroupScaler
 from ._options import (
     add_column_options,
+    add_route_options,
     check_output,
     check_range,
     column_options,
@@ -139,6 +140,14 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         n_points=args.n_points,
         n_jobs=1,
     )
+    # each demonstration's route, as 'ndlfd fit' finds them (colours)
+    routes = demo_routes(
+        [scaler.transform(d, weighted=False) for d in prepared],
+        [unit_time(d.t) for d in prepared],
+        prepared[0].groups,
+        route_groups=args.route_groups,
+        n_routes=args.routes,
+    )
     group = "position" if demos[0].has_group("position") else demos[0].group_names[0]
     k = demos[0].columns_of(group).size
     path = S = None
@@ -204,6 +213,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         ax=ax,
         title=args.title,
         max_demos=None,
+        routes=routes,
     )
     if samples:
         plot.plot_samples(ax, [d.get(group) for d in samples])
@@ -224,6 +234,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     drawn = f", the generated path{band}" if path is not None else ""
     drawn += f", {len(samples)} sample(s)" if samples else ""
     drawn += triads
+    n_routes = int(routes.max()) + 1
+    if n_routes > 1:
+        sizes = ", ".join(str(int(c)) for c in np.bincount(routes))
+        drawn += f", coloured by route ({n_routes} routes: {sizes} demonstrations)"
     say(
         args,
         f"drew {len(demos)} demonstration(s) in {dims}-D ({group}) with their key"
@@ -296,6 +310,7 @@ def add_plot(sub) -> None:
         " the position is 3-D with an orientation (default 8; 0: none)",
     )
     p.add_argument("--title", help="title of the figure")
+    add_route_options(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
     add_column_options(p)
     p.set_defaults(func=quiet_news(_cmd_plot))

@@ -31,7 +31,7 @@ from ._decoding import DECODERS, STARTS
 from ._estimator import KeypointHMM
 from ._generation import GENERATIONS
 from ._params import check_params
-from ._routes import route_columns
+from ._routes import demo_routes, route_columns
 from ._spec import AUTO_GROUPS, DEFAULT_LEVELS, NORMALIZATIONS, resolve_groups
 from ._stats import FitStats, RangeStats
 
@@ -47,6 +47,7 @@ __all__ = [
     "KeypointHMM",
     "RangeStats",
     "check_params",
+    "demo_routes",
     "minimum_jerk",
     "pin_offset",
     "resolve_groups",

@@ -75,7 +75,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._errors import ValidationError
-from .._validation import check_work_size
+from .._validation import check_positive_int, check_work_size
 from ._curves import frechet_matrix, route_curves
 
 __all__ = [
@@ -83,6 +83,7 @@ __all__ = [
     "MAX_JUDGED",
     "MIN_GAP",
     "choose_route",
+    "demo_routes",
     "model_routes",
     "route_columns",
     "route_labels",
@@ -464,6 +465,52 @@ def route_labels(
             near = np.argmin(frechet_matrix(segment_curves(rows), ref), axis=1)
             labels[rows] = near
     return labels
+
+
+def demo_routes(
+    values, taus, column_groups, route_groups=None, n_routes: int | None = None
+) -> np.ndarray:
+    """Routes of demonstrations given as normalized values (no model needed).
+
+    What ``ndlfd plot`` colours demonstrations by: :func:`route_labels` with
+    every demonstration a template.
+
+    Parameters
+    ----------
+    values : list of ndarray of shape (n_j, n_columns)
+        Normalized values (a :class:`~ndlfd.GroupScaler`'s, unweighted).
+    taus : list of ndarray of shape (n_j,)
+        Normalized times.
+    column_groups : sequence of str
+    route_groups : sequence of str, optional
+    n_routes : int, optional
+
+    Returns
+    -------
+    routes : ndarray of shape (n_demos,), dtype int64
+
+    Examples
+    --------
+    >>> tau = np.linspace(0.0, 1.0, 50)
+    >>> V = [np.column_stack([tau, s * np.sin(np.pi * tau)]) for s in (.3, .31, -.3)]
+    >>> demo_routes(V, [tau] * 3, ("position", "position"))
+    array([0, 0, 1])
+    """
+    n = len(values)
+    cols = route_columns(column_groups, route_groups)
+    if cols.size == 0:
+        raise ValidationError(
+            f"route_groups names none of the groups {sorted(set(column_groups))};"
+            f" got {list(route_groups)!r}"
+        )
+    if n_routes is not None:
+        check_positive_int(n_routes, "n_routes")
+        if n_routes > min(n, MAX_JUDGED):
+            raise ValidationError(
+                f"n_routes={n_routes} is more than the {min(n, MAX_JUDGED)}"
+                " demonstrations the routes are judged on"
+            )
+    return route_labels(values, taus, np.arange(n), n, cols, n_routes=n_routes)
 
 
 def model_routes(est) -> np.ndarray:
