@@ -12,11 +12,9 @@ from learner_helpers import (
 )
 from ndlfd import (
     ValidationError,
-    hmm,
 )
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM, minimum_jerk
-from ndlfd.learner._segments import segment_states
 from ndlfd.metrics import dtw_distance
 
 
@@ -110,37 +108,46 @@ def test_a_conditioned_path_follows_the_matching_route():
         assert dtw_distance(P, both, normalize=True) > 0.25
 
 
-def test_band_is_the_posterior_spread_of_the_centroids():
-    demos = two_routes(per_route=2)
+def test_band_is_the_spread_of_the_route_s_aligned_templates():
+    # the reference: each template of the followed route warped by hand
+    # (np.interp of its values at its matched times), their weighted std
+    from ndlfd.learner._generation import make_plan
+
+    demos = two_routes(per_route=3)
     model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10)
     model.fit(demos)
-    t = np.linspace(0.0, 2.0, 41)  # a sample at bin 4's centre
+    t = np.linspace(0.0, 2.0, 41)
     _, std = model.generate(t, dense=True, return_std=True)
     assert std.shape == (41, 2)
-    # independent check at one bin: posterior of the segment model of the
-    # route followed (demonstrations 0 and 1: a tie goes to the first route),
-    # counted by hand
-    stats = model.fit_stats_
-    ends = np.cumsum(stats.n_keys)
-    seg = [
-        segment_states(stats.key_bins[e - n : e], stats.key_states[e - n : e], 10)
-        for n, e in zip(stats.n_keys[:2], ends[:2], strict=True)
-    ]
-    route = hmm.estimate(seg, [np.arange(10)] * 2, model.codebook_.n_states, 10)
-    post = hmm.posterior(route, np.arange(10))
-    C = model.centroids_[np.searchsorted(model.centroid_states_, post.states)]
-    g = post.probabilities[4] / post.probabilities[4].sum()
-    mu = g @ C
-    sd_u = np.sqrt(g @ (C - mu) ** 2)
-    sd = sd_u * (model.scaler_.data_max_ - model.scaler_.data_min_)
-    tau = (t - t[0]) / (t[-1] - t[0])
-    at = np.flatnonzero(np.isclose(tau, 0.45))  # bin 4's centre
-    assert at.size == 1
-    np.testing.assert_allclose(std[at[0]], sd, rtol=1e-9)
-    # the spread along the route, not between the routes (2 apart in y)
-    assert std[:, 1].max() < 0.2
+    plan = make_plan(model, t, None, None, model._cache)
+    tq = (t - t[0]) / (t[-1] - t[0])
+    W = []
+    for U, tau, idx in zip(plan.values, plan.taus, plan.index, strict=True):
+        at = np.interp(tq, plan.knots, tau[idx])
+        W.append(np.column_stack([np.interp(at, tau, c) for c in U.T]))
+    W = np.array(W)
+    w = plan.weights / plan.weights.sum()
+    mean = np.einsum("j,jnd->nd", w, W)
+    sd = np.sqrt(np.einsum("j,jnd->nd", w, (W - mean) ** 2))
+    want = sd * (model.scaler_.data_max_ - model.scaler_.data_min_)
+    np.testing.assert_allclose(std, want, rtol=1e-9, atol=1e-12)
+    # the route's three demonstrations differ everywhere: a real spread at
+    # every sample, small against the distance between the routes (2 in y)
+    assert np.all(std > 0)
+    assert std[:, 1].max() < 0.1
+    # key points only: the band at the key points
+    keys, kstd = model.generate(t, return_std=True)
+    assert kstd.shape == (keys.n_samples, 2) and np.all(kstd > 0)
     with pytest.raises(ValidationError, match="return_std"):
         model.set_params(generation="paper").generate(t, return_std=True)
+
+
+def test_band_of_one_demonstration_is_zero_and_of_identical_ones_too():
+    demos = two_routes(per_route=1)[:1]
+    model = KeypointHMM(groups=("position",), epsilon=0.01, n_time_bins=10)
+    _, std = model.fit(demos).generate(np.linspace(0, 2, 30), return_std=True,
+                                       dense=True)  # fmt: skip
+    np.testing.assert_array_equal(std, 0.0)
 
 
 def test_bad_start_and_goal(square):

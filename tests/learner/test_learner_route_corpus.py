@@ -103,3 +103,18 @@ def test_samples_each_follow_a_route(name):
     t = np.linspace(0.0, duration, PATH_SAMPLES)
     errors = [route_error(rs, p) for p in model.sample(t, 20, random_state=0)]
     assert max(errors) <= MAX_ROUTE_ERROR, np.round(errors, 3).tolist()
+
+
+@pytest.mark.parametrize("name", ["tf_bag", "pick_place_csv", "joint6"])
+def test_the_band_of_a_route_is_its_demonstrations_spread(name):
+    # before issue 26 the band was exactly 0 on most samples mid-swing and
+    # spiked at key points: now it is the spread of the route's templates,
+    # non-zero wherever they differ, and of the size of their spread
+    rs, model, _ = fitted(name)
+    duration = float(np.median([d.duration for d in rs.demos]))
+    t = np.linspace(0.0, duration, PATH_SAMPLES)
+    _, std = model.generate(t, dense=True, return_std=True)
+    cols = [model.columns_.index(c.split(".")[-1]) for c in rs.columns]
+    band = std[:, cols]
+    assert np.all(band > 0)
+    assert band.max() < 0.25 * rs.separation  # the route's, not between routes

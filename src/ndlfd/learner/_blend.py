@@ -51,6 +51,8 @@ __all__ = [
     "condition_offsets",
     "moving_average",
     "skeleton_times",
+    "spread",
+    "warped",
 ]
 
 
@@ -330,6 +332,26 @@ def blend(
     array([[0.],
            [1.]])
     """
+    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols)
+    mean = np.tensordot(w, W, axes=1)
+    if observed is not None:
+        mean += condition_offsets(W, w, mean, observed, ridge)
+    return mean
+
+
+def warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
+    """The demonstrations time-warped onto the skeleton, and their weights.
+
+    What :func:`blend` averages; see its parameters.
+
+    Returns
+    -------
+    W : ndarray of shape (n_demos, n_out, n_dims)
+        Each demonstration at the output times (quaternions sign-aligned to
+        the heaviest demonstration's).
+    w : ndarray of shape (n_demos,)
+        The weights, summing to 1.
+    """
     w = np.asarray(weights, dtype=np.float64)
     w = w / w.sum()
     W = np.stack(
@@ -343,10 +365,41 @@ def blend(
         for j in range(W.shape[0]):
             flip = np.sum(W[j][:, quat_cols] * ref, axis=1) < 0
             W[j][np.ix_(flip, quat_cols)] *= -1.0
-    mean = np.tensordot(w, W, axes=1)
-    if observed is not None:
-        mean += condition_offsets(W, w, mean, observed, ridge)
-    return mean
+    return W, w
+
+
+def spread(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
+    """Weighted standard deviation of the warped demonstrations at each time.
+
+    The blend's band: how much the demonstrations it averages differ where
+    they are aligned (zero only where they coincide, or for one).
+
+    Parameters
+    ----------
+    U_list, tau_list, index_list, weights, knots, tq, quat_cols
+        As :func:`blend`'s.
+
+    Returns
+    -------
+    std : ndarray of shape (n_out, n_dims)
+        Normalized units.
+
+    Examples
+    --------
+    Two lines 0.2 apart, weighted equally, spread 0.1 about their mean:
+
+    >>> tau = np.linspace(0.0, 1.0, 5)
+    >>> U = [np.zeros((5, 1)), np.full((5, 1), 0.2)]
+    >>> index = [np.array([0, 4])] * 2
+    >>> s = spread(U, [tau, tau], index, np.ones(2), np.array([0.0, 1.0]),
+    ...            np.array([0.0, 0.5]))
+    >>> np.round(s, 12)
+    array([[0.1],
+           [0.1]])
+    """
+    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols)
+    D = W - np.tensordot(w, W, axes=1)[None]
+    return np.sqrt(np.tensordot(w, D * D, axes=1))
 
 
 def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):

@@ -317,7 +317,9 @@ class KeypointHMM(ParamsMixin):
             are followed, and the path begins (ends) exactly there
             (:mod:`ndlfd.learner._conditioning`; ``"paper"``: the offset only).
         return_std : bool, default=False
-            Also return the band (blend): :func:`~ndlfd.learner._generation.band`.
+            Also return the band (blend): the weighted standard deviation of
+            the templates the path blends, as aligned
+            (:func:`~ndlfd.learner._blend.spread`).
         via, observed : list of (time, mapping) / Demonstration, optional
             Via points ``[(time, {group: values})]`` the path passes through;
             the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`).

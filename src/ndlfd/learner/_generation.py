@@ -7,8 +7,9 @@ Two generations, registered in :data:`GENERATIONS`:
   demonstrations that carry weight for the start and goal
   (:mod:`ndlfd.learner._conditioning`), aligns the templates to it, and the
   templates are blended (:mod:`ndlfd.learner._blend`); the path is pinned to
-  the start and goal, velocity is the derivative of the positions, and
-  :func:`band` gives the uncertainty band;
+  the start and goal, velocity is the derivative of the positions, and the
+  uncertainty band is the spread of the blended templates
+  (:func:`~ndlfd.learner._blend.spread`);
   the steps are written once and shared with sampling
   (:mod:`ndlfd.learner._sampling`): :func:`demo_log_weights`,
   :func:`route_model`, :func:`plan_from_states` (the plan of given bin
@@ -32,7 +33,7 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times
+from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times, spread
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
@@ -58,7 +59,6 @@ __all__ = [
     "GENERATIONS",
     "Plan",
     "aligned_templates",
-    "band",
     "decode_key_points",
     "decode_paper",
     "decode_route",
@@ -549,37 +549,6 @@ def _derive_velocity(X, tq, key_tau, all_t, column_groups) -> np.ndarray:
     return X
 
 
-def band(est, model, tq) -> np.ndarray:
-    """Posterior spread of the centroids at each output time, physical units.
-
-    Parameters
-    ----------
-    est : KeypointHMM
-        Fitted.
-    model : ndlfd.hmm.DiscreteHMM
-        The segment model the path was decoded with.
-    tq : ndarray of shape (n_out,)
-        Normalized output times.
-
-    Returns
-    -------
-    std : ndarray of shape (n_out, n_columns)
-    """
-    nt = est.n_time_bins
-    post = hmm.posterior(model, np.arange(nt), start=est.start)
-    C = est.centroids_[np.searchsorted(est.centroid_states_, post.states)]
-    gamma = post.probabilities
-    gamma = gamma / gamma.sum(axis=1, keepdims=True)
-    sd = np.empty((gamma.shape[0], C.shape[1]))
-    for b, g in enumerate(gamma):  # two passes over the states with mass
-        nz = np.flatnonzero(g)
-        dev = C[nz] - g[nz] @ C[nz]
-        sd[b] = np.sqrt(g[nz] @ (dev * dev))
-    sd = est.scaler_.inverse_scale(sd)
-    centres = (np.arange(nt) + 0.5) / nt
-    return np.column_stack([np.interp(tq, centres, c) for c in sd.T])
-
-
 def _snap_physical(est, X: np.ndarray, levels: dict) -> np.ndarray:
     """Two-valued columns (a gripper) back on their values after the offsets.
 
@@ -607,6 +576,7 @@ def render(
     cache: dict,
     via=None,
     prefix=None,
+    with_std: bool = False,
 ):
     """The path of a plan: blended, in physical units, pinned, with velocity.
 
@@ -629,12 +599,18 @@ def render(
     prefix : Demonstration, optional
         Checked executed samples: the path is them, then continues from the
         last one (:func:`~ndlfd.learner._via.continue_from`; dense).
+    with_std : bool, default=False
+        Also the band: the weighted standard deviation of the templates the
+        path blends, aligned as they are blended
+        (:func:`~ndlfd.learner._blend.spread`), in physical units.
 
     Returns
     -------
     path : Demonstration
     band_tau : ndarray
         The normalized times of the path's rows.
+    std : ndarray of shape (n_rows, n_columns) or None
+        The band at the path's rows (``with_std``).
     """
     tq = est.time_bins_.normalize(all_t)
     groups = est.column_groups_
@@ -651,6 +627,12 @@ def render(
 
         phase_at, phase_obs = warp_for(mean, at, obs_tau, observed,
                                        prefix=prefix is not None)  # fmt: skip
+    std = None
+    if with_std:  # at the rows the path keeps, on the (warped) clock
+        rows = (
+            phase_at[: tq.size] if dense or prefix is not None else phase_at[tq.size :]
+        )
+        std = est.scaler_.inverse_scale(spread(*templates, rows, quat_cols=qc))
     observed = [(n_at + k, c, v) for k, c, v in observed] or None
     ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
@@ -671,10 +653,10 @@ def render(
     if prefix is not None:
         X[: prefix.t.size] = prefix.X  # the observed samples, velocity too
     if dense or prefix is not None:
-        return Demonstration(all_t, X[: tq.size], est.columns_, groups), tq
+        return Demonstration(all_t, X[: tq.size], est.columns_, groups), tq, std
     key_t = key_times(all_t, plan.key_tau)
     path = Demonstration(key_t, X[tq.size :], est.columns_, groups)
-    return path, plan.key_tau
+    return path, plan.key_tau, std
 
 
 def generate_blend(
@@ -703,11 +685,9 @@ def generate_blend(
         extra = observed_log_weights(est, prefix, tq, cache)
         route = int(np.argmax(prefix_routes(est, prefix, tq, goal, cache)[0]))
     plan = make_plan(est, all_t, start, goal, cache, extra, route)
-    path, band_tau = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
-                            via=via, prefix=prefix)  # fmt: skip
-    if not return_std:
-        return path
-    return path, band(est, plan.model, band_tau)
+    path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
+                          via=via, prefix=prefix, with_std=return_std)  # fmt: skip
+    return (path, std) if return_std else path
 
 
 def generate_paper(
