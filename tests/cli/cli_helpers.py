@@ -79,6 +79,18 @@ def write_reach(folder, sep=",", names=("t", "x", "y", "z", "qw", "qx", "qy", "q
     return folder
 
 
+def write_obstacle(folder, n_up, n_down):
+    """``synth.obstacle``'s two-route demonstrations as CSV files ``t,x,y``."""
+    from ndlfd.synth import obstacle
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for i, d in enumerate(obstacle(n_up, n_down)):
+        rows = np.column_stack([d.t, d.X])
+        np.savetxt(folder / f"o{i}.csv", rows, delimiter=",", header="t,x,y",
+                   comments="")  # fmt: skip
+    return folder
+
+
 def fit_model(folder, out, *options):
     assert main(["fit", str(folder), "-o", str(out), "-q", *options]) == 0
     return KeypointHMM.load(out)

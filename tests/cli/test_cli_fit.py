@@ -15,6 +15,7 @@ from cli_helpers import (
     own_name_demos,
     reach_demos,
     square_demos,
+    write_obstacle,
     write_reach,
 )
 
@@ -420,14 +421,7 @@ def test_fit_records_euler_angles_for_the_output(tmp_path, capsys):
 
 
 def test_fit_reports_the_routes_and_takes_an_override(tmp_path, capsys):
-    from ndlfd.synth import obstacle
-
-    folder = tmp_path / "d"
-    folder.mkdir()
-    for i, d in enumerate(obstacle(5, 3)):  # 5 over the top, 3 underneath
-        rows = np.column_stack([d.t, d.X])
-        np.savetxt(folder / f"o{i}.csv", rows, delimiter=",", header="t,x,y",
-                   comments="")  # fmt: skip
+    folder = write_obstacle(tmp_path / "d", 5, 3)
     rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd")
     assert rc == 0, err
     assert err[-1].startswith(

@@ -5,6 +5,7 @@ import pytest
 from cli_helpers import (
     cli,
     square_demos,
+    write_obstacle,
     write_reach,
 )
 
@@ -216,14 +217,8 @@ def test_plot_draws_orientation_triads_along_a_3d_path(tmp_path, capsys, monkeyp
 def test_plot_colours_the_demonstrations_by_route(tmp_path, capsys, monkeypatch):
     pytest.importorskip("matplotlib")
     from ndlfd import plot
-    from ndlfd.synth import obstacle
 
-    folder = tmp_path / "d"
-    folder.mkdir()
-    for i, d in enumerate(obstacle(4, 2)):  # 4 over the top, 2 underneath
-        rows = np.column_stack([d.t, d.X])
-        np.savetxt(folder / f"o{i}.csv", rows, delimiter=",", header="t,x,y",
-                   comments="")  # fmt: skip
+    folder = write_obstacle(tmp_path / "d", 4, 2)
     seen = {}
 
     def spy(*args, routes=None, **kw):
