@@ -20,8 +20,9 @@ samples averaged over short windows of time, then spaced half by time and
 half by the distance travelled, so a rest at the start or between motions
 takes few points and a brief detour keeps some, and point ``i`` of every
 curve is at about the same phase. Which curves go together is read from
-their *discrete Fréchet distances* (the least, over every monotone pairing
-of their points, of the largest distance of a pair: pace-free, and the
+their *discrete Fréchet distances* (the least, over monotone pairings of
+their points within a quarter of the curve, of the largest distance of a
+pair: pace-free, and the
 distance where two curves differ most, so a detour over 12 % of the motion
 counts in full): the minimum spanning tree under that distance, cut top
 down at its largest edge, is the single-linkage hierarchy of candidate
