@@ -1,7 +1,5 @@
 """A prefix's route by forward filtering, against enumerating every state path."""
 
-import itertools
-
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -13,9 +11,7 @@ from ndlfd.learner._filtering import (
     bin_observations,
     observation_noise,
     path_log_likelihoods,
-    route_posterior,
 )
-from ndlfd.learner._segments import segment_model
 from ndlfd.synth import obstacle
 
 
@@ -47,61 +43,6 @@ def tiny():
         levels={"position": 3}, n_time_bins=4, derive_velocity=False
     ).fit(demos)
     return demos, model
-
-
-def _brute_force(model, routes, U, tau, var):
-    """Every route's log posterior and last-bin state distribution, enumerated."""
-    m, nt = model.codebook_.n_states, model.n_time_bins
-    bins = np.minimum(np.floor(tau * nt).astype(int), nt - 1)
-    steps = int(bins[-1]) + 1
-    # the observation of a state: Gaussian around its centroid (none without)
-    L = np.zeros((steps, m))
-    for b in range(steps):
-        mean = U[bins == b].mean(axis=0)
-        for k, s in enumerate(model.centroid_states_):
-            d = mean - model.centroids_[k]
-            L[b, s] = np.prod(np.exp(-0.5 * d * d / var) / np.sqrt(2 * np.pi * var))
-    logp, last = [], []
-    for r in range(routes.max() + 1):
-        seg = segment_model(
-            model.fit_stats_, np.flatnonzero(routes == r), m, nt,
-            pseudo_transition=model.pseudo_transition,
-            pseudo_emission=model.pseudo_emission,
-        )  # fmt: skip
-        A = seg.transition_matrix(dense=True)
-        B = seg.emission_matrix(dense=True)
-        pi = seg.initial_distribution()
-        p_last = np.zeros(m)
-        for path in itertools.product(range(m), repeat=steps):
-            p = pi[path[0]] * B[path[0], 0] * L[0, path[0]]
-            for t in range(1, steps):
-                p *= A[path[t - 1], path[t]] * B[path[t], t] * L[t, path[t]]
-            p_last[path[-1]] += p
-        prior = np.mean(routes == r)
-        logp.append(np.log(prior * p_last.sum()))
-        last.append((seg.states_, p_last[seg.states_] / p_last.sum()))
-    logp = np.array(logp)
-    return logp - np.log(np.exp(logp).sum()), last
-
-
-@pytest.mark.parametrize(("who", "fraction"), [(0, 0.5), (4, 0.5), (1, 0.3), (3, 0.7)])
-def test_route_posterior_matches_enumerating_every_state_path(tiny, who, fraction):
-    demos, model = tiny
-    d = demos[who]
-    n = int(fraction * d.t.size)
-    U = model.scaler_.transform(d.X[:n], weighted=False)
-    tau = model.time_bins_.normalize(d.t)[:n]
-    cache = {}
-    routes = np.array([0, 0, 0, 1, 1])  # the first 3 go over the top
-    got, filtered = route_posterior(model, U, tau, routes, np.zeros(5), cache)
-    var = observation_noise(model, cache)
-    want, last = _brute_force(model, routes, U, tau, var)
-    np.testing.assert_allclose(got, want, rtol=1e-9, atol=1e-9)
-    for f, (states, p) in zip(filtered, last, strict=True):
-        np.testing.assert_array_equal(f.states, states)
-        np.testing.assert_allclose(f.probabilities, p, rtol=1e-9, atol=1e-12)
-    # the prefix's own route is the likelier
-    assert np.argmax(got) == routes[who]
 
 
 def _centroid_at(model, j, b):

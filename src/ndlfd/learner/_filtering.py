@@ -1,71 +1,42 @@
-"""Continuing an execution: the route by forward filtering on the segment model.
+"""Continuing an execution: how well each demonstration explains a prefix.
 
-``generate(times, observed=prefix)`` must tell from the executed samples
-which route the robot is on and how far along it is. The segment model
-(:mod:`ndlfd.learner._segments`), whose state at every time bin is the
-segment of the motion a demonstration is in, gives both exactly:
+``generate(times, observed=prefix)`` weighs the templates of the route it
+continues on (the route itself is ruled by the prefix's shape,
+:mod:`ndlfd.learner._prefix_route`) by how well each explains the executed
+samples. The segment model (:mod:`ndlfd.learner._segments`), whose state at
+every time bin is the segment of the motion a demonstration is in, gives an
+observation model:
 
-* *what the model observes*: the prefix covers the time bins ``0..b`` (``b``
-  the bin of its last sample); each bin is a step of the segment model (its
-  symbol is the bin) and the mean of the prefix's samples in it (normalized
-  units, every learned column) an observation of the step's state, Gaussian
-  around the state's centroid with a per-column variance fitted once per
-  model: the mean squared distance of the templates' bin means from the
-  centroids of their own segment states (:func:`observation_noise`; at least
-  a codebook cell's, ``width**2 / 12``). A bin without a sample is a step
-  without an observation;
-* *the route* (:func:`route_posterior`): every route
-  (:mod:`ndlfd.learner._routes`) has its segment model (its demonstrations'
-  counts); the forward pass over the prefix's bins
-  (:func:`ndlfd.hmm._decode.forward_filter`) gives ``log p(prefix |
-  route)``, and the route's posterior is that plus the log of its prior, its
-  share of the demonstrations' weight (a goal's kernel, or 1 each);
-* *the demonstrations' weights* (:func:`path_log_likelihoods`): each
-  demonstration's log-likelihood of the prefix along its own segment path,
-  the same observation model, tempered by
-  :data:`~ndlfd.learner._via.PATH_TEMPER` and added to the template
-  matching of :func:`~ndlfd.learner._via.observed_log_weights` (measured
-  there: 0.899 to 0.870 on the single shapes, 1.12 to 1.08 on Multi_Models);
-* *the state at the last observed bin* (``Filtered.probabilities`` of each
-  route) says in which segment the robot is. It is not used for the blend's
-  phase: a segment spans several bins, and the rate that matches the
-  prefix's shape (:func:`~ndlfd.learner._phase.prefix_clock`) places the
-  robot within it. Measured (leave-one-out LASA, protocol *P*, median over
-  shapes of the per-shape DTW ratio to the best peer; ``/tmp`` harness over
-  :func:`ndlfd.evaluate`, peers from the same code): the rate alone 0.899 on
-  the 26 single shapes and 1.12 on Multi_Models; the phase at the middle of
-  the filtered state's occupancy, instead of the rate, 1.23 and 1.49; the
-  rate searched only where the phase lies in that occupancy, 0.885 and
-  1.14, but worse paired fold by fold (geometric mean of the DTW ratios to
-  the rate alone 1.032 on the single shapes, 0.988 on Multi_Models); the
-  rate's cost plus the log of the probability that the route's
-  demonstrations are in the filtered state at that phase, 0.875 and 1.14
-  (paired 1.038 and 0.996); all with the template weights of before (no
-  path term). The route itself was the same in every fold.
+* *what is observed*: the prefix covers the time bins ``0..b`` (``b`` the
+  bin of its last sample); the mean of its samples in each bin
+  (:func:`bin_observations`, normalized units, every learned column) is an
+  observation of the demonstration's segment state there, Gaussian around the
+  state's centroid with a per-column variance fitted once per model: the mean
+  squared distance of the templates' bin means from the centroids of their
+  own segment states (:func:`observation_noise`; at least a codebook cell's,
+  ``width**2 / 12``). A bin without a sample is no observation;
+* *each demonstration's log-likelihood* of the prefix along its own segment
+  path (:func:`path_log_likelihoods`), tempered by
+  :data:`~ndlfd.learner._via.PATH_TEMPER` and added to the template matching
+  of :func:`~ndlfd.learner._via.observed_log_weights` (measured there: 0.899
+  to 0.870 on the single LASA shapes, 1.12 to 1.08 on Multi_Models).
 
-Exact (tested against enumerating every state path of a tiny model) and
-cheap: a step costs ``O(seen states + counted transitions)`` of the route,
-never the codebook's size; everything that depends on the training data
-only (the routes' counts, the noise) is computed once per model.
+Until issue 26 the route was chosen here too, by forward filtering on each
+route's segment model: exact, but on the plan's time bins, so a plan longer
+or shorter than the execution could take the prefix for another route, and
+the posterior could swing between two routes from one tick to the next.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._errors import DecodeError
-from ..hmm._decode import filter_tables, forward_filter
-from ..hmm._format import counts_from_arrays
-from ._routes import route_probabilities, segment_paths
-from ._segments import segment_model
+from ._routes import segment_paths
 
 __all__ = [
     "bin_observations",
-    "filter_route",
     "observation_noise",
     "path_log_likelihoods",
-    "route_counts",
-    "route_posterior",
 ]
 
 
@@ -138,131 +109,6 @@ def observation_noise(est, cache: dict) -> np.ndarray:
     var = np.maximum(sq / max(n, 1), floor)
     cache["filter noise"] = var
     return var
-
-
-def route_counts(est, routes: np.ndarray, cache: dict) -> list:
-    """Every route's segment model as counts, with its states' centroid rows.
-
-    Once per model (under ``"route counts"``): the
-    :func:`~ndlfd.learner._segments.segment_model` of the route's
-    demonstrations.
-
-    Parameters
-    ----------
-    est : KeypointHMM
-        Fitted.
-    routes : ndarray of shape (n_demos,), dtype int64
-        Each demonstration's route (numbered from 0).
-    cache : dict
-
-    Returns
-    -------
-    tables : list of (Counts, ndarray of int, FilterTables)
-        Per route, the counts, the row in ``est.centroids_`` of each of their
-        seen states, and their forward filter's tables.
-    """
-    if "route counts" in cache:
-        return cache["route counts"]
-    out = []
-    for r in range(int(routes.max()) + 1):
-        model = segment_model(
-            est.fit_stats_,
-            np.flatnonzero(routes == r),
-            est.codebook_.n_states,
-            est.n_time_bins,
-            pseudo_transition=est.pseudo_transition,
-            pseudo_emission=est.pseudo_emission,
-        )
-        counts, _ = counts_from_arrays(model.to_arrays())
-        rows = np.searchsorted(est.centroid_states_, counts.states)
-        out.append((counts, rows, filter_tables(counts, est.start)))
-    cache["route counts"] = out
-    return out
-
-
-def filter_route(est, route, means: np.ndarray, var: np.ndarray):
-    """Forward filtering of a prefix's bin means on one route's segment model.
-
-    Parameters
-    ----------
-    est : KeypointHMM
-        Fitted.
-    route : tuple
-        The route's segment model, its states' centroid rows and tables
-        (:func:`route_counts`).
-    means : ndarray of shape (n_steps, n_columns)
-        :func:`bin_observations` (normalized units; NaN rows unobserved).
-    var : ndarray of shape (n_columns,)
-        :func:`observation_noise`.
-
-    Returns
-    -------
-    filtered : ndlfd.hmm._decode.Filtered
-        The state at the last observed bin, and ``log p(prefix | route)``.
-    """
-    counts, rows, tables = route
-    C = est.centroids_[rows]
-    D = means[:, None, :] - C[None, :, :]
-    loglik = -0.5 * np.sum(D * D / var, axis=2) - 0.5 * np.sum(np.log(2 * np.pi * var))
-    loglik[np.isnan(means[:, 0])] = 0.0  # a bin without a sample: no observation
-    steps = np.arange(means.shape[0])
-    return forward_filter(counts, steps, est.start, loglik, tables)
-
-
-def route_posterior(est, prefix_U, prefix_tau, routes, log_weights, cache: dict):
-    """Every route's log posterior given a prefix, and the filtered states.
-
-    Parameters
-    ----------
-    est : KeypointHMM
-        Fitted, with training values.
-    prefix_U : ndarray of shape (n_samples, n_columns)
-        The prefix (normalized units, unweighted).
-    prefix_tau : ndarray of shape (n_samples,)
-        Its normalized times.
-    routes : ndarray of shape (n_demos,), dtype int64
-        Each demonstration's route.
-    log_weights : ndarray of shape (n_demos,)
-        The demonstrations' log weights (a goal's; 0 without): a route's
-        prior is its share (:func:`~ndlfd.learner._routes.route_probabilities`).
-    cache : dict
-
-    Returns
-    -------
-    log_posterior : ndarray of shape (n_routes,)
-        Normalized (``logsumexp`` 0).
-    filtered : list of Filtered or None
-        Per route, the state at the last observed bin (``None`` for a route
-        not considered or that cannot emit the prefix, and for the only
-        route considered: its posterior is 1 without filtering).
-
-    Raises
-    ------
-    DecodeError
-        If no route can emit the prefix.
-    """
-    with np.errstate(divide="ignore"):  # a share that underflows: not considered
-        log_prior = np.log(route_probabilities(routes, log_weights))
-    if np.isfinite(log_prior).sum() == 1:  # one route: nothing to weigh
-        return np.where(np.isfinite(log_prior), 0.0, -np.inf), [None] * log_prior.size
-    means = bin_observations(prefix_U, prefix_tau, est.n_time_bins)
-    var = observation_noise(est, cache)
-    logp = np.full(log_prior.size, -np.inf)
-    filtered: list = [None] * log_prior.size
-    error = None
-    for r, route in enumerate(route_counts(est, routes, cache)):
-        if not np.isfinite(log_prior[r]):
-            continue
-        try:
-            filtered[r] = filter_route(est, route, means, var)
-        except DecodeError as e:  # this route cannot emit the prefix's bins
-            error = e
-            continue
-        logp[r] = log_prior[r] + filtered[r].log_likelihood
-    if not np.isfinite(logp).any():
-        raise error or DecodeError("no route of the model can emit the prefix")
-    top = logp.max()
-    return logp - (top + np.log(np.sum(np.exp(logp - top)))), filtered
 
 
 def path_log_likelihoods(est, prefix_U, prefix_tau, cache: dict) -> np.ndarray:

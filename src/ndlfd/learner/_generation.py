@@ -38,9 +38,9 @@ from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
-from ._filtering import route_posterior
 from ._phase import warp_for
-from ._routes import choose_route
+from ._prefix_route import allowed_routes, prefix_stride
+from ._routes import choose_route, route_probabilities
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 from ._via import (
@@ -69,9 +69,10 @@ __all__ = [
     "observations",
     "orient_conditions",
     "plan_from_states",
-    "prefix_routes",
+    "prefix_route",
     "render",
     "route_model",
+    "route_prior",
     "template_weights",
     "times_of",
 ]
@@ -202,11 +203,14 @@ def demo_log_weights(est, start, goal, cache: dict):
     return logw, est.routes_
 
 
-def prefix_routes(est, prefix, tq, goal, cache: ModelCache):
-    """The routes' log posterior given a prefix (and a goal), and the filtered states.
+def prefix_route(est, prefix, n_times: int, goal, cache: ModelCache) -> int:
+    """The route a prefix continues on: the prior's among those not ruled out.
 
-    :func:`~ndlfd.learner._filtering.route_posterior`, each route's prior its
-    share of the goal's weight (:func:`demo_log_weights`).
+    :func:`~ndlfd.learner._prefix_route.allowed_routes` rules out the routes
+    the prefix has left (by its shape, not the plan's time); among the others
+    the one of largest weight (the most demonstrations, or a goal's,
+    :func:`~ndlfd.learner._routes.choose_route`), the same at every tick
+    until it is ruled out.
 
     Parameters
     ----------
@@ -214,20 +218,34 @@ def prefix_routes(est, prefix, tq, goal, cache: ModelCache):
         Fitted.
     prefix : Demonstration
         Checked (:func:`~ndlfd.learner._via.check_observed`).
-    tq : ndarray of shape (n_samples,)
-        Normalized times of the whole timing.
+    n_times : int
+        Time stamps of the timing (:func:`~ndlfd.learner._prefix_route.prefix_stride`).
     goal : dict of str to ndarray, or None
     cache : ModelCache
 
     Returns
     -------
-    log_posterior : ndarray of shape (n_routes,)
-    filtered : list of ndlfd.hmm._decode.Filtered or None
-        Per route, the segment state at the last observed bin.
+    route : int
     """
     logw, routes = demo_log_weights(est, None, goal, cache)
+    allowed = route_prior(est, prefix, n_times, logw, routes, cache)
+    return int(np.argmax(allowed))
+
+
+def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:
+    """Each route's prior share, zero for the routes a prefix ruled out.
+
+    Returns
+    -------
+    p : ndarray of shape (n_routes,)
+        Sums to 1 (ties of ``argmax``: the lowest route number).
+    """
     U = est.scaler_.transform(prefix.X, weighted=False)
-    return route_posterior(est, U, tq[: prefix.t.size], routes, logw, cache)
+    ok = allowed_routes(est, U, prefix_stride(n_times), cache)
+    p = np.where(ok, route_probabilities(routes, logw), 0.0)
+    if not p.sum() > 0:  # every allowed route's weight underflowed: the allowed
+        p = ok.astype(np.float64)
+    return p / p.sum()
 
 
 def make_plan(
@@ -683,7 +701,7 @@ def generate_blend(
     elif prefix is not None:
         tq = est.time_bins_.normalize(all_t)
         extra = observed_log_weights(est, prefix, tq, cache)
-        route = int(np.argmax(prefix_routes(est, prefix, tq, goal, cache)[0]))
+        route = prefix_route(est, prefix, all_t.size, goal, cache)
     plan = make_plan(est, all_t, start, goal, cache, extra, route)
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std)  # fmt: skip

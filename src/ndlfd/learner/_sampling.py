@@ -8,10 +8,9 @@ takes the most probable choice:
   :func:`~ndlfd.learner._routes.choose_route` sums (one per demonstration
   without a start or goal, so a route shown by 9 of 12 demonstrations is
   drawn 3 times in 4; with a start, goal or via points the conditioned
-  kernel weights; with an executed prefix the route's exact posterior by
-  forward filtering on the segment model,
-  :func:`~ndlfd.learner._filtering.route_posterior`, so a prefix well on
-  one route draws that route only);
+  kernel weights; with an executed prefix the same weights over the routes
+  the prefix has not ruled out, :mod:`ndlfd.learner._prefix_route`, so a
+  prefix that has left a route never draws it);
 * **the skeleton**, the segment state of every time bin, drawn from its exact
   posterior under the route's segment model by forward-filtering
   backward-sampling (:func:`ndlfd.hmm.sample_paths`), instead of the decoded
@@ -46,9 +45,9 @@ from ._generation import (
     demo_log_weights,
     orient_conditions,
     plan_from_states,
-    prefix_routes,
     render,
     route_model,
+    route_prior,
     template_weights,
     times_of,
 )
@@ -145,9 +144,9 @@ def sample_paths(
     logw = logw + via_log_weights(est, via, cache)
     if prefix is None:
         p = route_probabilities(routes, logw)
-    else:  # the route's exact posterior, the blend as generate's
+    else:  # the routes the prefix has not ruled out, the blend as generate's
         tq = est.time_bins_.normalize(all_t)
-        p = np.exp(prefix_routes(est, prefix, tq, goal, cache)[0])
+        p = route_prior(est, prefix, all_t.size, logw, routes, cache)
         logw = logw + observed_log_weights(est, prefix, tq, cache)
     drawn = rng.choice(p.size, size=n_samples, p=p)
     bins = np.arange(est.n_time_bins)

@@ -31,14 +31,15 @@ the path to pass through ``values`` at ``time``. Two steps:
 **Continuing an execution.** ``generate(times, observed=prefix)`` takes what
 the robot executed so far, at the first time stamps of ``times``:
 
-* *the route*: by forward filtering on the segment model
-  (:mod:`ndlfd.learner._filtering`): the prefix's mean in each time bin is an
-  observation of the segment state of that bin, and every route's posterior
-  is its prior times the exact likelihood of the prefix under its segment
-  model; the route followed is the most probable (``sample`` draws by the
-  posterior). Within the route every demonstration is weighted
-  (:func:`observed_log_weights`) by the same observation model on its own
-  segment path, tempered (:data:`PATH_TEMPER`,
+* *the route* (:mod:`ndlfd.learner._prefix_route`): a route is ruled out
+  once the prefix's shape has left all its templates by more than its
+  demonstrations ever stray (the open-end Fréchet distance: no plan time,
+  so a plan longer or shorter than the execution does not matter); the
+  route followed is, among those left, the one of largest prior weight (the
+  same at every tick until it is ruled out: no flip-flop), and ``sample``
+  draws among them by that weight. Within the route every demonstration is
+  weighted (:func:`observed_log_weights`) by the prefix's likelihood on its
+  own segment path, tempered (:data:`PATH_TEMPER`,
   :func:`~ndlfd.learner._filtering.path_log_likelihoods`), and by the mean,
   over up to :data:`PREFIX_POINTS` prefix samples spread evenly, of the same
   log kernel as for a via point (the prefix is a series of via points): the
