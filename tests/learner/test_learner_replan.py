@@ -15,11 +15,8 @@ from hypothesis import strategies as st
 
 from ndlfd import Demonstration, KeypointHMM
 from ndlfd.learner import minimum_jerk
-from ndlfd.learner._prefix_route import (
-    _open_end_rows,
-    allowed_routes,
-    prefix_stride,
-)
+from ndlfd.learner._curves import open_end_frechet
+from ndlfd.learner._prefix_route import allowed_routes, prefix_stride
 
 NAMES = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll")
 FPS = 30.0
@@ -145,10 +142,10 @@ def test_open_end_distances_match_brute_force(m, k, d, seed):
     rng = np.random.default_rng(seed)
     P = rng.integers(-8, 9, (m, d)) / 8.0
     curves = rng.integers(-8, 9, (2, k, d)) / 8.0
-    got = _open_end_rows(P, curves, np.empty((2, m)))
+    got = open_end_frechet(P, curves)
     for t in range(2):
         for i in range(m):
-            assert got[t, i] == _open_end_brute(P[: i + 1], curves[t])
+            assert got[t, i] == np.sqrt(_open_end_brute(P[: i + 1], curves[t]))
 
 
 def test_a_route_once_ruled_out_stays_ruled_out():

@@ -6,6 +6,8 @@ What :mod:`ndlfd.learner._routes` judges routes on:
   points on the route columns (normalized units), averaged over short windows
   of time, then spaced half by time and half by the distance travelled (so a
   rest takes few points and a brief detour keeps some);
+* :func:`open_end_frechet`: a growing prefix against them (any beginning of
+  each curve), for replanning (:mod:`ndlfd.learner._prefix_route`);
 * :func:`frechet_matrix`: their discrete Fréchet distances (the least, over
   monotone pairings of their points, of the largest distance of a pair:
   pace-free, and where two curves differ most), compiled and on threads;
@@ -24,6 +26,7 @@ __all__ = [
     "BAND",
     "ROUTE_POINTS",
     "frechet_matrix",
+    "open_end_frechet",
     "route_curves",
 ]
 
@@ -98,29 +101,87 @@ def route_curves(values, taus, cols, n_points: int = ROUTE_POINTS) -> np.ndarray
 
 
 @njit(cache=True, nogil=True)
+def _frechet_row(A, i, B, lo, hi, prev, cur):  # pragma: no cover - compiled
+    """Row ``i`` of the discrete Fréchet table (squared), columns ``lo..hi-1``.
+
+    ``prev`` holds row ``i - 1``, ``cur`` receives row ``i`` (cells outside
+    ``lo..hi-1`` must be ``inf``); returns the row's least value.
+    """
+    low = np.inf
+    for j in range(lo, hi):
+        s = 0.0
+        for c in range(A.shape[1]):
+            diff = A[i, c] - B[j, c]
+            s += diff * diff
+        if i == 0 and j == 0:
+            best = s
+        elif i == 0:
+            best = cur[j - 1]
+        elif j == 0:
+            best = prev[0]
+        else:
+            best = min(prev[j], prev[j - 1], cur[j - 1])
+        v = max(best, s)
+        cur[j] = v
+        low = min(low, v)
+    return low
+
+
+@njit(cache=True, nogil=True)
 def _frechet(A, B, band, prev, cur):  # pragma: no cover - compiled
     """Discrete Fréchet distance of two curves, pairings within ``band`` points."""
     n, k = A.shape[0], B.shape[0]
     for i in range(n):
         cur[:] = np.inf
-        lo = max(0, i - band)
-        hi = min(k, i + band + 1)
-        for j in range(lo, hi):
-            s = 0.0
-            for c in range(A.shape[1]):
-                diff = A[i, c] - B[j, c]
-                s += diff * diff
-            if i == 0 and j == 0:
-                best = s
-            elif i == 0:
-                best = cur[j - 1]
-            elif j == 0:
-                best = prev[0]
-            else:
-                best = min(prev[j], prev[j - 1], cur[j - 1])
-            cur[j] = max(best, s)
+        _frechet_row(A, i, B, max(0, i - band), min(k, i + band + 1), prev, cur)
         prev, cur = cur, prev
     return np.sqrt(prev[k - 1])
+
+
+@njit(cache=True, nogil=True)
+def _open_end_rows(P, curves, out):  # pragma: no cover - compiled
+    """Open-end Fréchet of ``P[:i+1]`` to each curve, for every ``i`` (squared)."""
+    k = curves.shape[1]
+    prev = np.empty(k)
+    cur = np.empty(k)
+    for t in range(curves.shape[0]):
+        for i in range(P.shape[0]):
+            out[t, i] = _frechet_row(P, i, curves[t], 0, k, prev, cur)
+            prev, cur = cur, prev
+    return out
+
+
+def open_end_frechet(P: np.ndarray, curves: np.ndarray) -> np.ndarray:
+    """Open-end discrete Fréchet distances of a growing prefix to curves.
+
+    Parameters
+    ----------
+    P : ndarray of shape (m, n_dims)
+        The prefix's points.
+    curves : ndarray of shape (n_curves, n_points, n_dims)
+
+    Returns
+    -------
+    distances : ndarray of shape (n_curves, m)
+        ``distances[t, i]``: the least, over monotone pairings of ``P[:i+1]``
+        with any beginning of curve ``t``, of the largest distance of a pair.
+        It never falls as ``i`` grows.
+
+    Examples
+    --------
+    A prefix along the start of a line is 0 from it, however far the line
+    goes on; a prefix that turns away is as far as it turns:
+
+    >>> line = np.array([[[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]]])
+    >>> open_end_frechet(np.array([[0.0, 0.0], [1.0, 0.0]]), line)
+    array([[0., 0.]])
+    >>> open_end_frechet(np.array([[0.0, 0.0], [1.0, 0.5]]), line)
+    array([[0. , 0.5]])
+    """
+    P = np.ascontiguousarray(P, dtype=np.float64)
+    curves = np.ascontiguousarray(curves, dtype=np.float64)
+    out = np.empty((curves.shape[0], P.shape[0]))
+    return np.sqrt(_open_end_rows(P, curves, out))
 
 
 @njit(cache=True, nogil=True)

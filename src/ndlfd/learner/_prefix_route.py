@@ -39,47 +39,14 @@ So a route is *ruled out* by the prefix's shape alone, once and for good:
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ._curves import frechet_matrix, route_curves
+from ._curves import frechet_matrix, open_end_frechet, route_curves
 from ._routes import MIN_GAP, route_columns
 
 __all__ = ["allowed_routes", "prefix_distances", "prefix_stride", "route_margin"]
 
 #: Prefix samples matched, at most (the stride: the timing's length over it).
 PREFIX_MATCH_POINTS = 256
-
-
-@njit(cache=True, nogil=True)
-def _open_end_rows(P, curves, out):  # pragma: no cover - compiled
-    """Open-end Fréchet of ``P[:i+1]`` to each curve, for every ``i`` (squared)."""
-    m, k = P.shape[0], curves.shape[1]
-    prev = np.empty(k)
-    cur = np.empty(k)
-    for t in range(curves.shape[0]):
-        C = curves[t]
-        for i in range(m):
-            low = np.inf
-            for j in range(k):
-                s = 0.0
-                for c in range(P.shape[1]):
-                    diff = P[i, c] - C[j, c]
-                    s += diff * diff
-                if i == 0 and j == 0:
-                    best = s
-                elif i == 0:
-                    best = cur[j - 1]
-                elif j == 0:
-                    best = prev[0]
-                else:
-                    best = min(prev[j], prev[j - 1], cur[j - 1])
-                v = max(best, s)
-                cur[j] = v
-                if v < low:
-                    low = v
-            out[t, i] = low
-            prev, cur = cur, prev
-    return out
 
 
 def prefix_stride(n_times: int) -> int:
@@ -124,7 +91,7 @@ def prefix_distances(est, prefix_U: np.ndarray, stride: int, cache: dict):
     curves, cols = _curves(est, cache)
     rows = np.arange(0, prefix_U.shape[0], stride)  # the same at every tick
     P = np.ascontiguousarray(prefix_U[np.ix_(rows, cols)], dtype=np.float64)
-    per = _open_end_rows(P, curves, np.empty((curves.shape[0], rows.size)))
+    per = open_end_frechet(P, curves)
     routes = np.asarray(est.routes_)[est.template_indices_]
     n_routes = int(np.max(est.routes_)) + 1
     out = np.full((n_routes, rows.size), np.inf)
@@ -132,7 +99,7 @@ def prefix_distances(est, prefix_U: np.ndarray, stride: int, cache: dict):
         mine = routes == r
         if mine.any():
             out[r] = per[mine].min(axis=0)
-    return np.sqrt(out)
+    return out
 
 
 def route_margin(est, cache: dict) -> float:
