@@ -13,6 +13,7 @@ from ..io import (
     write_bag,
     write_csv,
     write_joint_trajectory,
+    write_npz,
     write_table,
 )
 from ._conditions import (
@@ -38,8 +39,11 @@ FLOAT_FORMAT = "%.10g"
 
 
 #: What ``ndlfd generate -o`` writes, by ``--format`` or the output's suffix.
-FORMATS = ("csv", "bag", "joint-trajectory")
+FORMATS = ("csv", "npz", "bag", "joint-trajectory")
 _FORMAT_OF_SUFFIX = {
+    ".csv": "csv",
+    ".txt": "csv",
+    ".npz": "npz",
     ".mcap": "bag",
     ".db3": "bag",
     ".yaml": "joint-trajectory",
@@ -48,7 +52,16 @@ _FORMAT_OF_SUFFIX = {
 
 
 def _output_format(args: argparse.Namespace, out: Path) -> str:
-    fmt = args.format or _FORMAT_OF_SUFFIX.get(out.suffix.lower(), "csv")
+    suffix = out.suffix.lower()
+    if args.format is None and suffix not in _FORMAT_OF_SUFFIX:
+        known = ", ".join(sorted(_FORMAT_OF_SUFFIX))
+        later = " (Parquet and LeRobot output are not written yet)"
+        raise ValidationError(
+            f"-o {out}: expected a file ending in {known} (or --format"
+            f" {'/'.join(FORMATS)}); got {suffix or 'no suffix'}"
+            + (later if suffix == ".parquet" else "")
+        )
+    fmt = args.format or _FORMAT_OF_SUFFIX[suffix]
     if fmt == "bag" and out.suffix.lower() not in (".mcap", ".db3"):
         raise ValidationError(
             f"--format bag writes one .mcap (or .db3) file; got -o {out}"
@@ -92,6 +105,8 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         write_bag(path, out, topic=args.topic or "/ndlfd/path")
     elif fmt == "joint-trajectory":
         write_joint_trajectory(path, out)
+    elif fmt == "npz":
+        write_npz(path, out)
     else:
         _write_path(path, out, exact_time=exact_time, like=like)
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
@@ -164,8 +179,9 @@ def add_generate(sub) -> None:
     p.add_argument(
         "--format",
         choices=FORMATS,
-        help="what -o holds (default: by its suffix: .mcap/.db3 bag,"
-        " .yaml/.yml joint-trajectory, else csv)",
+        help="what -o holds (default: by its suffix: .csv/.txt csv, .npz an ndlfd"
+        " .npz (t, X, columns, groups), .mcap/.db3 bag, .yaml/.yml"
+        " joint-trajectory; another suffix is an error)",
     )
     p.add_argument(
         "--topic",
