@@ -161,3 +161,49 @@ def test_a_route_once_ruled_out_stays_ruled_out():
         assert now.any()
         seen = now
     assert seen.sum() == 1
+
+
+@functools.cache
+def _resting():
+    """SO-101-like episodes with the robot at rest 3.5-4.5 s before and after.
+
+    The gripper is a continuous position (degrees, noisy), as LeRobot records
+    an SO-101's ``gripper.pos``.
+    """
+    rng = np.random.default_rng(1)
+    demos = []
+    for _ in range(10):
+        d = _episode(rng, 1)
+        rest = int(rng.uniform(3.5, 4.5) * FPS)
+        X = np.vstack([np.repeat(d.X[:1], rest, 0), d.X, np.repeat(d.X[-1:], rest, 0)])
+        X = X + rng.normal(0, 0.05, X.shape)
+        demos.append(Demonstration(np.arange(X.shape[0]) / FPS, X, d.columns,
+                                   d.groups))  # fmt: skip
+    model = KeypointHMM(groups=("joints", "gripper"),
+                        levels={"joints": 20, "gripper": 10}).fit(demos)  # fmt: skip
+    return demos, model
+
+
+@pytest.mark.parametrize("offset", [1.0, 5.0, 20.0])
+def test_a_start_or_goal_off_a_robot_at_rest_is_absorbed_without_a_jump(offset):
+    # before: a continuous gripper counted as switching at its first sample,
+    # so a start 5 deg off was gone in one sample (7 deg in 33 ms)
+    demos, model = _resting()
+    t = np.arange(0.0, demos[0].t[-1], 1.0 / FPS)
+    most = max(np.abs(np.diff(d.get("joints"), axis=0)).max() for d in demos)
+    first, last = demos[0].get("joints")[0], demos[0].get("joints")[-1]
+    for cond in ({"start": {"joints": first + offset}},
+                 {"goal": {"joints": last - offset}},
+                 {"start": {"joints": first - offset},
+                  "goal": {"joints": last + offset}}):  # fmt: skip
+        J = model.generate(t, dense=True, **cond).get("joints")
+        if "start" in cond:
+            np.testing.assert_allclose(J[0], cond["start"]["joints"])
+        if "goal" in cond:
+            np.testing.assert_allclose(J[-1], cond["goal"]["joints"])
+        steps = np.abs(np.diff(J, axis=0)).max(axis=1)
+        assert steps.max() <= most, (offset, cond.keys(), steps.max(), most)
+        # at rest (the first and last second) the path moves as slowly as
+        # the offset's fade over the whole motion allows, never a jump
+        assert steps[: int(FPS)].max() < 0.1 * offset + 0.1
+        assert steps[-int(FPS) :].max() < 0.1 * offset + 0.1

@@ -387,16 +387,23 @@ def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarr
     return condition_log_weights(pts, target, cache[ckey])
 
 
-#: A path is *slow* where its speed is below this fraction of its median
-#: speed: where the demonstrations slow down for a contact (a grasp, a
-#: placement) the offset to a requested start must be gone.
+#: A path is *slow* where its speed is below this fraction of its typical
+#: speed while moving: where the demonstrations slow down for a contact (a
+#: grasp, a placement) the offset to a requested start must be gone.
 SLOW_FRACTION = 0.2
+
+#: Speeds below this fraction of the path's 95th-percentile speed are rest
+#: (noise, or a robot waiting before and after its motion), not motion.
+REST_FRACTION = 0.1
 
 
 def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     """Normalized times of the path's first and last slow-down while moving.
 
-    The first: after the path first moves at its median speed or faster, the
+    The path's typical speed is the median of its speeds while it moves (at
+    least :data:`REST_FRACTION` of its 95th-percentile speed: a robot at rest
+    before and after the motion does not count). The first: after the path
+    first moves at that typical speed or faster, the
     first sample slower than :data:`SLOW_FRACTION` of it (a stop for a contact
     event); the last: the same from the end backwards. A path that never slows
     down between its ends gives ``(1, 0)``: the whole motion.
@@ -428,7 +435,11 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     big = float(np.abs(P).max())  # scaled first: steps of 1e300 square to inf
     steps = np.diff(P / big if big > 0 else P, axis=0)
     speed = np.linalg.norm(steps, axis=1) / np.where(dt > 0, dt, np.inf)
-    typical = float(np.median(speed))
+    # the typical speed while moving: a robot that rests longer than it moves
+    # has a median speed of its noise at rest, and any sample would "slow"
+    fast = float(np.quantile(speed, 0.95)) if np.isfinite(speed).all() else 0.0
+    moving_speeds = speed[speed >= REST_FRACTION * fast]
+    typical = float(np.median(moving_speeds)) if moving_speeds.size else 0.0
     if not typical > 0:
         return 1.0, 0.0
     moving = speed >= typical
@@ -447,8 +458,8 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
 def switch_window(X, tq, column_groups) -> tuple[float, float]:
     """Normalized times around the first and last switch of a gripper.
 
-    A discrete channel (:data:`~ndlfd.learner._discrete.DISCRETE_GROUPS`)
-    that changes value marks a contact event even where the hand does not
+    A discrete channel (:data:`~ndlfd.learner._discrete.DISCRETE_GROUPS`) on
+    two values that changes value marks a contact event even where the hand does not
     slow down: a start's offset must be gone by the last row before the
     first switch, a goal's must come in from the first row after the last.
 
@@ -470,10 +481,18 @@ def switch_window(X, tq, column_groups) -> tuple[float, float]:
     >>> X = np.array([[0.0, 0], [1.0, 0], [2.0, 1], [3.0, 1], [4.0, 0]])
     >>> switch_window(X, np.linspace(0.0, 1.0, 5), ("position", "gripper"))
     (0.25, 0.5)
+
+    A gripper on more than two values (a continuous position) does not switch:
+
+    >>> X[:, 1] = [30.0, 30.1, 45.0, 49.9, 50.0]
+    >>> switch_window(X, np.linspace(0.0, 1.0, 5), ("position", "gripper"))
+    (1.0, 0.0)
     """
     first, last = 1.0, 0.0
     for c, g in enumerate(column_groups):
-        if g not in DISCRETE_GROUPS:
+        # a gripper recorded as a continuous position (an SO-101's gripper.pos)
+        # changes at every sample: only one on two values switches
+        if g not in DISCRETE_GROUPS or np.unique(X[:, c]).size != 2:
             continue
         at = np.flatnonzero(np.diff(X[:, c]) != 0)
         before, after = tq[at], tq[at + 1]  # the rows either side of each switch
