@@ -24,11 +24,12 @@ So a route is *ruled out* by the prefix's shape alone, once and for good:
   and it can only grow with ``i``;
 * a route is ruled out when, for some first ``i`` samples, its nearest
   template is farther than the nearest template of any route plus
-  :func:`route_margin` (half the smallest distance between two routes'
-  templates, at least half of :data:`~ndlfd.learner._routes.MIN_GAP`):
-  the prefix has left it by more than halfway to another route. Judged over
-  every ``i``, a route once ruled out stays so as the prefix grows
-  (:func:`allowed_routes`);
+  :func:`route_margin` (twice how far a demonstration strays from the
+  others of its route, at least half of
+  :data:`~ndlfd.learner._routes.MIN_GAP`, at most half the distance between
+  two routes): the prefix has left it by more than its demonstrations ever
+  do. Judged over every ``i``, a route once ruled out stays so as the prefix
+  grows (:func:`allowed_routes`);
 * ``generate`` follows, among the routes not ruled out, the one with the
   largest prior weight (the most demonstrations, or a goal's): while the
   prefix is ambiguous that is the same route at every tick, and it changes
