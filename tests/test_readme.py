@@ -58,6 +58,7 @@ def test_readme_shell_examples_run(tmp_path):
         "generate",
         "generate",
         "generate",
+        "generate",
         "sample",
         "evaluate",
         "reproduce",
@@ -96,6 +97,8 @@ def test_readme_shell_examples_run(tmp_path):
     assert read_csv(tmp_path / "keypoints.csv").n_samples < 500
     path = read_csv(tmp_path / "path.csv")
     assert path.n_samples == 400 and path.t[-1] == 8.0
+    at_100 = read_csv(tmp_path / "path-100hz.csv")  # --rate: stamps k / 100
+    np.testing.assert_array_equal(at_100.t, np.arange(801) / 100.0)
     here = read_csv(tmp_path / "from-here.csv").get("position")[0]
     np.testing.assert_array_equal(here, [0.5, 0.0])
     via = read_csv(tmp_path / "via.csv")  # through the via point at t = 4

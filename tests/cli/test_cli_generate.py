@@ -182,3 +182,29 @@ def test_generate_writes_the_format_of_its_suffix_or_says_why_not(tmp_path, caps
     rc, err = cli(capsys, *args, "-o", tmp_path / "p.out", "--format", "csv")
     assert rc == 0, err
     assert read_csv(tmp_path / "p.out").n_samples == 50
+
+
+def test_generate_and_sample_at_a_rate_write_exact_stamps(tmp_path, capsys):
+    from cli_helpers import fit_model, write_obstacle
+
+    fit_model(write_obstacle(tmp_path / "d", 3, 2), tmp_path / "m.ndlfd")
+    model = tmp_path / "m.ndlfd"
+    for rate, n in ((100.0, 601), (30.0, 181), (7.0, 43)):
+        rc, err = cli(capsys, "generate", model, "--duration", "6", "--rate",
+                      str(rate), "--dense", "-o", tmp_path / "p.csv")  # fmt: skip
+        assert rc == 0, err
+        t = read_csv(tmp_path / "p.csv").t
+        assert t.size == n
+        np.testing.assert_array_equal(t, np.arange(n) / rate)  # bit for bit
+    rc, err = cli(capsys, "sample", model, "-n", "2", "--duration", "2", "--rate",
+                  "30", "-o", tmp_path / "s")  # fmt: skip
+    assert rc == 0, err
+    t = read_csv(tmp_path / "s" / "sample_000.csv").t
+    np.testing.assert_array_equal(t, np.arange(61) / 30.0)
+    for bad, message in ((["--samples", "5"], "either --samples or --rate"),
+                         (["--rate", "0"], "--rate must be a finite number > 0"),
+                         (["--rate", "1e9"], "expected 2 to")):  # fmt: skip
+        rc, err = cli(capsys, "generate", model, "--duration", "6", *bad,
+                      *(["--rate", "10"] if bad[0] == "--samples" else []),
+                      "-o", tmp_path / "q.csv")  # fmt: skip
+        assert rc == 2 and message in err[-1], err

@@ -100,7 +100,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     )
     path, std = result if std_out is not None else (result, None)
     dense = args.dense or prefix is not None  # a continuation: every time stamp
-    exact_time = (args.like is not None and dense) or prefix is not None
+    exact_time = (
+        (args.like is not None or args.rate is not None) and dense
+    ) or prefix is not None
     if fmt == "bag":
         write_bag(path, out, topic=args.topic or "/ndlfd/path")
     elif fmt == "joint-trajectory":

@@ -585,7 +585,7 @@ def add_route_options(p) -> None:
 
 
 def add_timing_options(p) -> None:
-    """``--like``, ``--duration`` and ``--samples``."""
+    """``--like``, ``--duration``, ``--samples`` and ``--rate``."""
     p.add_argument(
         "--like",
         help="a test demonstration whose timing is used (one file, or one episode"
@@ -601,6 +601,13 @@ def add_timing_options(p) -> None:
         help=f"samples of the uniform time grid, 2 <= N <= {MAX_SAMPLES:,}"
         " (default 1000)",
     )
+    p.add_argument(
+        "--rate",
+        type=float,
+        metavar="HZ",
+        help="the time grid's sample rate instead of --samples: stamps k / HZ"
+        " exactly, from 0 to the last at or before --duration",
+    )
 
 
 def check_timing(args: argparse.Namespace) -> int | None:
@@ -611,10 +618,11 @@ def check_timing(args: argparse.Namespace) -> int | None:
     n : int or None
         The samples of the uniform grid (``None`` with ``--like``).
     """
+    rate = getattr(args, "rate", None)
     if args.like is not None:
-        if args.duration is not None or args.samples is not None:
+        if args.duration is not None or args.samples is not None or rate is not None:
             raise ValidationError(
-                "pass either --like or --duration/--samples, not both"
+                "pass either --like or --duration/--samples/--rate, not both"
             )
         return None
     if args.duration is None:
@@ -623,6 +631,20 @@ def check_timing(args: argparse.Namespace) -> int | None:
         raise ValidationError(
             f"--duration must be a finite number > 0; got {args.duration}"
         )
+    if rate is not None:
+        if args.samples is not None:
+            raise ValidationError("pass either --samples or --rate, not both")
+        if not (rate > 0 and math.isfinite(rate)):
+            raise ValidationError(f"--rate must be a finite number > 0; got {rate}")
+        # the stamps k / rate up to the duration (a rounding of the product
+        # just under an integer counts as that integer)
+        n = math.floor(args.duration * rate * (1.0 + 1e-12)) + 1
+        if not 2 <= n <= MAX_SAMPLES:
+            raise ValidationError(
+                f"--duration {args.duration:g} at --rate {rate:g} gives {n:,}"
+                f" samples; expected 2 to {MAX_SAMPLES:,}"
+            )
+        return n
     n = args.samples if args.samples is not None else 1000
     check_range(n, "--samples", low=2, high=MAX_SAMPLES)
     return n
@@ -638,6 +660,8 @@ def read_timing(args: argparse.Namespace, n: int | None, *, times_only=False):
     mapping (:func:`like_times`).
     """
     if args.like is None:
+        if getattr(args, "rate", None) is not None:
+            return np.arange(n) / args.rate, None
         return np.linspace(0.0, args.duration, n), None
     if times_only:
         got = like_times(args)

@@ -55,7 +55,9 @@ def _cmd_sample(args: argparse.Namespace) -> int:
     )
     folder.mkdir(exist_ok=True)
     dense = not args.key_points or prefix is not None  # a continuation: all
-    exact_time = (args.like is not None and dense) or prefix is not None
+    exact_time = (
+        (args.like is not None or args.rate is not None) and dense
+    ) or prefix is not None
     digits = max(3, len(str(args.n - 1)))
     for k, path in enumerate(paths):
         write_csv(
