@@ -263,8 +263,8 @@ def test_route_labels_of_demonstrations_that_are_no_template():
     def segment_curves(rows):
         return seg[rows]
 
-    labels = route_labels(V, [tau] * 4, np.arange(4), 6, np.array([0, 1]),
-                          segment_curves)  # fmt: skip
+    curves = route_curves(V, [tau] * 4, np.array([0, 1]))
+    labels = route_labels(curves, np.arange(4), 6, segment_curves)
     np.testing.assert_array_equal(labels, [0, 0, 1, 1, 0, 1])
 
 

@@ -445,4 +445,4 @@ def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
                 pseudo_emission=est.pseudo_emission,
             )
         )
-        est.routes_ = model_routes(est)
+        est.routes_ = model_routes(est, est._cache)

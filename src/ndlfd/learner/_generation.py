@@ -228,8 +228,7 @@ def prefix_route(est, prefix, n_times: int, goal, cache: ModelCache) -> int:
     route : int
     """
     logw, routes = demo_log_weights(est, None, goal, cache)
-    allowed = route_prior(est, prefix, n_times, logw, routes, cache)
-    return int(np.argmax(allowed))
+    return int(np.argmax(route_prior(est, prefix, n_times, logw, routes, cache)))
 
 
 def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:

@@ -42,7 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._curves import frechet_matrix, open_end_frechet, route_curves
-from ._routes import MIN_GAP, route_columns
+from ._routes import CURVES_KEY, MAX_JUDGED, MIN_GAP, route_columns
 
 __all__ = ["allowed_routes", "prefix_distances", "prefix_stride", "route_margin"]
 
@@ -62,12 +62,16 @@ def prefix_stride(n_times: int) -> int:
 
 
 def _curves(est, cache: dict):
-    """The templates' route curves and columns (once per model)."""
-    if "prefix curves" not in cache:
+    """The templates' route curves, columns and distances (once per model).
+
+    Kept by the fit (:func:`~ndlfd.learner._routes.model_routes`); made here
+    for a model whose cache lacks them.
+    """
+    if CURVES_KEY not in cache:
         cols = route_columns(est.column_groups_, getattr(est, "route_groups", None))
         curves = route_curves(est.train_values_, est.train_tau_, cols)
-        cache["prefix curves"] = (np.ascontiguousarray(curves), cols)
-    return cache["prefix curves"]
+        cache[CURVES_KEY] = (curves, cols, frechet_matrix(curves[:MAX_JUDGED]))
+    return cache[CURVES_KEY]
 
 
 def prefix_distances(est, prefix_U: np.ndarray, stride: int, cache: dict):
@@ -89,7 +93,7 @@ def prefix_distances(est, prefix_U: np.ndarray, stride: int, cache: dict):
         Row ``r``, column ``i``: the least open-end Fréchet distance of the
         first ``i + 1`` matched samples to a template of route ``r``.
     """
-    curves, cols = _curves(est, cache)
+    curves, cols, _ = _curves(est, cache)
     rows = np.arange(0, prefix_U.shape[0], stride)  # the same at every tick
     P = np.ascontiguousarray(prefix_U[np.ix_(rows, cols)], dtype=np.float64)
     per = open_end_frechet(P, curves)
@@ -112,9 +116,10 @@ def route_margin(est, cache: dict) -> float:
     routes' templates; once per model.
     """
     if "prefix margin" not in cache:
-        curves, _ = _curves(est, cache)
+        curves, _, D = _curves(est, cache)
         routes = np.asarray(est.routes_)[est.template_indices_]
-        D = frechet_matrix(curves)
+        if D.shape[0] < curves.shape[0]:  # more templates than judged
+            D = frechet_matrix(curves)
         same = routes[:, None] == routes[None, :]
         np.fill_diagonal(same, False)
         near = np.where(same, D, np.inf).min(axis=1)

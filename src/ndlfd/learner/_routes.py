@@ -80,6 +80,7 @@ from .._validation import check_positive_int, check_work_size
 from ._curves import frechet_matrix, route_curves
 
 __all__ = [
+    "CURVES_KEY",
     "GAP_RATIO",
     "MAX_JUDGED",
     "MIN_GAP",
@@ -111,6 +112,11 @@ MAX_JUDGED = 300
 
 #: Up to this many curves, a route's spread has no floor (:func:`split_routes`).
 _FEW = 3
+
+#: Where a fitted model's cache keeps its templates' route curves, their
+#: columns and the distances of the first :data:`MAX_JUDGED` (set by
+#: :func:`model_routes`, read by :mod:`ndlfd.learner._prefix_route`).
+CURVES_KEY = "route curves"
 
 #: Groups that are not where a route is (unless named, or nothing else).
 _NOT_ROUTE = ("velocity", "orientation", "force", "gripper")
@@ -405,32 +411,33 @@ def route_medoids(D: np.ndarray, labels: np.ndarray) -> np.ndarray:
 
 
 def route_labels(
-    values,
-    taus,
+    curves: np.ndarray,
     template_index: np.ndarray,
     n_demos: int,
-    cols: np.ndarray,
     segment_curves=None,
     n_routes: int | None = None,
+    distances: np.ndarray | None = None,
 ) -> np.ndarray:
     """Which route each demonstration takes.
 
     Parameters
     ----------
-    values, taus : list of ndarray
-        The templates' normalized values and times.
+    curves : ndarray of shape (n_templates, n_points, n_columns)
+        The templates' route curves (:func:`~ndlfd.learner._curves.route_curves`
+        on the route columns, :func:`route_columns`).
     template_index : ndarray of shape (n_templates,), dtype int64
         Their demonstrations (at least one).
     n_demos : int
         Training demonstrations.
-    cols : ndarray of int
-        :func:`route_columns`.
     segment_curves : callable, optional
         ``segment_curves(rows) -> ndarray of shape (len(rows), n_bins,
-        len(cols))``: the segment-state curves of demonstrations (needed
+        n_columns)``: the segment-state curves of demonstrations (needed
         when some are not templates).
     n_routes : int, optional
         See :func:`split_routes`.
+    distances : ndarray of shape (n_judged, n_judged), optional
+        :func:`~ndlfd.learner._curves.frechet_matrix` of the first
+        ``min(n_templates, MAX_JUDGED)`` curves, if already computed.
 
     Returns
     -------
@@ -441,22 +448,20 @@ def route_labels(
     >>> tau = np.linspace(0.0, 1.0, 50)
     >>> bump = np.sin(np.pi * tau)
     >>> V = [np.column_stack([tau, s * bump]) for s in (0.3, 0.31, -0.3)]
-    >>> route_labels(V, [tau] * 3, np.arange(3), 3, np.array([0, 1]))
+    >>> route_labels(route_curves(V, [tau] * 3, np.array([0, 1])), np.arange(3), 3)
     array([0, 0, 1])
     """
     template_index = np.asarray(template_index, dtype=np.int64)
-    judged = min(len(values), MAX_JUDGED)
-    curves = route_curves(values[:judged], taus[:judged], cols)
-    D = frechet_matrix(curves)
-    found = split_routes(curves, n_routes, distances=D)
+    judged = min(len(curves), MAX_JUDGED)
+    D = frechet_matrix(curves[:judged]) if distances is None else distances
+    found = split_routes(curves[:judged], n_routes, distances=D)
     if found.max() == 0:  # one route: every demonstration on it
         return np.zeros(n_demos, dtype=np.int64)
     labels = np.full(n_demos, -1, dtype=np.int64)
     labels[template_index[:judged]] = found
     medoids = route_medoids(D, found)
-    if judged < len(values):  # the other templates: on their own curves
-        rest = route_curves(values[judged:], taus[judged:], cols)
-        near = np.argmin(frechet_matrix(rest, curves[medoids]), axis=1)
+    if judged < len(curves):  # the other templates: on their own curves
+        near = np.argmin(frechet_matrix(curves[judged:], curves[medoids]), axis=1)
         labels[template_index[judged:]] = near  # route r's medoid is column r
     others = np.flatnonzero(labels < 0)
     if others.size:
@@ -498,23 +503,34 @@ def demo_routes(
     array([0, 0, 1])
     """
     n = len(values)
+    groups = f"the groups {sorted(set(column_groups))}"
+    cols = _checked_columns(column_groups, route_groups, n_routes, n, groups)
+    curves = route_curves(values, taus, cols)
+    return route_labels(curves, np.arange(n), n, n_routes=n_routes)
+
+
+def _checked_columns(column_groups, route_groups, n_routes, n_templates, groups):
+    """The route columns, after checking ``route_groups`` and ``n_routes``.
+
+    ``groups`` says which groups there are, for the error.
+    """
     cols = route_columns(column_groups, route_groups)
     if cols.size == 0:
         raise ValidationError(
-            f"route_groups names none of the groups {sorted(set(column_groups))};"
-            f" got {list(route_groups)!r}"
+            f"route_groups names none of {groups}; got {list(route_groups)!r}"
         )
     if n_routes is not None:
         check_positive_int(n_routes, "n_routes")
-        if n_routes > min(n, MAX_JUDGED):
+        judged = min(n_templates, MAX_JUDGED)
+        if n_routes > judged:
             raise ValidationError(
-                f"n_routes={n_routes} is more than the {min(n, MAX_JUDGED)}"
-                " demonstrations the routes are judged on"
+                f"n_routes={n_routes} is more than the {judged} demonstrations"
+                " the routes are judged on"
             )
-    return route_labels(values, taus, np.arange(n), n, cols, n_routes=n_routes)
+    return cols
 
 
-def model_routes(est) -> np.ndarray:
+def model_routes(est, cache: dict | None = None) -> np.ndarray:
     """Each training demonstration's route, from a fitted model's statistics.
 
     Parameters
@@ -522,6 +538,9 @@ def model_routes(est) -> np.ndarray:
     est : KeypointHMM
         With its statistics set (the fit's last step); its ``n_routes`` and
         ``route_groups`` say how (:func:`route_labels`).
+    cache : dict, optional
+        The model's cache: the templates' route curves, their columns and
+        distances are kept there under :data:`CURVES_KEY`.
 
     Returns
     -------
@@ -537,20 +556,10 @@ def model_routes(est) -> np.ndarray:
     n = int(est.n_demos_)
     if not hasattr(est, "train_values_") or not len(est.train_values_):
         return np.zeros(n, dtype=np.int64)
-    groups = getattr(est, "route_groups", None)
-    cols = route_columns(est.column_groups_, groups)
-    if cols.size == 0:
-        raise ValidationError(
-            f"route_groups names none of the learned groups {est.groups_};"
-            f" got {list(groups)!r}"
-        )
     n_routes = getattr(est, "n_routes", None)
-    judged = min(len(est.train_values_), MAX_JUDGED)
-    if n_routes is not None and n_routes > judged:
-        raise ValidationError(
-            f"n_routes={n_routes} is more than the {judged} demonstrations"
-            " the routes are judged on"
-        )
+    cols = _checked_columns(est.column_groups_, getattr(est, "route_groups", None),
+                            n_routes, len(est.train_values_),
+                            f"the learned groups {est.groups_}")  # fmt: skip
 
     paths: list = []  # computed only when some demonstration is no template
 
@@ -560,15 +569,14 @@ def model_routes(est) -> np.ndarray:
             paths.append(segment_paths(est.fit_stats_, est.centroid_states_, nt))
         return est.centroids_[paths[0][rows]][:, :, cols]
 
-    return route_labels(
-        est.train_values_,
-        est.train_tau_,
-        est.template_indices_,
-        n,
-        cols,
-        segment_curves,
-        n_routes,
-    )
+    # the curves and their distances, kept for replanning
+    # (ndlfd.learner._prefix_route), which matches prefixes against them
+    curves = route_curves(est.train_values_, est.train_tau_, cols)
+    D = frechet_matrix(curves[:MAX_JUDGED])
+    if cache is not None:
+        cache[CURVES_KEY] = (curves, cols, D)
+    return route_labels(curves, est.template_indices_, n, segment_curves,
+                        n_routes, distances=D)  # fmt: skip
 
 
 def choose_route(labels: np.ndarray, log_weights: np.ndarray) -> int:
