@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_learner_routes import obstacle
 
+from learner_helpers import resample
 from ndlfd import synth
 from ndlfd._errors import ValidationError
 from ndlfd.demonstration import Demonstration
@@ -81,6 +82,32 @@ def test_a_via_point_keeps_the_path_as_smooth_as_the_demonstrations():
     assert np.all(np.abs(P[66] - target) <= 0.005 * _range(demos))
     worst = max(_max_acc(d.get("position"), d.t) for d in demos)
     assert _max_acc(P, t) <= 1.5 * worst
+
+
+def _max_step(P):
+    return float(np.linalg.norm(np.diff(P, axis=0), axis=1).max())
+
+
+@pytest.mark.parametrize("above", [1.0, 2.0, 5.0])
+def test_a_via_point_off_the_route_does_not_amplify_the_noise(above):
+    """A via point beyond the demonstrations' spread: followed smoothly, no jumps.
+
+    Conditioning on the templates' deviations (their noise included) once
+    multiplied each template's noise by how many spreads the point lay off:
+    5 above the upper route, steps of 3.3 where the demonstrations' are 0.1.
+    """
+    demos = synth.obstacle(7, 5)
+    model = KeypointHMM().fit(demos)
+    t = np.linspace(0.0, 5.0, 1000)
+    target = [-5.0, 5.5 + above]  # above the upper route, mid-course
+    path = model.generate(t, dense=True, via=[(t[500], {"position": target})])
+    P = path.get("position")
+    assert np.abs(P[500] - target).max() <= 1e-9 * 10
+    # demonstrations resampled to the same 1,000 steps over the same course
+    worst = max(_max_step(resample(d, t)) for d in demos)
+    # the detour makes the path longer, and its steps with it: 1.8, 2.1 and
+    # 2.2 times the demonstrations' largest (without the reach: 9.7, 17, 45)
+    assert _max_step(P) <= 2.5 * worst
 
 
 def test_apply_via_against_a_hand_worked_offset():

@@ -43,6 +43,7 @@ from numba import njit
 from .._parallel import thread_pool
 
 __all__ = [
+    "CONDITION_REACH",
     "CONDITION_RIDGE",
     "MATCH_WINDOW",
     "align_many",
@@ -70,6 +71,15 @@ MATCH_WINDOW = 0.05
 #: 0.03 where ProMP has 0.01), 1 follows the held-out path, 1000 (no
 #: conditioning) does not.
 CONDITION_RIDGE = 1.0
+
+#: How far (Mahalanobis distance under the templates' covariance, observation
+#: noise included) an observation is followed by the conditioned blend
+#: (:func:`condition_offsets`); the rest of its offset is left to the smooth
+#: fade that pins it. Beyond the demonstrations' spread the templates'
+#: deviations say nothing: a via point 50 spreads off the route multiplied
+#: each template's noise by about 25 (on ``synth.obstacle``: steps of 3.3
+#: where the demonstrations' are 0.1, speed 68 times theirs).
+CONDITION_REACH = 2.0
 
 
 @njit(cache=True, nogil=True)
@@ -408,7 +418,10 @@ def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
     The time-warped templates' deviations from their weighted mean are a
     Gaussian process over the output rows (covariance ``sum_j w_j D_j
     D_j^T``); the shift is its conditional mean given the observed values,
-    with observation noise ``ridge`` times the mean variance at them. As a
+    with observation noise ``ridge`` times the mean variance at them, and
+    followed up to a Mahalanobis distance of :data:`CONDITION_REACH` (an
+    observation farther off is followed that far along its direction: the
+    templates co-vary only within their spread). As a
     ProMP conditions its weights, but on templates aligned to the decoded
     skeleton: an observation that is wide, early or late carries over the
     whole motion as the templates that are so carry it. Without deviations
@@ -449,4 +462,7 @@ def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
     S = (A.T * w) @ A  # (n_obs, n_obs)
     noise = ridge * max(float(np.trace(S)) / S.shape[0], 1e-12)
     alpha = np.linalg.solve(S + noise * np.eye(S.shape[0]), resid)
+    reach = float(np.sqrt(max(float(resid @ alpha), 0.0)))
+    if reach > CONDITION_REACH:
+        alpha *= CONDITION_REACH / reach
     return np.tensordot(w * (A @ alpha), D, axes=1)
