@@ -3,12 +3,14 @@
 import numpy as np
 from rosbags.rosbag2 import StoragePlugin, Writer
 from rosbags.typesys import Stores, get_typestore
+from scipy.spatial.transform import Rotation
 
 from ndlfd.demonstration import Demonstration
 
 STORE = get_typestore(Stores.LATEST)
 T = STORE.types
 STORAGES = {"mcap": StoragePlugin.MCAP, "sqlite3": StoragePlugin.SQLITE3}
+T0 = 1_700_000_000 * 10**9
 
 
 def header(ns, frame="world"):
@@ -30,14 +32,20 @@ def pose_stamped(ns, p, q):
     return T["geometry_msgs/msg/PoseStamped"](header=header(ns), pose=pose(p, q))
 
 
-def transform(ns, child, p, q):
+def transform(ns, child, p, q, parent="world"):
+    """A TransformStamped: the pose (x, y, z), (w, x, y, z) of child in parent."""
     tr = T["geometry_msgs/msg/Transform"](
         translation=T["geometry_msgs/msg/Vector3"](x=p[0], y=p[1], z=p[2]),
         rotation=T["geometry_msgs/msg/Quaternion"](w=q[0], x=q[1], y=q[2], z=q[3]),
     )
     return T["geometry_msgs/msg/TransformStamped"](
-        header=header(ns), child_frame_id=child, transform=tr
+        header=header(ns, parent), child_frame_id=child, transform=tr
     )
+
+
+def tf_message(*transforms):
+    """A tf2_msgs/msg/TFMessage (what /tf and /tf_static carry)."""
+    return T["tf2_msgs/msg/TFMessage"](transforms=list(transforms))
 
 
 def odometry(ns, p, q):
@@ -71,14 +79,54 @@ def float64(v):
     return T["std_msgs/msg/Float64"](data=float(v))
 
 
+def offered_qos(latched=False):
+    """The QoS profile ``ros2 bag record`` stores for a publisher it discovered.
+
+    Reliable and volatile (a sensor or ``/tf``), or transient local
+    (``latched``: ``/tf_static``); history unknown, durations infinite.
+    """
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+
+    forever = QosTime(sec=9223372036, nsec=854775807)
+    durable = QosDurability.TRANSIENT_LOCAL if latched else QosDurability.VOLATILE
+    return Qos(
+        QosHistory.UNKNOWN,
+        0,
+        QosReliability.RELIABLE,
+        durable,
+        forever,
+        forever,
+        QosLiveliness.AUTOMATIC,
+        forever,
+        False,
+    )
+
+
 def write_bag(path, topics, storage="mcap"):
-    """A bag at ``path`` with ``topics``: {name: [(receive ns, msg), ...]}."""
+    """A bag at ``path`` with ``topics``: {name: [(receive ns, msg), ...]}.
+
+    Topics are recorded with the QoS ``ros2 bag record`` stores (``/tf_static``
+    and other ``*_static`` topics latched).
+    """
     with Writer(path, version=9, storage_plugin=STORAGES[storage]) as w:
         for name, msgs in topics.items():
             types = sorted({m.__msgtype__ for _, m in msgs}) or [
                 "geometry_msgs/msg/PoseStamped"
             ]
-            conns = {ty: w.add_connection(name, ty, typestore=STORE) for ty in types}
+            qos = [offered_qos(latched=name.endswith("_static"))]
+            conns = {
+                ty: w.add_connection(
+                    name, ty, typestore=STORE, offered_qos_profiles=qos
+                )
+                for ty in types
+            }
             for ns, m in msgs:
                 w.write(conns[m.__msgtype__], ns, STORE.serialize_cdr(m, m.__msgtype__))
     return path
@@ -166,3 +214,49 @@ def generated(n=25):
         gripper=(np.arange(n) > n // 2).astype(float),
         columns={"joints": ["j1", "j2"], "gripper": ["gripper"]},
     )
+
+
+def wxyz(r):
+    """A scipy Rotation as a quaternion (w, x, y, z)."""
+    x, y, z, w = r.as_quat()
+    return [w, x, y, z]
+
+
+def chain_bag(path):
+    """world -(static)- base_link - link1 - link2 -(static)- tool0, and a camera.
+
+    link1 turns about z at 0.8 rad/s and rises 0.05 m/s, published every
+    20 ms; link2 turns about y at -0.5 rad/s, published every 20 ms 7 ms
+    later (another publisher): both linear in time, so slerp and linear
+    interpolation between their messages are exact.
+    """
+    s1 = T0 + np.arange(60) * 20_000_000
+    s2 = s1[:-2] + 7_000_000
+    deg = Rotation.from_euler
+    static = {
+        "base_link": ("world", [1.0, 2.0, 0.0], deg("z", 30, degrees=True)),
+        "tool0": ("link2", [0.1, 0.0, 0.05], deg("y", 20, degrees=True)),
+        "camera_link": ("base_link", [0.2, -0.1, 0.5], deg("xz", [-90, 10], True)),
+    }
+
+    def link1(t):
+        return [0.0, 0.0, 0.1 + 0.05 * t], Rotation.from_euler("z", 0.8 * t)
+
+    def link2(t):
+        return [0.3, 0.0, 0.0], Rotation.from_euler("y", 0.3 - 0.5 * t)
+
+    tf = []
+    for a, b in zip(s1, s2, strict=False):
+        p, r = link1((a - T0) / 1e9)
+        tf.append((int(a), tf_message(transform(a, "link1", p, wxyz(r), "base_link"))))
+        p, r = link2((b - T0) / 1e9)
+        tf.append((int(b), tf_message(transform(b, "link2", p, wxyz(r), "link1"))))
+    for a in s1[len(s2) :]:
+        p, r = link1((a - T0) / 1e9)
+        tf.append((int(a), tf_message(transform(a, "link1", p, wxyz(r), "base_link"))))
+    latched = tf_message(
+        *(transform(T0, c, p, wxyz(r), parent) for c, (parent, p, r) in static.items())
+    )
+    js = [(int(a), joint_state(a, ["j1"], [0.8 * (a - T0) / 1e9])) for a in s1]
+    write_bag(path, {"/tf": tf, "/tf_static": [(T0, latched)], "/joint_states": js})
+    return path, s2, static, link1, link2

@@ -269,3 +269,41 @@ def test_bags_without_rosbags_say_how_to_install_it(tmp_path, capsys, monkeypatc
         "ndlfd fit: error: reading and writing ROS 2 bags needs rosbags; install it"
         ' with: pip install "ndlfd[ros]"'
     ]
+
+
+def test_frame_reads_tf_composed_to_the_base_frame(tmp_path, capsys):
+    from bag_samples import chain_bag
+    from ndlfd.io import read_bag
+
+    bag, *_ = chain_bag(tmp_path / "chain")
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(
+        capsys, "fit", bag, "--frame", "tool0", "--base-frame", "base_link", "-o", model
+    )
+    assert rc == 0, err
+    assert err[0] == (
+        "read 1 demonstration(s) from 1 file(s): time=/tf stamps; position=x,y,z;"
+        " orientation=qw,qx,qy,qz (ROS 2 bag)"
+    )
+    out = tmp_path / "p.csv"
+    rc, err = cli(capsys, "generate", model, "--like", bag, "--like-frame", "tool0",
+                  "--like-base-frame", "base_link", "--dense", "-o", out)  # fmt: skip
+    assert rc == 0, err
+    (want,) = read_bag(bag, frame="tool0", base_frame="base_link")
+    got = np.loadtxt(out, delimiter=",", skiprows=1)
+    assert np.allclose(got[:, 0], want.t)  # the composed pose's stamps
+    rc, err = cli(
+        capsys, "fit", bag, "--topic", "/tf_static", "--frame", "camera_link",
+        "-o", model,
+    )  # fmt: skip
+    assert rc == 2 and err == [
+        f"ndlfd fit: error: {bag}: the pose of 'camera_link' in 'world' is"
+        " constant (only static transforms: camera_link -> base_link -> world),"
+        " not a demonstration; read a frame that moves, from /tf"
+    ]
+    rc, err = cli(capsys, "fit", bag, "--frame", "tool0", "--base-frame", "map",
+                  "-o", model)  # fmt: skip
+    assert rc == 2 and err[0].endswith(
+        "no base frame 'map' in the tf tree of /tf and /tf_static; the frames"
+        " found are base_link, camera_link, link1, link2, tool0, world"
+    )

@@ -268,7 +268,15 @@ def add_column_options(
             f"--{bags}frame",
             dest="bag_frame",
             metavar="CHILD",
-            help="the child frame of the transforms to read from /tf",
+            help="the frame whose pose is read from /tf (implies --topic /tf):"
+            " composed along the tf tree, /tf_static included, to --base-frame",
+        )
+        b.add_argument(
+            f"--{bags}base-frame",
+            dest="bag_base_frame",
+            metavar="FRAME",
+            help="the frame the pose of --frame is in (default: the root of its tf"
+            " tree, e.g. base_link or world)",
         )
         if not bags:
             b.add_argument(
@@ -385,6 +393,7 @@ def column_options(args: argparse.Namespace) -> dict:
     bag = {
         "topic": getattr(args, "bag_topic", None),
         "frame": getattr(args, "bag_frame", None),
+        "base_frame": getattr(args, "bag_base_frame", None),
         "split_gap": split_gap,
     }
     options.update({k: v for k, v in bag.items() if v is not None})

@@ -6,8 +6,10 @@ topics become named arrays, mapped to groups by
 :func:`~ndlfd.io._mapping.map_arrays` like the columns of a CSV file:
 
 * ``geometry_msgs/msg/PoseStamped``, ``PoseWithCovarianceStamped``,
-  ``TransformStamped``, ``tf2_msgs/msg/TFMessage`` (``/tf``: the transforms to
-  the child frame ``frame``) and ``nav_msgs/msg/Odometry`` give ``x, y, z``
+  ``TransformStamped``, ``tf2_msgs/msg/TFMessage`` (``/tf``: the pose of the
+  frame ``frame`` in ``base_frame``, composed along the tf tree with the static
+  transforms of ``/tf_static``: see :mod:`ndlfd.io._tf`) and
+  ``nav_msgs/msg/Odometry`` give ``x, y, z``
   (position) and ``qw, qx, qy, qz`` (orientation, w first; left out when
   every quaternion is all zeros, as a publisher that sets no orientation
   leaves it);
@@ -56,6 +58,7 @@ from .._errors import DataFileError, MissingExtraError, NdlfdWarning, Validation
 from .._repairs import repaired
 from ..demonstration import Demonstration
 from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
+from ._tf import tf_edges, tf_pose_rows
 
 __all__ = [
     "BAG_OPTIONS",
@@ -71,7 +74,7 @@ __all__ = [
 #: The suffixes (any case) of ROS 2 bag storage files read as bags.
 BAG_SUFFIXES = (".mcap", ".db3")
 #: The options only the bag reader takes, with their defaults.
-BAG_OPTIONS = {"topic": None, "frame": None, "split_gap": None}
+BAG_OPTIONS = {"topic": None, "frame": None, "base_frame": None, "split_gap": None}
 #: How the rates of several topics may differ before a warning.
 RATE_RATIO = 2.0
 
@@ -163,8 +166,8 @@ BAG_TYPES = {
 def _flags(how: Mapping[str, str]) -> dict[str, str]:
     """How errors name the bag options: parameters, or the command line's flags."""
     if how.get("groups", "").startswith("--"):
-        return {"topic": "--topic", "frame": "--frame"}
-    return {"topic": "topic=", "frame": "frame="}
+        return {"topic": "--topic", "frame": "--frame", "base_frame": "--base-frame"}
+    return {"topic": "topic=", "frame": "frame=", "base_frame": "base_frame="}
 
 
 def _describe(topics) -> str:
@@ -192,8 +195,51 @@ class _Topic:
         return (self.stamps.size - 1) / span if span > 0 else None
 
 
-def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
-    """The kind of ``topic`` and its (stamp or None, receive time, values)."""
+def _transforms(reader, store, topic) -> list[tuple]:
+    """Every transform on a ``TFMessage`` topic: (parent, child, stamps, values)."""
+    conns = reader.topics[topic].connections
+    out = []
+    for conn, received, raw in reader.messages(connections=conns):
+        for m in store.deserialize_cdr(raw, conn.msgtype).transforms:
+            tr = m.transform
+            values = _pose(tr.translation, tr.rotation)
+            out.append(
+                (m.header.frame_id, m.child_frame_id, _stamp(m), received, values)
+            )
+    return out
+
+
+def _read_tf(p, reader, store, topic, frame, base_frame, flags):
+    """The pose of ``frame`` in the base frame from the tf tree (:mod:`._tf`)."""
+    static_name = topic if topic.endswith("_static") else f"{topic}_static"
+    latched = static_name in reader.topics and {
+        c.msgtype for c in reader.topics[static_name].connections
+    } == {"tf2_msgs/msg/TFMessage"}
+    static = _transforms(reader, store, static_name) if latched else []
+    dynamic = [] if topic == static_name else _transforms(reader, store, topic)
+    if not dynamic and not static:
+        raise DataFileError(f"{p}: topic {topic!r} has no messages")
+    moving = sorted({tr[1] for tr in dynamic}) or sorted({tr[1] for tr in static})
+    if frame is None and len(moving) > 1:
+        raise DataFileError(
+            f"{p}: topic {topic!r} has several child frames; pick one with"
+            f" {flags['frame']} (child frames there: {', '.join(moving)})"
+        )
+    edges = tf_edges(str(p), static, static=True)
+    edges.update(tf_edges(str(p), dynamic, static=False))
+    names = f"{topic} and {static_name}" if latched and topic != static_name else topic
+    base, ns, values = tf_pose_rows(
+        str(p), edges, frame or moving[0], base_frame, topics=names
+    )
+    return [(int(k), int(k), v) for k, v in zip(ns, values.tolist(), strict=True)], base
+
+
+def _read_topic(p, reader, store, topic, frame, flags, base_frame=None):
+    """The kind of ``topic``, its (stamp or None, receive time, values), its frame.
+
+    The frame is the messages' ``header.frame_id`` (the first message's), the
+    base frame of a tf tree, or ``None`` without a header.
+    """
     topics = reader.topics
     if topic not in topics:
         raise DataFileError(
@@ -212,17 +258,21 @@ def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
             f" expected one of {', '.join(BAG_TYPES)}"
         )
     kind, field = BAG_TYPES[msgtype]
-    tf = msgtype == "tf2_msgs/msg/TFMessage"
+    if msgtype == "tf2_msgs/msg/TFMessage":
+        rows, base = _read_tf(p, reader, store, topic, frame, base_frame, flags)
+        return kind, rows, base
     frames: dict[str, int] = {}
     rows = []
+    frame_id = None
     for conn, received, raw in reader.messages(connections=info.connections):
-        msg = store.deserialize_cdr(raw, conn.msgtype)
-        for m in msg.transforms if tf else (msg,):
-            if tf or msgtype.endswith("TransformStamped"):
-                frames[m.child_frame_id] = frames.get(m.child_frame_id, 0) + 1
-            got = field(m, frame)
-            if got is not None:
-                rows.append((got[0], received, got[1]))
+        m = store.deserialize_cdr(raw, conn.msgtype)
+        if msgtype.endswith("TransformStamped"):
+            frames[m.child_frame_id] = frames.get(m.child_frame_id, 0) + 1
+        got = field(m, frame)
+        if got is not None:
+            rows.append((got[0], received, got[1]))
+            if frame_id is None and hasattr(m, "header"):
+                frame_id = m.header.frame_id
     if frames and ((frame is None and len(frames) > 1) or not rows):
         which = "several child frames" if frame is None else f"no child frame {frame!r}"
         raise DataFileError(
@@ -231,7 +281,7 @@ def _read_topic(p, reader, store, topic, frame, flags) -> tuple[str, list]:
         )
     if not rows:
         raise DataFileError(f"{p}: topic {topic!r} has no messages")
-    return kind, rows
+    return kind, rows, frame_id or None
 
 
 def _stamps_of(rows) -> np.ndarray:
@@ -370,7 +420,31 @@ def _segments(stamps: np.ndarray, split_gap: float | None) -> list[slice]:
     return [slice(a, b) for a, b in itertools.pairwise(edges)]
 
 
-def _check_options(topic, frame, split_gap) -> list[str] | None:
+def _default_topic(p, reader, frame, flags) -> list[str]:
+    """The bag's only readable topic; with a frame, its ``/tf`` (or only tf topic)."""
+    if frame is not None:
+        tf = [
+            n
+            for n, i in reader.topics.items()
+            if i.msgtype == "tf2_msgs/msg/TFMessage" and not n.endswith("_static")
+        ]
+        if "/tf" in tf or len(tf) == 1:
+            return ["/tf" if "/tf" in tf else tf[0]]
+        raise DataFileError(
+            f"{p}: {flags['frame']} {frame} reads a tf topic; the bag has"
+            f" {'several' if tf else 'none'} ({', '.join(tf)}); name one with"
+            f" {flags['topic']}; its topics are {_describe(reader.topics) or 'none'}"
+        )
+    usable = [n for n, i in reader.topics.items() if i.msgtype in BAG_TYPES]
+    if len(usable) != 1:
+        raise DataFileError(
+            f"{p}: name the topic to read with {flags['topic']}; the"
+            f" bag's topics are {_describe(reader.topics) or 'none'}"
+        )
+    return usable
+
+
+def _check_options(topic, frame, base_frame, split_gap) -> list[str] | None:
     if topic is not None:
         topic = [topic] if isinstance(topic, str) else list(topic)
         if not topic or not all(isinstance(s, str) and s for s in topic):
@@ -379,8 +453,9 @@ def _check_options(topic, frame, split_gap) -> list[str] | None:
             )
         if len(set(topic)) != len(topic):
             raise ValidationError(f"topic names a topic twice; got {topic!r}")
-    if frame is not None and not (isinstance(frame, str) and frame):
-        raise ValidationError(f"frame must be a frame name; got {frame!r}")
+    for name, value in (("frame", frame), ("base_frame", base_frame)):
+        if value is not None and not (isinstance(value, str) and value):
+            raise ValidationError(f"{name} must be a frame name; got {value!r}")
     if split_gap is not None and not (
         isinstance(split_gap, (int, float)) and np.isfinite(split_gap) and split_gap > 0
     ):
@@ -396,6 +471,7 @@ def read_bag_mapped(
     *,
     topic=None,
     frame=None,
+    base_frame=None,
     split_gap=None,
     groups=None,
     drop=(),
@@ -410,7 +486,7 @@ def read_bag_mapped(
     and ``euler`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
     ``gripper.gripper``) like CSV columns.
     """
-    topics = _check_options(topic, frame, split_gap)
+    topics = _check_options(topic, frame, base_frame, split_gap)
     flags = _flags(how)
     rosbag2, _ = rosbags_modules()
     if not p.exists():
@@ -419,15 +495,10 @@ def read_bag_mapped(
     try:
         with rosbag2.Reader(p) as reader:
             if topics is None:
-                usable = [n for n, i in reader.topics.items() if i.msgtype in BAG_TYPES]
-                if len(usable) != 1:
-                    raise DataFileError(
-                        f"{p}: name the topic to read with {flags['topic']}; the"
-                        f" bag's topics are {_describe(reader.topics) or 'none'}"
-                    )
-                topics = usable
+                topics = _default_topic(p, reader, frame, flags)
             read = [
-                (t, *_read_topic(p, reader, store, t, frame, flags)) for t in topics
+                (t, *_read_topic(p, reader, store, t, frame, flags, base_frame))
+                for t in topics
             ]
     except DataFileError:
         raise
@@ -443,7 +514,7 @@ def read_bag_mapped(
             f"{p}: expected a ROS 2 bag (a folder with metadata.yaml, or an .mcap"
             f" or .db3 file); it is not readable as one ({exc})"
         ) from None
-    tps = [tp for t, kind, rows in read for tp in _topic_arrays(p, t, kind, rows)]
+    tps = [tp for t, kind, rows, _ in read for tp in _topic_arrays(p, t, kind, rows)]
     if len(tps) > 1:
         _rates_note(p, tps)
     at = tps[0].stamps
@@ -479,6 +550,7 @@ def read_bag(
     topic: str | Sequence[str] | None = None,
     *,
     frame: str | None = None,
+    base_frame: str | None = None,
     split_gap: float | None = None,
     groups: Mapping[str, Sequence[str] | str] | None = None,
     drop: Sequence[str] = (),
@@ -498,8 +570,17 @@ def read_bag(
         The topic(s) to read; the first gives the time stamps and the others are
         resampled onto them. Default: the bag's only topic of a type ndlfd reads.
     frame : str, optional
-        The child frame of the transforms on a ``/tf`` (``TFMessage``) or
-        ``TransformStamped`` topic; needed when it has several.
+        The frame whose pose is read from a ``/tf`` (``TFMessage``) topic, or
+        the child frame of a ``TransformStamped`` topic; needed when it has
+        several. Without ``topic``, a frame reads ``/tf``. On ``/tf`` the
+        frame's pose is composed along the tf tree to ``base_frame``, with the
+        static transforms of ``/tf_static`` (see :mod:`ndlfd.io._tf`): each
+        moving transform of the chain is interpolated (linear, slerp) at the
+        stamps of the one nearest the frame.
+    base_frame : str, optional
+        The frame the pose of ``frame`` is in (default: the root of its tf
+        tree, e.g. ``base_link`` or ``world``). A frame not connected to it, or
+        not in the tree, is an error listing the frames found.
     split_gap : float, optional
         Start a new demonstration wherever the first topic's stamps are more
         than this many seconds apart.
@@ -532,6 +613,7 @@ def read_bag(
             Path(path),
             topic=topic,
             frame=frame,
+            base_frame=base_frame,
             split_gap=split_gap,
             groups=groups,
             drop=drop,
