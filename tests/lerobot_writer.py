@@ -18,6 +18,18 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+#: The SO-100/101 arm's motor names as LeRobot records them (``so101_follower``:
+#: degrees for the five joints, 0-100 for the gripper).
+SO101_MOTORS = (
+    "shoulder_pan",
+    "shoulder_lift",
+    "elbow_flex",
+    "wrist_flex",
+    "wrist_roll",
+    "gripper",
+)
+SO101_STATE = [f"{m}.pos" for m in SO101_MOTORS]
+
 V2_PATH = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
 V3_PATH = "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
 
@@ -154,3 +166,41 @@ def write_lerobot(
         path.parent.mkdir(parents=True, exist_ok=True)
         pq.write_table(pa.Table.from_pylist(meta), path)
     return root
+
+
+def so101_episodes(n_demos=5, seed=0, fps=30):
+    """SO-101 pick episodes: joints in degrees, the gripper closing 40 -> 5 -> 40.
+
+    Each episode's ``observation.state`` and ``action`` (the state one step
+    ahead, as a leader arm leads) are ``(n, 6)`` arrays in
+    :data:`SO101_STATE`'s order.
+    """
+    rng = np.random.default_rng(seed)
+    eps = []
+    for i in range(n_demos):
+        n = 90 + 6 * i
+        s = np.linspace(0, 1, n)
+        state = np.column_stack(
+            [
+                40 * np.sin(np.pi * s),
+                -60 + 50 * s,
+                80 * s**2,
+                10 * np.cos(2 * np.pi * s),
+                5 * s,
+                np.where((s > 0.4 + 0.01 * i) & (s < 0.8), 5.0, 40.0),
+            ]
+        )
+        state[:, :5] += rng.normal(0, 0.3, (n, 5))
+        action = np.vstack([state[1:], state[-1:]])
+        eps.append({"observation.state": state, "action": action})
+    return eps
+
+
+def write_so101(root, n_demos=5, version="v3.0", seed=0):
+    """An SO-101 dataset (:func:`so101_episodes`) as LeRobot writes it.
+
+    Returns the root and the episodes.
+    """
+    eps = so101_episodes(n_demos, seed)
+    names = {"observation.state": SO101_STATE, "action": SO101_STATE}
+    return write_lerobot(root, eps, names, version=version), eps

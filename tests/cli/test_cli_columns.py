@@ -69,9 +69,9 @@ def test_column_mapping_on_the_command_line(tmp_path, capsys, sep):
         stamp.write_text("stamp,x,y\n0,0,0\n1,1,1\n")
         rc, err = cli(capsys, "fit", stamp, "-o", tmp_path / "x.ndlfd")
         assert rc == 2 and err == [
-            f"ndlfd fit: error: {stamp}: expected a time column named 't' or 'time'"
-            " (any case); got columns ['stamp', 'x', 'y']; name it with --time-column"
-            " NAME"
+            f"ndlfd fit: error: {stamp}: expected a time column named 't' or 'time' or"
+            " 'timestamp' (any case); got columns ['stamp', 'x', 'y']; name it with"
+            " --time-column NAME"
         ]
 
 

@@ -9,7 +9,7 @@ pytest.importorskip("pyarrow")
 
 from cli_helpers import cli, run
 
-from lerobot_writer import write_lerobot
+from lerobot_writer import SO101_STATE, write_lerobot, write_so101
 from ndlfd.io import read_csv, read_lerobot
 from ndlfd.learner import KeypointHMM
 
@@ -73,13 +73,14 @@ def test_episodes_feature_and_the_generated_euler_angles(tmp_path, capsys, versi
                   "--dense", "-o", out)  # fmt: skip
     assert rc == 0, err
     header = out.read_text().splitlines()[0]
-    assert header == "t,x,y,z,vx,vy,vz,roll,pitch,yaw,gripper"
+    # the dataset's time column and names in its order; the derived velocity after
+    assert header == "timestamp,x,y,z,roll,pitch,yaw,gripper,vx,vy,vz"
     path = read_csv(out)  # read back: roll, pitch, yaw are orientation again
     (like,) = read_lerobot(root, episodes=[5])
     np.testing.assert_array_equal(path.t, like.t)
-    assert path.group_names == ("position", "velocity", "orientation", "gripper")
+    assert path.group_names == ("position", "orientation", "gripper", "velocity")
     # the yaw ramps from -0.4 to 0.4 like the demonstrations'
-    yaw = np.loadtxt(out, delimiter=",", skiprows=1)[:, 9]
+    yaw = np.loadtxt(out, delimiter=",", skiprows=1)[:, 6]
     assert yaw[0] == pytest.approx(-0.4, abs=0.1)
     assert yaw[-1] == pytest.approx(0.4, abs=0.1)
     rc, err = cli(capsys, "fit", root, "-o", model, "--feature", "action")
@@ -155,3 +156,37 @@ def test_a_gripper_column_of_another_name(tmp_path, capsys):
     assert rc == 0, err
     assert "gripper=hand" in err[0]
     assert KeypointHMM.load(model).groups_ == ("position", "gripper")
+
+
+@pytest.mark.parametrize("version", ["v2.1", "v3.0"])
+def test_so101_fit_and_generate_in_one_attempt(tmp_path, capsys, version):
+    root, _ = write_so101(tmp_path / "so101", n_demos=5, version=version)
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(capsys, "fit", root, "-o", model)
+    assert rc == 0, err
+    assert err[0] == (
+        "read 5 demonstration(s) from 5 LeRobot episode(s): time=timestamp;"
+        " joints=shoulder_pan.pos,shoulder_lift.pos,elbow_flex.pos,wrist_flex.pos,"
+        f"wrist_roll.pos; gripper=gripper.pos (LeRobot {version}, observation.state)"
+    )
+    assert not any(line.startswith("not learned") for line in err)
+    m = KeypointHMM.load(model)
+    assert m.groups_ == ("gripper", "joints")
+    out = tmp_path / "path.csv"
+    rc, err = cli(capsys, "generate", model, "--like", root, "--episodes", "3",
+                  "--dense", "-o", out, "--std", tmp_path / "std.csv")  # fmt: skip
+    assert rc == 0, err
+    header = out.read_text().splitlines()[0].split(",")
+    assert header == ["timestamp", *SO101_STATE]  # the dataset's names and order
+    assert tmp_path.joinpath("std.csv").read_text().splitlines()[0].split(",") == (
+        header
+    )
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    (like,) = read_lerobot(root, episodes=[3])
+    np.testing.assert_array_equal(table[:, 0], like.t)  # the stamps exactly
+    # each joint follows the demonstration it was timed like (same shape, noise)
+    err_deg = np.abs(table[:, 1:6] - like.X[:, :5]).max(axis=0)
+    assert np.all(err_deg < 0.05 * np.ptp(like.X[:, :5], axis=0) + 2.0), err_deg
+    # read back with the same names: the time column and the groups
+    again = read_csv(out)
+    assert again.columns == like.columns and again.groups == like.groups

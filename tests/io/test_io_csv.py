@@ -220,8 +220,8 @@ def test_csv_round_trip_awkward_names(tmp_path):
         (
             "x,y\n0,1\n",
             {},
-            r"d\.csv: expected a time column named 't' or 'time' \(any case\); got"
-            r" columns \['x', 'y'\]; pass time_column=",
+            r"d\.csv: expected a time column named 't' or 'time' or 'timestamp'"
+            r" \(any case\); got columns \['x', 'y'\]; pass time_column=",
         ),
         (
             "t,x\n0,1\n0.5,2\n0.5,3\n",

@@ -16,6 +16,7 @@ from ndlfd.io import (
     read_csv,
     read_demos,
     read_npz,
+    read_table,
     write_csv,
     write_table,
 )
@@ -118,7 +119,11 @@ def test_csv_roll_pitch_yaw_read_and_written_back(tmp_path, seq, order):
     # back: the file's names, the recorded angles
     out = write_csv(d, tmp_path / "out.csv", mapping=m)
     header = out.read_text().splitlines()[0].split(",")
-    assert header == ["time", "x", "y", *names, "gripper"]  # its time column too
+    # its time column too, and the file's order of the angles
+    assert header == ["time", "x", "y", *order, "gripper"]
+    got = dict(zip(header, read_table(out)[1].T, strict=True))
+    for j, name in enumerate(("roll", "pitch", "yaw")):
+        np.testing.assert_allclose(got[name], rpy[:, j], atol=1e-12)
     again = read_csv(out, euler=seq)
     np.testing.assert_allclose(again.X, d.X, atol=1e-12)
     cols, groups, X = euler_columns(d, m)

@@ -60,6 +60,7 @@ def test_read_csv_matches_names_in_any_case(tmp_path):
         str(p),
         "TIME",
         (("position", ("Pos_X", "pos_y")), ("orientation", ("QW", "qx", "qy", "qz"))),
+        order=("Pos_X", "pos_y", "QW", "qx", "qy", "qz"),
     )
     assert maps[0].group_names == ("position", "orientation")
     assert read_csv(p, time_column="Time", drop=["QW", "QX", "QY", "QZ"],

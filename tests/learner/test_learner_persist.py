@@ -218,8 +218,11 @@ _NAME = st.text(st.characters(codec="utf-8", exclude_categories=("Cs",)), max_si
     dropped=st.lists(_NAME, max_size=3),
     layout=_NAME,
     euler=st.none() | st.sampled_from(["xyz", "ZYX"]),
+    order=st.lists(_NAME, max_size=4),
 )
-def test_input_mapping_json_round_trip(source, time, groups, dropped, layout, euler):
+def test_input_mapping_json_round_trip(
+    source, time, groups, dropped, layout, euler, order
+):
     m = ColumnMapping(
         source,
         time,
@@ -228,9 +231,13 @@ def test_input_mapping_json_round_trip(source, time, groups, dropped, layout, eu
         (),
         layout,
         euler,
+        tuple(order),
     )
     text = json.dumps(input_to_json(m))  # what the model file stores
     assert input_from_json(json.loads(text), "m.ndlfd") == m
+    # a model file written before the input's column order was kept
+    older = {k: v for k, v in json.loads(text).items() if k != "order"}
+    assert input_from_json(older, "m.ndlfd").order == ()
 
 
 def test_the_input_mapping_is_saved_and_older_files_load_without_it(tmp_path):

@@ -45,6 +45,11 @@ def test_resolve_groups_auto_none_and_names():
     assert resolve_groups(["force", "position"], d) == ("force", "position")
     other = _demo(gripper=np.zeros((30, 1)))
     assert resolve_groups("auto", other) == ("gripper",)  # none of AUTO_GROUPS
+    # every group is learned: those of AUTO_GROUPS first, then the others
+    arm = _demo(joints=np.zeros((30, 5)), gripper=np.zeros((30, 1)))
+    assert resolve_groups("auto", arm) == ("gripper", "joints")
+    mixed = _demo(tool=np.zeros((30, 1)), position=np.zeros((30, 2)))
+    assert resolve_groups("auto", mixed) == ("position", "velocity", "tool")
     assert set(AUTO_GROUPS) >= {"position", "velocity"}
     with pytest.raises(ValidationError, match="must not repeat"):
         resolve_groups(["position", "position"], d)
@@ -68,8 +73,9 @@ def test_levels_by_group():
     assert levels_by_group(7, groups) == {"position": 7, "velocity": 7}
     with pytest.raises(ValidationError, match="not learned"):
         levels_by_group({"force": 3}, groups)
-    with pytest.raises(ValidationError, match="no codebook levels for group 'x'"):
-        levels_by_group(None, ("x",))
+    # any group has levels: joints like position, a user group OTHER_LEVELS
+    assert levels_by_group(None, ("joints", "x")) == {"joints": 20, "x": 10}
+    assert levels_by_group({"x": 3}, ("joints", "x")) == {"joints": 20, "x": 3}
 
 
 @pytest.mark.parametrize("mode", ["group", "per-dimension", "none"])

@@ -15,7 +15,6 @@ from .._simplify import DISTANCES
 from ..io import CLI_HINTS, DemoFiles, demo_files, read_or_skip
 from ..learner import (
     DECODERS,
-    DEFAULT_LEVELS,
     GENERATIONS,
     NORMALIZATIONS,
     STARTS,
@@ -163,15 +162,6 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                     f"{what} names {', '.join(unknown)}, which is not learned;"
                     f" the learned groups are {', '.join(groups)} (--groups)"
                 )
-    if not isinstance(levels, int):
-        lacking = [
-            g for g in groups if g not in (levels or {}) and g not in DEFAULT_LEVELS
-        ]
-        if lacking:
-            raise ValidationError(
-                f"--levels must give the codebook levels of group {lacking[0]!r},"
-                f" which has no default (e.g. --levels {lacking[0]}=10)"
-            )
     with collecting_repairs():
         _, derived = prepare_groups([first], [first_map], groups)
     defaults = KeypointHMM()
@@ -285,9 +275,10 @@ def add_fit(sub) -> None:
     p.add_argument(
         "--groups",
         default=None,
-        help="comma-separated groups to learn (default: position, velocity,"
-        " orientation, force and gripper, those the files have; a missing velocity is"
-        " derived from position). Name your own groups to learn them too",
+        help="comma-separated groups to learn (default: every group the files"
+        " have, position, velocity, orientation, force and gripper first, then"
+        " the others such as joints; a missing velocity is derived from"
+        " position)",
     )
     budget = p.add_mutually_exclusive_group()
     defaults = KeypointHMM()
@@ -307,8 +298,9 @@ def add_fit(sub) -> None:
     p.add_argument(
         "--levels",
         help="codebook levels >= 2, e.g. position=20,velocity=10 or one number for"
-        " all groups (default: 20 for position, 10 for velocity, orientation and"
-        " force; groups of your own need one)",
+        " all groups (default: 20 for position and joints, 10 for velocity,"
+        " orientation, force, joint_velocity, joint_effort and any group of your"
+        " own, 2 for a gripper)",
     )
     p.add_argument(
         "--time-bins",

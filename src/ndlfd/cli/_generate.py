@@ -9,6 +9,7 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..io import (
+    csv_columns,
     csv_header,
     write_bag,
     write_csv,
@@ -22,6 +23,7 @@ from ._conditions import (
     output_mapping,
     read_observed,
 )
+from ._limits import add_limit_options, apply_limits
 from ._options import (
     MAX_SAMPLES,
     add_column_options,
@@ -103,6 +105,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     exact_time = (
         (args.like is not None or args.rate is not None) and dense
     ) or prefix is not None
+    scaled = apply_limits(args, path, dense=dense, std=std, prefix=prefix)
+    exact_time = exact_time and (scaled is path or args.rate is not None)
+    path = scaled
     if fmt == "bag":
         write_bag(path, out, topic=args.topic or "/ndlfd/path")
     elif fmt == "joint-trajectory":
@@ -114,8 +119,11 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
         formats = [None if exact_time else FLOAT_FORMAT]
         formats += [FLOAT_FORMAT] * path.n_dims
-        write_table(std_out, csv_header(path, "t"),
-                    np.column_stack([path.t, std]), float_format=formats)  # fmt: skip
+        header, index = csv_header(path, "t"), np.arange(path.n_dims)
+        if fmt == "csv" and (like is None or like.euler is None):
+            header, index = csv_columns(path, "t", like)  # as the path's CSV
+        data = np.column_stack([path.t, std[:, index]])
+        write_table(std_out, header, data, float_format=formats)
     what = "samples" if dense else "key points"
     if prefix is not None:
         what += f" (the first {prefix.n_samples} observed)"
@@ -159,6 +167,7 @@ def add_generate(sub) -> None:
     p.add_argument("model", help="model file written by 'ndlfd fit'")
     add_timing_options(p)
     add_condition_options(p)
+    add_limit_options(p)
     p.add_argument(
         "--dense",
         action="store_true",

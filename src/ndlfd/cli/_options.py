@@ -232,7 +232,8 @@ def add_column_options(
     g.add_argument(
         "--time-column",
         metavar="NAME",
-        help="the time column (strictly increasing; default: 't' or 'time')",
+        help="the time column (strictly increasing; default: 't', 'time' or"
+        " 'timestamp')",
     )
     g.add_argument(
         "--group",

@@ -56,7 +56,6 @@ how to install it (see ``_hdf5``).
 from ._bag import BAG_TYPES, read_bag
 from ._bagout import write_bag, write_joint_trajectory
 from ._csv import (
-    csv_header,
     parse_table,
     read_csv,
     read_table,
@@ -88,6 +87,7 @@ from ._mapping import (
     group_of_column,
 )
 from ._npz import read_npz, write_npz
+from ._output import csv_columns, csv_header
 
 __all__ = [
     "ARRAY_NAMES",
@@ -104,6 +104,7 @@ __all__ = [
     "DemoFile",
     "DemoFiles",
     "LeRobotEpisode",
+    "csv_columns",
     "csv_header",
     "demo_files",
     "euler_columns",

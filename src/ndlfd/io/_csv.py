@@ -36,14 +36,13 @@ from ._mapping import (
     TIME_NAMES,
     ColumnMapping,
     euler_columns,
-    group_of_column,
     map_arrays,
 )
+from ._output import output_columns
 
 __all__ = [
     "ENGINES",
     "Table",
-    "csv_header",
     "delimiter_name",
     "parse_table",
     "read_csv",
@@ -641,64 +640,6 @@ def read_csv(
     )[0][0]
 
 
-def csv_header(demo: Demonstration, time_column: str) -> list[str]:
-    """The header :func:`write_csv` writes for ``demo``.
-
-    A column whose name does not give its group by the naming convention
-    (:func:`~ndlfd.io.group_of_column`) is written as ``group.column``.
-
-    Parameters
-    ----------
-    demo : Demonstration
-    time_column : str
-        The name of the time column (first).
-
-    Returns
-    -------
-    header : list of str of length 1 + n_dims
-
-    Examples
-    --------
-    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 1], [2, 3]],
-    ...                               grip=[0.25, 0.5])
-    >>> csv_header(d, "t")
-    ['t', 'x', 'y', 'grip.grip0']
-    """
-    return _header(demo.columns, demo.groups, time_column)
-
-
-def _input_names(columns, groups, mapping: ColumnMapping | None) -> list:
-    """The CSV file's own name of each column that ``mapping`` read (else None).
-
-    A group whose columns the mapping names one for one keeps those names;
-    a group it lacks (a derived velocity) keeps the demonstration's.
-    """
-    names: list = [None] * len(columns)
-    if mapping is None or not mapping.layout.endswith("-separated"):
-        return names
-    for g, ks in mapping.groups:
-        idx = [j for j, h in enumerate(groups) if h == g]
-        if len(idx) == len(ks):
-            for j, k in zip(idx, ks, strict=True):
-                names[j] = k
-    return names
-
-
-def _header(columns, groups, time_column: str, own=None) -> list[str]:
-    header = [time_column]
-    own = own or [None] * len(columns)
-    for c, g, mine in zip(columns, groups, own, strict=True):
-        if mine is not None:
-            header.append(mine)
-            continue
-        hit = group_of_column(c)
-        if hit == (g, c) and c.casefold() != time_column.casefold():
-            header.append(c)
-        else:
-            header.append(f"{g}.{c}")
-    return header
-
-
 def write_csv(
     demo: Demonstration,
     path: str | os.PathLike,
@@ -730,10 +671,11 @@ def write_csv(
     mapping : ColumnMapping, optional
         How the input was read: when it had Euler angles, the orientation is
         written back as those columns, in that convention (see
-        :func:`~ndlfd.io._mapping.euler_columns`); when it was a CSV file,
-        its time column and the columns of its groups keep its names (a
-        group it did not have, such as a derived velocity, keeps the
-        demonstration's).
+        :func:`~ndlfd.io._mapping.euler_columns`); when it was a CSV file
+        or a LeRobot dataset, its time column and the columns of its groups
+        keep its names and its order (a group it did not have, such as a
+        derived velocity, keeps the demonstration's names, after them; see
+        :func:`~ndlfd.io.csv_columns`).
 
     Returns
     -------
@@ -759,12 +701,9 @@ def write_csv(
     columns, groups, X = demo.columns, demo.groups, demo.X
     if mapping is not None:
         columns, groups, X = euler_columns(demo, mapping)
-    data = np.column_stack([demo.t, X])
+    header, index = output_columns(columns, groups, time_column, mapping)
+    data = np.column_stack([demo.t, X[:, index]])
     formats = None
     if float_format is not None or time_format is not None:
         formats = [time_format] + [float_format] * X.shape[1]
-    own = _input_names(columns, groups, mapping)
-    if any(n is not None for n in own) and mapping.time is not None:
-        time_column = mapping.time
-    header = _header(columns, groups, time_column, own)
     return write_table(path, header, data, float_format=formats)

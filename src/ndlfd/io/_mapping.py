@@ -22,6 +22,15 @@ are Euler angles.
 
 **Gripper.** A column named ``gripper`` (any case) is the group ``gripper``;
 map another with ``groups={"gripper": ["NAME"]}``.
+
+**Motor names** (LeRobot's SO-100/101, Koch, LeKiwi: ``shoulder_pan.pos``,
+``x.vel``). A name ``NAME.pos`` is the joint ``NAME`` of the group ``joints``;
+``NAME.vel`` and ``NAME.effort`` are the columns ``NAME.vel`` and
+``NAME.effort`` of the groups ``joint_velocity`` and ``joint_effort``
+(:data:`MOTOR_KINDS`; the suffix in any case). ``gripper.pos`` is the
+exception: like a column named ``gripper`` it is the group ``gripper`` (its
+column ``gripper``), learned as a gripper (kept on its two values when it
+records two); its ``.vel`` and ``.effort`` go with the other motors'.
 """
 
 from __future__ import annotations
@@ -49,6 +58,7 @@ __all__ = [
     "EULER_NAMES",
     "LIBRARY_HINTS",
     "MAPPING_DEFAULTS",
+    "MOTOR_KINDS",
     "NAMING_CONVENTION",
     "TIME_NAMES",
     "ColumnMapping",
@@ -60,8 +70,9 @@ __all__ = [
     "wrap_error",
 ]
 
-#: The time column's names tried, in this order, when none is named.
-TIME_NAMES = ("t", "time")
+#: The time column's names tried, in this order, when none is named
+#: (``timestamp``: LeRobot's, which ``ndlfd generate`` keeps in its output).
+TIME_NAMES = ("t", "time", "timestamp")
 
 #: Names of 2-D arrays (``.npz`` keys, HDF5 datasets) that give their group.
 ARRAY_NAMES: tuple[tuple[str, str], ...] = (
@@ -105,6 +116,9 @@ NAMING_CONVENTION: tuple[tuple[str, str], ...] = (
     (r"roll|pitch|yaw", "orientation"),
     (r"gripper", "gripper"),
 )
+#: Motor names ``NAME.KIND`` (LeRobot's robots): the group of each kind.
+MOTOR_KINDS = {"pos": "joints", "vel": "joint_velocity", "effort": "joint_effort"}
+
 _CONVENTION = tuple(
     (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
 )
@@ -119,8 +133,11 @@ def group_of_column(name: str) -> tuple[str, str] | None:
     ``x, y, z, p0, p1, ...`` → position; ``vx, vy, vz, v0, ...`` → velocity;
     ``qw, qx, qy, qz`` and the Euler angles ``roll, pitch, yaw`` → orientation;
     ``fx, fy, fz, f0, ...`` → force; ``gripper`` → gripper (in any case);
-    ``group.column`` → ``column`` in the user group ``group``; anything
-    else → ``None``.
+    motor names: ``NAME.pos`` → ``NAME`` in ``joints`` (but ``gripper.pos``
+    → ``gripper`` in ``gripper``), ``NAME.vel`` → ``NAME.vel`` in
+    ``joint_velocity``, ``NAME.effort`` → ``NAME.effort`` in
+    ``joint_effort``; ``group.column`` → ``column`` in the user group
+    ``group``; anything else → ``None``.
 
     Parameters
     ----------
@@ -141,10 +158,22 @@ def group_of_column(name: str) -> tuple[str, str] | None:
     ('grip', 'width')
     >>> group_of_column("Yaw")
     ('orientation', 'Yaw')
+    >>> group_of_column("shoulder_pan.pos")
+    ('joints', 'shoulder_pan')
+    >>> group_of_column("gripper.pos")
+    ('gripper', 'gripper')
+    >>> group_of_column("elbow_flex.vel")
+    ('joint_velocity', 'elbow_flex.vel')
     >>> group_of_column("speed") is None
     True
     """
     if "." in name:
+        motor, kind = name.rsplit(".", 1)
+        group = MOTOR_KINDS.get(kind.casefold())
+        if motor and group is not None:
+            if group == "joints" and motor.casefold() == "gripper":
+                return "gripper", motor
+            return group, (motor if group == "joints" else name)
         group, column = name.split(".", 1)
         if group and column:
             return group, column
@@ -188,6 +217,9 @@ class ColumnMapping:
         The Euler convention of the orientation when the file gave it as three
         Euler angles (the group's names are then those three, in the
         convention's order), else ``None``.
+    order : tuple of str
+        The file's names of the mapped columns (or arrays) in the file's
+        order, which outputs keep (empty: the order of ``groups``).
 
     Examples
     --------
@@ -203,6 +235,7 @@ class ColumnMapping:
     ignored: tuple[str, ...] = ()
     layout: str = "comma-separated"
     euler: str | None = None
+    order: tuple[str, ...] = ()
 
     def __str__(self) -> str:
         """The mapping in one line, as the command line reports it."""
@@ -480,6 +513,7 @@ def map_arrays(
         tuple(ignored),
         layout,
         from_euler,
+        tuple(k for k in keys if k in owner),
     )
     try:
         demo = Demonstration(t, np.hstack(blocks), tuple(names), tuple(gnames))

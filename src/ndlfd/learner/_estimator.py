@@ -40,13 +40,16 @@ class KeypointHMM(ParamsMixin):
     ----------
     groups : "auto", sequence of str or None, default="auto"
         The physical groups to learn from, in this order. ``"auto"`` learns
-        those of :data:`AUTO_GROUPS` (position, velocity, orientation, force,
-        gripper) that the first demonstration has, so none is dropped in
-        silence; ``None`` every group of the first demonstration. A missing
+        every group of the first demonstration, those of :data:`AUTO_GROUPS`
+        (position, velocity, orientation, force, gripper) first, then the
+        others (joints, ...) in its order, so none is dropped in silence;
+        ``None`` every group of the first demonstration as it is. A missing
         ``"velocity"`` is derived from position when ``derive_velocity``.
     levels : int or mapping of str to int, optional
         Codebook levels per group (one int for all groups). Groups not named
-        fall back to :data:`DEFAULT_LEVELS` (20 for position, 10 otherwise).
+        fall back to :data:`DEFAULT_LEVELS` (20 for position and joints, 2
+        for a gripper, 10 for the others), any other group to
+        :data:`OTHER_LEVELS` (10).
     epsilon : float, default=0.05
         Douglas–Peucker tolerance on the normalized (and weighted) values.
         Ignored when ``n_points`` is given.

@@ -309,6 +309,7 @@ def input_to_json(mapping: ColumnMapping) -> dict:
         "ignored": list(mapping.ignored),
         "layout": mapping.layout,
         "euler": mapping.euler,
+        "order": list(mapping.order),
     }
 
 
@@ -340,6 +341,7 @@ def input_from_json(obj, path) -> ColumnMapping | None:
         and names(obj.get("ignored"))
         and text(obj.get("layout"))
         and text(obj.get("euler"), optional=True)
+        and names(obj.get("order", []))
     )
     if not ok:
         raise ModelFormatError(
@@ -355,6 +357,7 @@ def input_from_json(obj, path) -> ColumnMapping | None:
         tuple(obj["ignored"]),
         obj["layout"],
         obj["euler"],
+        tuple(obj.get("order", [])),  # absent in files before it was kept
     )
 
 

@@ -36,6 +36,7 @@ __all__ = [
     "AUTO_GROUPS",
     "DEFAULT_LEVELS",
     "NORMALIZATIONS",
+    "OTHER_LEVELS",
     "DemoSpec",
     "Reduced",
     "levels_by_group",
@@ -44,19 +45,28 @@ __all__ = [
     "scaler_from_ranges",
 ]
 
-#: The groups ``groups="auto"`` learns when a demonstration has them, in this
-#: order (velocity also when it can be derived from position).
+#: The groups ``groups="auto"`` learns first when a demonstration has them,
+#: in this order (velocity also when it can be derived from position); every
+#: other group of the demonstration follows, in its order.
 AUTO_GROUPS = ("position", "velocity", "orientation", "force", "gripper")
 
 #: Codebook levels per physical group when ``levels`` does not name the group
-#: (the paper's 20 for position and 10 for velocity).
+#: (the paper's 20 for position and 10 for velocity; joint angles are
+#: positions, 20 levels).
 DEFAULT_LEVELS = {
     "position": 20,
     "velocity": 10,
     "orientation": 10,
     "force": 10,
     "gripper": 2,  # open or closed (a gripper of two recorded values stays so)
+    "joints": 20,
+    "joint_velocity": 10,
+    "joint_effort": 10,
 }
+
+#: Codebook levels of a group :data:`DEFAULT_LEVELS` does not name (a user
+#: group such as ``grip`` or ``tool``), when ``levels`` does not name it.
+OTHER_LEVELS = 10
 
 #: The scaler's range modes under the learner's parameter name (the errors
 #: then say "normalization").
@@ -71,10 +81,11 @@ def resolve_groups(groups, first: Demonstration, *, derive_velocity=True):
     Parameters
     ----------
     groups : "auto", str, sequence of str or None
-        ``"auto"``: those of :data:`AUTO_GROUPS` the demonstration has
-        (velocity also when ``derive_velocity`` and it has position), or all
-        of its groups if none; ``None``: all of its groups; a name or names:
-        these.
+        ``"auto"``: every group of the demonstration, those of
+        :data:`AUTO_GROUPS` first in that order (velocity also when
+        ``derive_velocity`` and it has position), then the others (joints, a
+        user group) in the demonstration's order; ``None``: all of its
+        groups as they are; a name or names: these.
     first : Demonstration
         The first training demonstration.
     derive_velocity : bool, default=True
@@ -100,7 +111,7 @@ def resolve_groups(groups, first: Demonstration, *, derive_velocity=True):
         if derive_velocity and "position" in have:
             have.add("velocity")
         auto = tuple(g for g in AUTO_GROUPS if g in have)
-        return auto or tuple(first.group_names)
+        return auto + tuple(g for g in first.group_names if g not in auto)
     if isinstance(groups, str):
         return (groups,)
     out = tuple(groups)
@@ -169,7 +180,8 @@ def levels_by_group(levels, groups: Sequence[str]) -> dict[str, int]:
     ----------
     levels : int, mapping of str to int, or None
         One int for all groups, or per group; groups not named fall back to
-        :data:`DEFAULT_LEVELS`.
+        :data:`DEFAULT_LEVELS`, and groups it does not name either to
+        :data:`OTHER_LEVELS` (10).
     groups : sequence of str
 
     Returns
@@ -180,6 +192,8 @@ def levels_by_group(levels, groups: Sequence[str]) -> dict[str, int]:
     --------
     >>> levels_by_group({"velocity": 8}, ("position", "velocity"))
     {'position': 20, 'velocity': 8}
+    >>> levels_by_group(None, ("joints", "gripper", "tool"))
+    {'joints': 20, 'gripper': 2, 'tool': 10}
     """
     lv = {} if levels is None else levels
     if isinstance(lv, numbers.Integral) and not isinstance(lv, bool):
@@ -198,12 +212,8 @@ def levels_by_group(levels, groups: Sequence[str]) -> dict[str, int]:
     for g in groups:
         if g in lv:
             out[g] = check_positive_int(lv[g], f"levels[{g!r}]")
-        elif g in DEFAULT_LEVELS:
-            out[g] = DEFAULT_LEVELS[g]
         else:
-            raise ValidationError(
-                f"no codebook levels for group {g!r}; pass levels={{{g!r}: N}}"
-            )
+            out[g] = DEFAULT_LEVELS.get(g, OTHER_LEVELS)
     return out
 
 
