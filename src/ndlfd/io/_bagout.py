@@ -4,24 +4,47 @@
 orientation, a ``JointState`` for the group ``joints`` and a topic for each other
 group (a gripper), with the header stamps and receive times equal (needs
 rosbags: the ``ros`` extra). :func:`write_joint_trajectory` writes a
-``trajectory_msgs/msg/JointTrajectory`` as YAML and needs nothing else.
+``trajectory_msgs/msg/JointTrajectory``: as YAML (needs nothing else), or as a
+bag of that one message for ``ros2 bag play``.
+
+**Units.** ROS measures joint angles in radians (REP 103). Joints recorded in
+degrees (LeRobot's SO-100/101 arms) are written with ``units="deg"``: the
+positions (and velocities, accelerations) are converted to radians.
+
+**QoS.** Each topic of a written bag carries the QoS profile ``ros2 bag
+record`` stores for a publisher it discovered (reliable, volatile, history
+unknown, infinite durations), which ``ros2 bag play`` offers again.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
 import tempfile
+import warnings
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from .._errors import ValidationError
+from .._errors import NdlfdWarning, ValidationError
 from .._fileformat import atomic_path
 from ..demonstration import Demonstration
 from ._bag import BAG_SUFFIXES, rosbags_modules, typestore
 
-__all__ = ["write_bag", "write_joint_trajectory"]
+__all__ = [
+    "JOINT_UNITS",
+    "TRAJECTORY_TOPIC",
+    "joint_trajectory_points",
+    "write_bag",
+    "write_joint_trajectory",
+]
+
+#: The units joint angles may be given in: converted to radians for ROS.
+JOINT_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
+#: Where a ``joint_trajectory_controller`` named so listens.
+TRAJECTORY_TOPIC = "/joint_trajectory_controller/joint_trajectory"
 
 
 def _time_ns(demo: Demonstration, start_time: float) -> np.ndarray:
@@ -32,6 +55,31 @@ def _time_ns(demo: Demonstration, start_time: float) -> np.ndarray:
             f" {float(demo.t[0])!r} (pass start_time= to shift it)"
         )
     return ns.astype(np.int64)
+
+
+def _offered_qos():
+    """The QoS profile rosbag2 records for a discovered publisher (rosbags' type)."""
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+
+    forever = QosTime(sec=9223372036, nsec=854775807)  # rmw's "infinite"
+    return Qos(
+        QosHistory.UNKNOWN,
+        0,
+        QosReliability.RELIABLE,
+        QosDurability.VOLATILE,
+        forever,
+        forever,
+        QosLiveliness.AUTOMATIC,
+        forever,
+        False,
+    )
 
 
 def _header(T, ns: int, frame_id: str):
@@ -70,8 +118,11 @@ def _bag_streams(demo: Demonstration, topic: str):
     return streams
 
 
-def _messages(T, demo, stream, ns, frame_id):
-    """The messages of one stream, one per sample."""
+def _messages(T, demo, stream, ns, frame_id, joints):
+    """The messages of one stream, one per sample.
+
+    ``joints`` gives the ``joints`` group's names and positions (radians).
+    """
     _, msgtype, group, cols = stream
     n = demo.n_samples
     if group == "pose":
@@ -100,6 +151,8 @@ def _messages(T, demo, stream, ns, frame_id):
         for i in range(n):
             yield T[msgtype](data=float(V[i, 0]))
         return
+    if group == "joints":
+        cols, V = joints
     empty = np.zeros(0, dtype=np.float64)
     for i in range(n):
         yield T[msgtype](
@@ -111,6 +164,57 @@ def _messages(T, demo, stream, ns, frame_id):
         )
 
 
+def _write_streams(final: Path, streams) -> Path:
+    """Write ``streams`` (topic, msgtype, [(ns, message), ...]) as a bag at ``final``.
+
+    ``NAME.mcap`` / ``NAME.db3``: one storage file; any other name: a bag
+    folder that must not exist yet. Written beside it and renamed into place.
+    """
+    rosbag2, _ = rosbags_modules()
+    store = typestore()
+    suffix = final.suffix.lower()
+    if suffix not in BAG_SUFFIXES and final.exists():
+        raise ValidationError(
+            f"{final} exists; a bag folder is written new (remove it first)"
+        )
+    final.parent.mkdir(parents=True, exist_ok=True)
+    sqlite = suffix == ".db3"
+    plugin = rosbag2.StoragePlugin.SQLITE3 if sqlite else rosbag2.StoragePlugin.MCAP
+    tmp = Path(
+        tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
+    )
+    qos = [_offered_qos()]
+    try:
+        bag = tmp / (final.stem if suffix in BAG_SUFFIXES else final.name)
+        with rosbag2.Writer(bag, version=8, storage_plugin=plugin) as writer:
+            for topic, msgtype, messages in streams:
+                conn = writer.add_connection(
+                    topic, msgtype, typestore=store, offered_qos_profiles=qos
+                )
+                for ns, msg in messages:
+                    writer.write(conn, int(ns), store.serialize_cdr(msg, msgtype))
+        if suffix in BAG_SUFFIXES:
+            with atomic_path(final) as out:
+                os.replace(bag / f"{bag.name}{'.db3' if sqlite else '.mcap'}", out)
+        else:
+            os.rename(bag, final)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return final
+
+
+def _check_demo(demo) -> None:
+    if not isinstance(demo, Demonstration):
+        raise ValidationError(
+            f"demo must be a Demonstration; got {type(demo).__name__}"
+        )
+
+
+def _check_topic(topic) -> None:
+    if not (isinstance(topic, str) and topic.startswith("/") and len(topic) > 1):
+        raise ValidationError(f"topic must be a name like '/ndlfd/path'; got {topic!r}")
+
+
 def write_bag(
     demo: Demonstration,
     path: str | os.PathLike,
@@ -118,6 +222,8 @@ def write_bag(
     topic: str = "/ndlfd/path",
     frame_id: str = "world",
     start_time: float = 0.0,
+    joint_names: Sequence[str] | None = None,
+    units: str = "rad",
 ) -> Path:
     """Write a demonstration as a ROS 2 bag that ``ros2 bag play`` replays, atomically.
 
@@ -125,14 +231,15 @@ def write_bag(
     time both ``t + start_time``: a ``geometry_msgs/msg/PoseStamped`` on
     ``topic`` for position (up to 3 columns, missing ones 0) and orientation
     (identity when absent); a ``sensor_msgs/msg/JointState`` on
-    ``TOPIC/joint_states`` for the group ``joints``; and for each other group
-    (a gripper, but not velocity) ``TOPIC/GROUP``: a ``std_msgs/msg/Float64``
-    for one column, a ``JointState`` named after the columns for several.
+    ``TOPIC/joint_states`` for the group ``joints`` (in radians); and for each
+    other group (a gripper, but not velocity) ``TOPIC/GROUP``: a
+    ``std_msgs/msg/Float64`` for one column, a ``JointState`` named after the
+    columns for several.
 
-    The bag is rosbag2 format version 8 (ROS 2 Jazzy's), written by rosbags;
-    it is written beside ``path`` and renamed into place. Velocity is not
-    written (a pose stream has none). Needs the ``ros`` extra (``pip install
-    "ndlfd[ros]"``).
+    The bag is rosbag2 format version 8 (ROS 2 Jazzy's), written by rosbags,
+    each topic with the QoS profile ``ros2 bag record`` stores; it is written
+    beside ``path`` and renamed into place. Velocity is not written (a pose
+    stream has none). Needs the ``ros`` extra (``pip install "ndlfd[ros]"``).
 
     Parameters
     ----------
@@ -145,52 +252,94 @@ def write_bag(
     topic : str, default="/ndlfd/path"
         The pose topic; the other topics are below it.
     frame_id : str, default="world"
-        The headers' frame.
+        The headers' frame (the frame the data were read in: a bag's
+        ``header.frame_id``, or the base frame of a tf chain).
     start_time : float, default=0.0
-        Seconds added to ``demo.t`` for the stamps (which must be >= 0).
+        Seconds added to ``demo.t`` for the stamps (which must be >= 0); the
+        seconds since 1970 of a real recording (``time.time()``) give absolute
+        stamps.
+    joint_names : sequence of str, optional
+        The joints' names in the ``JointState`` (the URDF's), one per column of
+        the group ``joints``; default: the columns' names.
+    units : {"rad", "deg"}, default="rad"
+        The units of the group ``joints``; degrees are written as radians.
 
     Returns
     -------
     path : Path
     """
-    if not isinstance(demo, Demonstration):
-        raise ValidationError(
-            f"demo must be a Demonstration; got {type(demo).__name__}"
-        )
-    if not (isinstance(topic, str) and topic.startswith("/") and len(topic) > 1):
-        raise ValidationError(f"topic must be a name like '/ndlfd/path'; got {topic!r}")
-    rosbag2, _ = rosbags_modules()
-    store = typestore()
-    T = store.types
+    _check_demo(demo)
+    _check_topic(topic)
+    if not isinstance(frame_id, str):
+        raise ValidationError(f"frame_id must be a frame name; got {frame_id!r}")
+    _units_factor(units)
+    rosbags_modules()
+    T = typestore().types
     streams = _bag_streams(demo, topic)
     ns = _time_ns(demo, float(start_time))
-    final = Path(path)
-    suffix = final.suffix.lower()
-    if suffix not in BAG_SUFFIXES and final.exists():
+    joints = None
+    if demo.has_group("joints"):
+        cols = [
+            c for c, g in zip(demo.columns, demo.groups, strict=True) if g == "joints"
+        ]
+        joints = (_mapped(cols, joint_names), _radians(demo.get("joints"), cols, units))
+    elif joint_names is not None:
         raise ValidationError(
-            f"{final} exists; write_bag writes a new bag folder (remove it first)"
+            "joint_names names the columns of the group 'joints'; the path has"
+            f" {', '.join(demo.group_names)}"
         )
-    final.parent.mkdir(parents=True, exist_ok=True)
-    sqlite = suffix == ".db3"
-    plugin = rosbag2.StoragePlugin.SQLITE3 if sqlite else rosbag2.StoragePlugin.MCAP
-    tmp = Path(
-        tempfile.mkdtemp(prefix=f".{final.name}.", suffix=".tmp", dir=final.parent)
-    )
-    try:
-        bag = tmp / (final.stem if suffix in BAG_SUFFIXES else final.name)
-        with rosbag2.Writer(bag, version=8, storage_plugin=plugin) as writer:
-            for stream in streams:
-                conn = writer.add_connection(stream[0], stream[1], typestore=store)
-                for i, msg in enumerate(_messages(T, demo, stream, ns, frame_id)):
-                    writer.write(conn, int(ns[i]), store.serialize_cdr(msg, stream[1]))
-        if suffix in BAG_SUFFIXES:
-            with atomic_path(final) as out:
-                os.replace(bag / f"{bag.name}{'.db3' if sqlite else '.mcap'}", out)
-        else:
-            os.rename(bag, final)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return final
+    out = [
+        (
+            st[0],
+            st[1],
+            zip(ns, _messages(T, demo, st, ns, frame_id, joints), strict=True),
+        )
+        for st in streams
+    ]
+    return _write_streams(Path(path), out)
+
+
+def _radians(Q: np.ndarray, cols, units: str) -> np.ndarray:
+    """The joints in radians; a warning when radians were said but look like degrees."""
+    factor = _units_factor(units)
+    peak = float(np.max(np.abs(Q))) if Q.size else 0.0
+    if units == "rad" and peak > 2 * math.pi:
+        warnings.warn(
+            f"the joints {', '.join(cols)} reach {peak:.4g}, more than a turn in"
+            " radians: if they are degrees (LeRobot's SO-100/101 arms), say so"
+            " with units='deg' (--units deg); ROS wants radians",
+            NdlfdWarning,
+            stacklevel=4,
+        )
+    return Q * factor
+
+
+def _units_factor(units) -> float:
+    if units not in JOINT_UNITS:
+        raise ValidationError(
+            f"units must be one of {', '.join(map(repr, JOINT_UNITS))} (the joint"
+            f" angles' units; ROS wants radians); got {units!r}"
+        )
+    return JOINT_UNITS[units]
+
+
+def _mapped(columns: Sequence[str], joint_names) -> list[str]:
+    """The joints' names: ``joint_names`` (one per column) or the columns'."""
+    if joint_names is None:
+        return list(columns)
+    if isinstance(joint_names, str):
+        raise ValidationError(
+            f"joint_names must be a list of names; got the string {joint_names!r}"
+        )
+    names = list(joint_names)
+    if len(names) != len(columns) or not all(isinstance(n, str) and n for n in names):
+        raise ValidationError(
+            f"joint_names must give one name per joint: {len(columns)} for"
+            f" {', '.join(columns)}; got {len(names)} ({', '.join(map(str, names))})"
+        )
+    if len(set(names)) != len(names):
+        raise ValidationError(f"joint_names names a joint twice; got {names}")
+    return names
 
 
 # ---------------------------------------------------------- joint trajectory
@@ -206,36 +355,184 @@ def _yaml_name(name: str) -> str:
     return "'" + name.replace("'", "''") + "'"
 
 
-def _duration(seconds: float) -> str:
+def _split_ns(seconds: float) -> tuple[int, int]:
     ns = round(seconds * 1e9)
-    return f"{{sec: {ns // 1_000_000_000}, nanosec: {ns % 1_000_000_000}}}"
+    return ns // 1_000_000_000, ns % 1_000_000_000
+
+
+def _duration(seconds: float) -> str:
+    sec, nanosec = _split_ns(seconds)
+    return f"{{sec: {sec}, nanosec: {nanosec}}}"
+
+
+def _fade(t: np.ndarray, fade: float) -> np.ndarray:
+    """The minimum-jerk ramp from 0 at both ends to 1 ``fade`` seconds inside."""
+    x = np.minimum(t - t[0], t[-1] - t) / fade
+    x = np.clip(x, 0.0, 1.0)
+    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
+
+
+#: The share of the duration over which the velocities fade to 0 at each end.
+FADE_SHARE = 0.05
+
+
+def joint_trajectory_points(
+    demo: Demonstration,
+    *,
+    group: str = "joints",
+    gripper: str | None = "gripper",
+    joint_names: Sequence[str] | None = None,
+    units: str = "rad",
+    fade: float | None = None,
+):
+    """The joints, positions, velocities and accelerations of a JointTrajectory.
+
+    The positions are the path's (in radians). The velocities are
+    :func:`numpy.gradient` over the real time stamps times a fade: a
+    minimum-jerk ramp from 0 at the first and last points to 1 ``fade``
+    seconds inside (``10 x^3 - 15 x^4 + 6 x^5``, whose slope is 0 at both of
+    its ends). The accelerations are the gradient of those velocities. Both
+    are exactly 0 at the first and last points, as a ROS 2
+    ``joint_trajectory_controller`` wants by default
+    (``allow_nonzero_velocity_at_trajectory_end`` false), and they reach zero
+    without a jump.
+
+    Parameters
+    ----------
+    demo : Demonstration
+        The path; needs the group ``group``.
+    group : str, default="joints"
+        The group holding the joint positions.
+    gripper : str or None, default="gripper"
+        A group written as more joints after them when the path has it (each
+        column one joint, named after it); ``None``: left out.
+    joint_names : sequence of str, optional
+        The joints' names (the URDF's), one per joint written; default the
+        columns' names.
+    units : {"rad", "deg"}, default="rad"
+        The units of the positions; degrees are converted to radians.
+    fade : float, optional
+        Seconds over which the velocities fade to 0 at each end; default 5 %
+        of the duration (0: only the end points are 0).
+
+    Returns
+    -------
+    names : list of str
+    times : ndarray of shape (n,)
+        Seconds from the first point.
+    positions, velocities, accelerations : ndarray of shape (n, n_joints)
+    """
+    _check_demo(demo)
+    if not demo.has_group(group):
+        raise ValidationError(
+            f"a joint trajectory needs the group {group!r} (the joint positions);"
+            f" the path has {', '.join(demo.group_names)}"
+        )
+    groups = [group]
+    if gripper is not None and gripper != group and demo.has_group(gripper):
+        groups.append(gripper)
+    cols = [c for g in groups for c, h in zip(demo.columns, demo.groups, strict=True)
+            if h == g]  # fmt: skip
+    names = _mapped(cols, joint_names)
+    Q = _radians(np.column_stack([demo.get(g) for g in groups]), cols, units)
+    t = demo.t - demo.t[0]
+    if demo.n_samples < 2:
+        zeros = np.zeros_like(Q)
+        return names, t, Q, zeros, zeros.copy()
+    span = float(t[-1])
+    if fade is None:
+        fade = FADE_SHARE * span
+    if not (isinstance(fade, (int, float)) and 0 <= fade <= span / 2):
+        raise ValidationError(
+            f"fade must be a number of seconds in [0, {span / 2:g}] (half the"
+            f" path's duration); got {fade!r}"
+        )
+    V = np.gradient(Q, demo.t, axis=0)
+    if fade > 0:
+        V *= _fade(t, fade)[:, None]
+    V[0] = V[-1] = 0.0
+    A = np.gradient(V, demo.t, axis=0)
+    A[0] = A[-1] = 0.0
+    return names, t, Q, V, A
+
+
+def _point_lines(names, t, Q, V, A) -> list[str]:
+    lines = [
+        "header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}",
+        f"joint_names: [{', '.join(_yaml_name(c) for c in names)}]",
+        "points:",
+    ]
+    for q, v, a, s in zip(Q, V, A, t, strict=True):
+        lines.append(
+            f"- {{positions: [{', '.join(map(_yaml_float, q))}],"
+            f" velocities: [{', '.join(map(_yaml_float, v))}],"
+            f" accelerations: [{', '.join(map(_yaml_float, a))}],"
+            f" time_from_start: {_duration(s)}}}"
+        )
+    return lines
+
+
+def _trajectory_message(names, t, Q, V, A):
+    T = typestore().types
+    Duration = T["builtin_interfaces/msg/Duration"]
+    Point = T["trajectory_msgs/msg/JointTrajectoryPoint"]
+    points = [
+        Point(
+            positions=np.array(q, dtype=np.float64),
+            velocities=np.array(v, dtype=np.float64),
+            accelerations=np.array(a, dtype=np.float64),
+            effort=np.zeros(0, dtype=np.float64),
+            time_from_start=Duration(*_split_ns(s)),
+        )
+        for q, v, a, s in zip(Q, V, A, t, strict=True)
+    ]
+    return T["trajectory_msgs/msg/JointTrajectory"](
+        header=_header(T, 0, ""), joint_names=list(names), points=points
+    )
 
 
 def write_joint_trajectory(
-    demo: Demonstration, path: str | os.PathLike, *, group: str = "joints"
+    demo: Demonstration,
+    path: str | os.PathLike,
+    *,
+    group: str = "joints",
+    gripper: str | None = "gripper",
+    joint_names: Sequence[str] | None = None,
+    units: str = "rad",
+    fade: float | None = None,
+    topic: str = TRAJECTORY_TOPIC,
+    start_time: float = 0.0,
 ) -> Path:
-    r"""Write a ``trajectory_msgs/msg/JointTrajectory`` as YAML, atomically.
+    r"""Write a ``trajectory_msgs/msg/JointTrajectory``, atomically: YAML or a bag.
 
-    One point per sample: the positions of ``group``'s columns (the joint
-    names), their velocities (:func:`numpy.gradient` over the real time
-    stamps) and ``time_from_start`` (seconds from the first sample, as
-    ``sec``/``nanosec``). The header's stamp is zero (start now) and its frame
-    empty. The file is the message in YAML flow style, floats written so that
-    they read back exactly, so it can be sent as it is::
+    One point per sample: the positions of ``group``'s columns (then the
+    gripper's), in radians; velocities and accelerations that are 0 at the
+    first and last points (see :func:`joint_trajectory_points`); and
+    ``time_from_start`` (seconds from the first sample, as ``sec``/
+    ``nanosec``). The header's stamp is zero (start now) and its frame empty.
 
-        ros2 topic pub --once /joint_trajectory_controller/joint_trajectory \
-            trajectory_msgs/msg/JointTrajectory "$(cat path.yaml)"
+    ``path`` ending in ``.yaml``/``.yml``: the message in YAML flow style,
+    floats written so that they read back exactly (needs no extra). Any other
+    name: a ROS 2 bag (``.mcap``, ``.db3`` or a bag folder, as
+    :func:`write_bag`) holding the one message on ``topic``, received at
+    ``start_time``; ``ros2 bag play`` sends it to the controller whatever its
+    size (a YAML file of a few thousand points is too long for a shell's
+    argument list, so ``ros2 topic pub ... "$(cat path.yaml)"`` fails)::
 
-    Needs no extra.
+        ros2 bag play traj_bag
 
     Parameters
     ----------
     demo : Demonstration
         The path; needs the group ``group``.
     path : str or path-like
-        The YAML file.
-    group : str, default="joints"
-        The group holding the joint positions.
+        The YAML file or the bag.
+    group, gripper, joint_names, units, fade
+        See :func:`joint_trajectory_points`.
+    topic : str, default="/joint_trajectory_controller/joint_trajectory"
+        The topic of a bag.
+    start_time : float, default=0.0
+        The receive time of a bag's message (seconds since 1970).
 
     Returns
     -------
@@ -244,44 +541,37 @@ def write_joint_trajectory(
     Examples
     --------
     >>> import pathlib, tempfile
-    >>> d = Demonstration.from_arrays([0.0, 0.5], joints=[[0.0, 1.0], [0.5, 1.0]],
+    >>> d = Demonstration.from_arrays([0.0, 0.5, 1.0],
+    ...                               joints=[[0.0, 1.0], [0.5, 1.0], [1.0, 1.0]],
     ...                               columns={"joints": ["a", "b"]})
     >>> p = write_joint_trajectory(d, pathlib.Path(tempfile.mkdtemp()) / "j.yaml")
     >>> print(p.read_text())
     header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}
     joint_names: ['a', 'b']
     points:
-    - {positions: [0.0, 1.0], velocities: [1.0, 0.0], time_from_start: {sec: 0, nanosec: 0}}
-    - {positions: [0.5, 1.0], velocities: [1.0, 0.0], time_from_start: {sec: 0, nanosec: 500000000}}
+    - {positions: [0.0, 1.0], velocities: [0.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 0, nanosec: 0}}
+    - {positions: [0.5, 1.0], velocities: [1.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 0, nanosec: 500000000}}
+    - {positions: [1.0, 1.0], velocities: [0.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 1, nanosec: 0}}
     <BLANKLINE>
     """  # noqa: E501
-    if not isinstance(demo, Demonstration):
-        raise ValidationError(
-            f"demo must be a Demonstration; got {type(demo).__name__}"
-        )
-    if not demo.has_group(group):
-        raise ValidationError(
-            f"a joint trajectory needs the group {group!r} (the joint positions);"
-            f" the path has {', '.join(demo.group_names)}"
-        )
-    names = [c for c, g in zip(demo.columns, demo.groups, strict=True) if g == group]
-    Q = demo.get(group)
-    if demo.n_samples > 1:
-        V = np.gradient(Q, demo.t, axis=0)
-    else:
-        V = np.zeros_like(Q)
-    lines = [
-        "header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}",
-        f"joint_names: [{', '.join(_yaml_name(c) for c in names)}]",
-        "points:",
-    ]
-    for q, v, t in zip(Q, V, demo.t - demo.t[0], strict=True):
-        lines.append(
-            f"- {{positions: [{', '.join(map(_yaml_float, q))}],"
-            f" velocities: [{', '.join(map(_yaml_float, v))}],"
-            f" time_from_start: {_duration(t)}}}"
-        )
+    names, t, Q, V, A = joint_trajectory_points(
+        demo,
+        group=group,
+        gripper=gripper,
+        joint_names=joint_names,
+        units=units,
+        fade=fade,
+    )
     final = Path(path)
-    with atomic_path(final) as tmp:
-        tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
-    return final
+    if final.suffix.lower() in (".yaml", ".yml"):
+        with atomic_path(final) as tmp:
+            tmp.write_text("\n".join(_point_lines(names, t, Q, V, A)) + "\n")
+        return final
+    _check_topic(topic)
+    ns = round(float(start_time) * 1e9)
+    if not ns >= 0:
+        raise ValidationError(f"start_time must be >= 0 seconds; got {start_time!r}")
+    msg = _trajectory_message(names, t, Q, V, A)
+    return _write_streams(
+        final, [(topic, "trajectory_msgs/msg/JointTrajectory", [(ns, msg)])]
+    )
