@@ -159,7 +159,7 @@ def test_generate_writes_the_format_of_its_suffix_or_says_why_not(tmp_path, caps
     # before: -o x.npz and -o x.parquet wrote CSV text under those names
     from cli_helpers import fit_model, write_obstacle
 
-    from ndlfd.io import read_npz
+    from ndlfd.io import read_npz, read_parquet
 
     model = fit_model(write_obstacle(tmp_path / "d", 3, 2), tmp_path / "m.ndlfd")
     args = ("generate", tmp_path / "m.ndlfd", "--duration", "5", "--samples", "50",
@@ -173,11 +173,18 @@ def test_generate_writes_the_format_of_its_suffix_or_says_why_not(tmp_path, caps
     assert got.columns == model.columns_ and got.groups == model.column_groups_
     np.testing.assert_allclose(got.X, want.X, rtol=1e-9, atol=1e-12)  # csv: 10 digits
     np.testing.assert_allclose(got.t, want.t, rtol=1e-9, atol=1e-12)
-    for name, extra in (("p.parquet", "Parquet and LeRobot output"), ("p", "")):
+    rc, err = cli(capsys, *args, "-o", tmp_path / "p.parquet")  # LeRobot's layout
+    assert rc == 0, err
+    got = read_parquet(tmp_path / "p.parquet")
+    assert got.columns == want.columns and got.groups == want.groups
+    np.testing.assert_allclose(got.X, want.X, rtol=1e-6)  # float32, as LeRobot
+    for name in ("p", "p.parquet.gz"):
         rc, err = cli(capsys, *args, "-o", tmp_path / name)
         assert rc == 2
-        assert "expected a file ending in .csv, .db3, .mcap, .npz, .txt" in err[-1]
-        assert extra in err[-1]
+        assert (
+            "expected a file ending in .csv, .db3, .mcap, .npz, .parquet, .txt"
+            in err[-1]
+        )
         assert not (tmp_path / name).exists()
     rc, err = cli(capsys, *args, "-o", tmp_path / "p.out", "--format", "csv")
     assert rc == 0, err

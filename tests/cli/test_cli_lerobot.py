@@ -10,7 +10,7 @@ pytest.importorskip("pyarrow")
 from cli_helpers import cli, run
 
 from lerobot_writer import SO101_STATE, write_lerobot, write_so101
-from ndlfd.io import read_csv, read_lerobot
+from ndlfd.io import read_csv, read_lerobot, read_parquet
 from ndlfd.learner import KeypointHMM
 
 STATE = ["x", "y", "z", "roll", "pitch", "yaw", "gripper"]
@@ -190,3 +190,27 @@ def test_so101_fit_and_generate_in_one_attempt(tmp_path, capsys, version):
     # read back with the same names: the time column and the groups
     again = read_csv(out)
     assert again.columns == like.columns and again.groups == like.groups
+
+
+def test_so101_generate_a_parquet_episode_and_fit_it_again(tmp_path, capsys):
+    root, _ = write_so101(tmp_path / "so101", n_demos=4)
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(capsys, "fit", root, "-o", model, "--feature", "action")
+    assert rc == 0, err
+    out = tmp_path / "path.parquet"
+    rc, err = cli(capsys, "generate", model, "--like", root, "--feature", "action",
+                  "--episodes", "2", "--dense", "-o", out)  # fmt: skip
+    assert rc == 0, err
+    pq = pytest.importorskip("pyarrow.parquet")
+    assert pq.read_schema(out).names[-1] == "action"  # the input's feature
+    (like,) = read_lerobot(root, feature="action", episodes=[2])
+    got = KeypointHMM.load(model).generate(like, dense=True)
+    path = read_parquet(out)
+    assert path.columns == like.columns and path.groups == like.groups
+    np.testing.assert_array_equal(path.t, like.t)  # float32 stamps, as read
+    np.testing.assert_array_equal(
+        path.get("joints"), got.get("joints").astype(np.float32)
+    )
+    rc, err = cli(capsys, "fit", out, "-o", tmp_path / "again.ndlfd")
+    assert rc == 0, err
+    assert "joints=shoulder_pan.pos" in err[0] and "time=timestamp" in err[0]

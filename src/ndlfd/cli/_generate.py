@@ -11,10 +11,9 @@ from .._errors import ValidationError
 from ..io import (
     csv_columns,
     csv_header,
-    write_bag,
     write_csv,
-    write_joint_trajectory,
     write_npz,
+    write_parquet,
     write_table,
 )
 from ._conditions import (
@@ -33,6 +32,13 @@ from ._options import (
     read_timing,
     say,
 )
+from ._rosout import (
+    ROS_FORMATS,
+    add_ros_output_options,
+    check_ros_output,
+    is_folder_output,
+    write_ros_output,
+)
 
 __all__ = ["FLOAT_FORMAT", "FORMATS", "MAX_SAMPLES", "add_generate"]
 
@@ -41,11 +47,12 @@ FLOAT_FORMAT = "%.10g"
 
 
 #: What ``ndlfd generate -o`` writes, by ``--format`` or the output's suffix.
-FORMATS = ("csv", "npz", "bag", "joint-trajectory")
+FORMATS = ("csv", "npz", "parquet", "bag", "joint-trajectory")
 _FORMAT_OF_SUFFIX = {
     ".csv": "csv",
     ".txt": "csv",
     ".npz": "npz",
+    ".parquet": "parquet",
     ".mcap": "bag",
     ".db3": "bag",
     ".yaml": "joint-trajectory",
@@ -55,25 +62,15 @@ _FORMAT_OF_SUFFIX = {
 
 def _output_format(args: argparse.Namespace, out: Path) -> str:
     suffix = out.suffix.lower()
-    if args.format is None and suffix not in _FORMAT_OF_SUFFIX:
+    given = args.format or ("bag" if is_folder_output(args.output) else None)
+    if given is None and suffix not in _FORMAT_OF_SUFFIX:
         known = ", ".join(sorted(_FORMAT_OF_SUFFIX))
-        later = " (Parquet and LeRobot output are not written yet)"
         raise ValidationError(
             f"-o {out}: expected a file ending in {known} (or --format"
             f" {'/'.join(FORMATS)}); got {suffix or 'no suffix'}"
-            + (later if suffix == ".parquet" else "")
         )
-    fmt = args.format or _FORMAT_OF_SUFFIX[suffix]
-    if fmt == "bag" and out.suffix.lower() not in (".mcap", ".db3"):
-        raise ValidationError(
-            f"--format bag writes one .mcap (or .db3) file; got -o {out}"
-            f" (e.g. -o {out.with_suffix('.mcap')})"
-        )
-    if args.topic is not None and fmt != "bag":
-        raise ValidationError(
-            f"--topic names the topic of a bag output (-o PATH.mcap); -o {out}"
-            f" writes {fmt}"
-        )
+    fmt = given or _FORMAT_OF_SUFFIX[suffix]
+    check_ros_output(args, out, fmt)
     return fmt
 
 
@@ -108,12 +105,12 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     scaled = apply_limits(args, path, dense=dense, std=std, prefix=prefix)
     exact_time = exact_time and (scaled is path or args.rate is not None)
     path = scaled
-    if fmt == "bag":
-        write_bag(path, out, topic=args.topic or "/ndlfd/path")
-    elif fmt == "joint-trajectory":
-        write_joint_trajectory(path, out)
+    if fmt in ROS_FORMATS:
+        write_ros_output(args, path, out, fmt, like)
     elif fmt == "npz":
         write_npz(path, out)
+    elif fmt == "parquet":
+        write_parquet(path, out, mapping=like)
     else:
         _write_path(path, out, exact_time=exact_time, like=like)
     if std is not None:  # the path's columns (std of a quaternion is no quaternion)
@@ -160,8 +157,12 @@ def add_generate(sub) -> None:
             " topic TOPIC/GROUP for each other group such as a gripper; replay it"
             " with 'ros2 bag play PATH.mcap'), or as a"
             " trajectory_msgs/msg/JointTrajectory in YAML (-o PATH.yaml: the group"
-            " joints, velocities by numpy.gradient; send it with 'ros2 topic pub')."
-            " Bags need ndlfd[ros]."
+            " joints, velocities by numpy.gradient; send it with 'ros2 topic pub'),"
+            " or as a LeRobot episode's rows (-o PATH.parquet: timestamp,"
+            " frame_index, episode_index, index, task_index and the path as one"
+            " float32 list column named like the input's feature, e.g. action)."
+            " The CSV and Parquet outputs keep the input's column names, order and"
+            " time column. Bags need ndlfd[ros], Parquet ndlfd[lerobot]."
         ),
     )
     p.add_argument("model", help="model file written by 'ndlfd fit'")
@@ -184,21 +185,24 @@ def add_generate(sub) -> None:
         "-o",
         "--output",
         required=True,
-        help="output file (its folder must exist): .csv, .mcap (a ROS 2 bag) or"
-        " .yaml (a joint trajectory)",
+        help="output file (its folder must exist): .csv, .parquet (a LeRobot"
+        " episode), .mcap (a ROS 2 bag) or .yaml (a joint trajectory)",
     )
     p.add_argument(
         "--format",
         choices=FORMATS,
         help="what -o holds (default: by its suffix: .csv/.txt csv, .npz an ndlfd"
-        " .npz (t, X, columns, groups), .mcap/.db3 bag, .yaml/.yml"
+        " .npz (t, X, columns, groups), .parquet parquet, .mcap/.db3 bag, .yaml/.yml"
         " joint-trajectory; another suffix is an error)",
     )
     p.add_argument(
         "--topic",
         metavar="TOPIC",
-        help="the pose topic of a bag output (default /ndlfd/path)",
+        help="the pose topic of a bag output (default /ndlfd/path), or the topic"
+        " of a joint trajectory's bag (default"
+        " /joint_trajectory_controller/joint_trajectory)",
     )
+    add_ros_output_options(p)
     p.add_argument("-q", "--quiet", action="store_true", help="print no summary")
     add_column_options(p, what="--like file", bags="like-")
     p.set_defaults(func=_cmd_generate)

@@ -88,6 +88,7 @@ from ._mapping import (
 )
 from ._npz import read_npz, write_npz
 from ._output import csv_columns, csv_header
+from ._parquet import read_parquet, write_parquet
 
 __all__ = [
     "ARRAY_NAMES",
@@ -118,10 +119,12 @@ __all__ = [
     "read_lerobot",
     "read_npz",
     "read_or_skip",
+    "read_parquet",
     "read_table",
     "write_bag",
     "write_csv",
     "write_joint_trajectory",
     "write_npz",
+    "write_parquet",
     "write_table",
 ]

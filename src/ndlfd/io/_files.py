@@ -29,6 +29,7 @@ from ._mapping import (
     check_bad_rows,
 )
 from ._npz import read_npz_mapped
+from ._parquet import read_parquet_mapped
 
 __all__ = [
     "BAD_FILES",
@@ -139,6 +140,7 @@ def _expand(source, dataset=DATASET_DEFAULTS) -> list:
 #: ColumnMapping): see :mod:`ndlfd.io`.
 READERS = {
     ".npz": read_npz_mapped,
+    ".parquet": read_parquet_mapped,
     **dict.fromkeys(HDF5_SUFFIXES, read_hdf5_mapped),
     **dict.fromkeys(BAG_SUFFIXES, read_bag_mapped),
 }

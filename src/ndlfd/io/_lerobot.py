@@ -58,11 +58,15 @@ from ..demonstration import Demonstration
 from ._mapping import LIBRARY_HINTS, TIME_NAMES, ColumnMapping, map_arrays
 
 __all__ = [
+    "BOOKKEEPING",
     "DATASET_DEFAULTS",
     "LEROBOT_INFO",
     "LeRobotEpisode",
+    "feature_values",
     "is_lerobot_dataset",
+    "layout_feature",
     "lerobot_episodes",
+    "lerobot_layout",
     "parse_episodes",
     "read_episode_mapped",
     "read_lerobot",
@@ -74,7 +78,8 @@ LEROBOT_INFO = Path("meta") / "info.json"
 DATASET_DEFAULTS = {"feature": "observation.state", "episodes": None}
 _TIME = "timestamp"
 #: The columns every LeRobot data file has besides the features.
-_BOOKKEEPING = (_TIME, "frame_index", "episode_index", "index", "task_index")
+BOOKKEEPING = (_TIME, "frame_index", "episode_index", "index", "task_index")
+_BOOKKEEPING = BOOKKEEPING
 _V2_DATA_PATH = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
 _V3_DATA_PATH = "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
 
@@ -377,17 +382,54 @@ def lerobot_episodes(
     ]
 
 
-def _feature_values(item: LeRobotEpisode, column) -> np.ndarray:
-    """The feature's column as an ``(n, k)`` float array (lists or numbers)."""
+def lerobot_layout(version: str, feature: str) -> str:
+    """The :attr:`~ndlfd.io.ColumnMapping.layout` of a LeRobot feature read.
+
+    Examples
+    --------
+    >>> lerobot_layout("v3.0", "action")
+    'LeRobot v3.0, action'
+    >>> layout_feature(lerobot_layout("v2.1", "observation.state"))
+    'observation.state'
+    """
+    return f"LeRobot {version}, {feature}"
+
+
+def layout_feature(layout: str) -> str | None:
+    """The feature a mapping of :func:`lerobot_layout` read (else ``None``)."""
+    if not layout.startswith("LeRobot ") or ", " not in layout:
+        return None
+    return layout.split(", ", 1)[1]
+
+
+def feature_values(column, feature: str, names: Sequence[str], where) -> np.ndarray:
+    """A feature's Parquet column as an ``(n, k)`` float array (lists or numbers).
+
+    Parameters
+    ----------
+    column : pyarrow.Array or pyarrow.ChunkedArray
+        Fixed-size or variable lists of ``k = len(names)`` numbers, or one
+        number per row when ``k == 1``.
+    feature : str
+        The feature's name, for the messages.
+    names : sequence of str
+        Its component names (from ``info.json``).
+    where : object
+        The episode or file, for the messages.
+
+    Returns
+    -------
+    values : ndarray of shape (n, k), float64
+    """
     import pyarrow as pa
 
     col = column.combine_chunks() if hasattr(column, "combine_chunks") else column
-    k = len(item.names)
+    k = len(names)
     n = len(col)
     if col.null_count:
         row = int(np.flatnonzero(np.asarray(col.is_null()))[0])
         raise DataFileError(
-            f"{item}: feature {item.feature!r} is empty (null) at row {row}"
+            f"{where}: feature {feature!r} is empty (null) at row {row}"
         )
     if (
         pa.types.is_list(col.type)
@@ -401,13 +443,13 @@ def _feature_values(item: LeRobotEpisode, column) -> np.ndarray:
             lengths = np.asarray(pc.list_value_length(col))
             row = int(np.flatnonzero(lengths != k)[0])
             raise DataFileError(
-                f"{item}: feature {item.feature!r} has {int(lengths[row])} values at"
-                f" row {row}; info.json gives it {k} ({', '.join(item.names)})"
+                f"{where}: feature {feature!r} has {int(lengths[row])} values at"
+                f" row {row}; info.json gives it {k} ({', '.join(names)})"
             )
         return values.to_numpy(zero_copy_only=False).astype(np.float64).reshape(n, k)
     if k != 1:
         raise DataFileError(
-            f"{item}: feature {item.feature!r} holds one number per row; info.json"
+            f"{where}: feature {feature!r} holds one number per row; info.json"
             f" gives it {k} components"
         )
     return col.to_numpy(zero_copy_only=False).astype(np.float64).reshape(n, 1)
@@ -496,14 +538,14 @@ def read_episode_mapped(
     table = _read_rows(item, [_TIME, item.feature])
     if table.num_rows == 0:
         raise DataFileError(f"{item}: the episode has no rows in {item.path}")
-    values = _feature_values(item, table.column(item.feature))
+    values = feature_values(table.column(item.feature), item.feature, item.names, item)
     arrays = {_TIME: table.column(_TIME).to_numpy().astype(np.float64)}
     arrays.update((name, values[:, j]) for j, name in enumerate(item.names))
     mapping = dict(mapping)
     tc = mapping.get("time_column", TIME_NAMES)
     if tc is not None and not isinstance(tc, str) and tuple(tc) == TIME_NAMES:
         mapping["time_column"] = _TIME  # the default names: LeRobot's column
-    layout = f"LeRobot {item.version}, {item.feature}"
+    layout = lerobot_layout(item.version, item.feature)
     return [
         map_arrays(item, arrays, how=how, layout=layout, source=str(item), **mapping)
     ]
