@@ -57,7 +57,7 @@ def test_fit_bags_generate_a_bag_read_back_with_rosbags(tmp_path, capsys):
     assert rc == 0, err
     assert err[0] == (
         "read 5 demonstration(s) from 5 file(s): time=/ee_pose stamps;"
-        " position=x,y,z; orientation=qw,qx,qy,qz (ROS 2 bag)"
+        " position=x,y,z; orientation=qw,qx,qy,qz (ROS 2 bag, frame world)"
     )
     assert "on position, velocity, orientation (velocity derived" in err[1]
     out = tmp_path / "path.mcap"
@@ -122,7 +122,7 @@ def test_several_topics_and_split_gap(tmp_path, capsys):
     )
     assert rc == 0, err
     assert err[0].startswith("read 3 demonstration(s) from 1 file(s): time=/ee_pose")
-    assert "joints=joints.shoulder,joints.elbow (ROS 2 bag)" in err[0]
+    assert "joints=joints.shoulder,joints.elbow (ROS 2 bag, frame world)" in err[0]
     assert err[-1].startswith("not learned: joints")
     rc, err = cli(
         capsys,
@@ -227,8 +227,8 @@ def test_bag_errors_on_the_command_line(tmp_path, capsys):
         "/x",
     )
     assert rc == 2 and err == [
-        "ndlfd generate: error: --topic names the topic of a bag output (-o"
-        f" PATH.mcap); -o {tmp_path / 'p.csv'} writes csv"
+        "ndlfd generate: error: --topic sets a ROS 2 output (-o PATH.mcap, a bag"
+        f" folder PATH/, or PATH.yaml); -o {tmp_path / 'p.csv'} writes csv"
     ]
     rc, err = cli(
         capsys,
@@ -283,7 +283,7 @@ def test_frame_reads_tf_composed_to_the_base_frame(tmp_path, capsys):
     assert rc == 0, err
     assert err[0] == (
         "read 1 demonstration(s) from 1 file(s): time=/tf stamps; position=x,y,z;"
-        " orientation=qw,qx,qy,qz (ROS 2 bag)"
+        " orientation=qw,qx,qy,qz (ROS 2 bag, frame base_link)"
     )
     out = tmp_path / "p.csv"
     rc, err = cli(capsys, "generate", model, "--like", bag, "--like-frame", "tool0",
@@ -306,4 +306,65 @@ def test_frame_reads_tf_composed_to_the_base_frame(tmp_path, capsys):
     assert rc == 2 and err[0].endswith(
         "no base frame 'map' in the tf tree of /tf and /tf_static; the frames"
         " found are base_link, camera_link, link1, link2, tool0, world"
+    )
+
+
+def test_bag_outputs_carry_the_inputs_frame_and_absolute_stamps(tmp_path, capsys):
+    from bag_samples import chain_bag
+
+    bag, *_ = chain_bag(tmp_path / "chain")
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(
+        capsys, "fit", bag, "--frame", "tool0", "--base-frame", "base_link", "-o", model
+    )
+    assert rc == 0, err
+    out = tmp_path / "out_bag"
+    rc, err = cli(capsys, "generate", model, "--duration", 1, "--samples", 11,
+                  "--dense", "-o", f"{out}/")  # fmt: skip
+    assert rc == 0, err
+    assert (out / "metadata.yaml").is_file()  # a bag folder
+    got = messages(out, "/ndlfd/path")
+    assert {m.header.frame_id for _, m in got} == {"base_link"}  # the input's
+    assert [ns for ns, _ in got] == [round(k * 1e8) for k in range(11)]
+    rc, err = cli(capsys, "generate", model, "--duration", 1, "--samples", 11,
+                  "--dense", "--format", "bag", "--frame-id", "map", "--start-time",
+                  1_700_000_000.25, "-o", tmp_path / "abs")  # fmt: skip
+    assert rc == 0, err
+    got = messages(tmp_path / "abs", "/ndlfd/path")
+    assert {m.header.frame_id for _, m in got} == {"map"}
+    want = [1_700_000_000_250_000_000 + round(k * 1e8) for k in range(11)]
+    assert [ns for ns, _ in got] == want
+    stamps = [m.header.stamp.sec * 10**9 + m.header.stamp.nanosec for _, m in got]
+    assert stamps == want
+    rc, err = cli(capsys, "generate", model, "--duration", 1, "-o", tmp_path / "p.csv",
+                  "--frame-id", "map")  # fmt: skip
+    assert rc == 2 and "--frame-id sets a ROS 2 output" in err[0]
+    rc, err = cli(capsys, "generate", model, "--duration", 1, "--format", "bag",
+                  "-o", tmp_path / "p.txt")  # fmt: skip
+    assert rc == 2 and "--format bag writes one .mcap (or .db3) file or a bag" in err[0]
+
+
+def test_joint_trajectory_bag_with_urdf_names_in_radians(tmp_path, capsys):
+    folder = bags(tmp_path / "bags")
+    model = tmp_path / "j.ndlfd"
+    rc, err = cli(capsys, "fit", folder, "--topic", "/joint_states", "--groups",
+                  "joints", "--levels", "joints=12", "-o", model)  # fmt: skip
+    assert rc == 0, err
+    out = tmp_path / "traj_bag"
+    rc, err = cli(capsys, "generate", model, "--duration", 2, "--samples", 30,
+                  "--dense", "--format", "joint-trajectory", "--units", "deg",
+                  "--joint-names", "joint_1,joint_2", "-o", out)  # fmt: skip
+    assert rc == 0, err
+    ((ns, msg),) = messages(out, "/joint_trajectory_controller/joint_trajectory")
+    want = KeypointHMM.load(model).generate(np.linspace(0.0, 2.0, 30), dense=True)
+    assert ns == 0 and msg.joint_names == ["joint_1", "joint_2"]
+    got = np.array([p.positions for p in msg.points])
+    assert np.array_equal(got, np.deg2rad(want.get("joints")))
+    for end in (msg.points[0], msg.points[-1]):
+        assert not np.any(end.velocities) and not np.any(end.accelerations)
+    rc, err = cli(capsys, "generate", model, "--duration", 2, "--joint-names", "a",
+                  "-o", tmp_path / "t.yaml")  # fmt: skip
+    assert rc == 2 and err[-1] == (
+        "ndlfd generate: error: --joint-names must give one name per joint: 2 for"
+        " shoulder, elbow; got 1 (a)"
     )

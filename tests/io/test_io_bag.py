@@ -51,7 +51,8 @@ def test_pose_bag_reads_the_arrays_written(tmp_path, storage, suffix):
     demos, maps = read_demos(tmp_path, topic="/ee_pose", return_mappings=True)
     assert demos == [want, want]
     assert str(maps[0]) == (
-        "time=/ee_pose stamps; position=x,y,z; orientation=qw,qx,qy,qz (ROS 2 bag)"
+        "time=/ee_pose stamps; position=x,y,z; orientation=qw,qx,qy,qz"
+        " (ROS 2 bag, frame world)"
     )
 
 

@@ -64,6 +64,7 @@ __all__ = [
     "BAG_OPTIONS",
     "BAG_SUFFIXES",
     "BAG_TYPES",
+    "bag_frame_id",
     "is_bag_folder",
     "read_bag",
     "read_bag_mapped",
@@ -79,6 +80,27 @@ BAG_OPTIONS = {"topic": None, "frame": None, "base_frame": None, "split_gap": No
 RATE_RATIO = 2.0
 
 _POSE_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz")
+#: The layout of a bag's :class:`ColumnMapping` (``", frame NAME"`` follows
+#: when the poses were read in a frame).
+BAG_LAYOUT = "ROS 2 bag"
+
+
+def bag_frame_id(mapping: ColumnMapping | None) -> str | None:
+    """The frame the poses of a bag were read in, from its mapping (or ``None``).
+
+    The ``header.frame_id`` of the first pose topic, or the base frame of a
+    tf chain; ``None`` for another file or a bag without poses.
+
+    Examples
+    --------
+    >>> bag_frame_id(ColumnMapping("b", "t", (), layout="ROS 2 bag, frame base_link"))
+    'base_link'
+    >>> bag_frame_id(ColumnMapping("a.csv", "t", ())) is None
+    True
+    """
+    layout = getattr(mapping, "layout", "") or ""
+    head = f"{BAG_LAYOUT}, frame "
+    return layout[len(head) :] if layout.startswith(head) else None
 
 
 def rosbags_modules():
@@ -523,6 +545,8 @@ def read_bag_mapped(
         for c, v in _resample(tp, at).items():
             arrays[keys[c]] = v
     what = f"{tps[0].label} stamps"
+    frames = [f for _, kind, _, f in read if kind == "pose" and f]
+    layout = f"{BAG_LAYOUT}, frame {frames[0]}" if frames else BAG_LAYOUT
     out = []
     segs = _segments(at, split_gap)
     for i, seg in enumerate(segs):
@@ -541,7 +565,7 @@ def read_bag_mapped(
             source=source,
             bad_rows=bad_rows,
         )
-        out.append((demo, replace(mapping, time=what, layout="ROS 2 bag")))
+        out.append((demo, replace(mapping, time=what, layout=layout)))
     return out
 
 

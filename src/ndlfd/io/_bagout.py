@@ -47,14 +47,25 @@ JOINT_UNITS = {"rad": 1.0, "deg": math.pi / 180.0}
 TRAJECTORY_TOPIC = "/joint_trajectory_controller/joint_trajectory"
 
 
+def _start_ns(start_time: float) -> int:
+    """Seconds since 1970 as nanoseconds, the whole seconds exact."""
+    whole = math.floor(start_time)
+    return int(whole) * 1_000_000_000 + round((start_time - whole) * 1e9)
+
+
 def _time_ns(demo: Demonstration, start_time: float) -> np.ndarray:
-    ns = np.round((demo.t + start_time) * 1e9)
+    """The stamps ``t + start_time`` in nanoseconds (exact to 1 ns at epoch times)."""
+    if not math.isfinite(start_time):
+        raise ValidationError(
+            f"start_time must be a number of seconds; got {start_time!r}"
+        )
+    ns = np.round(demo.t * 1e9).astype(np.int64) + _start_ns(start_time)
     if ns[0] < 0:
         raise ValidationError(
             f"a bag's time stamps must be >= 0; the demonstration starts at"
             f" {float(demo.t[0])!r} (pass start_time= to shift it)"
         )
-    return ns.astype(np.int64)
+    return ns
 
 
 def _offered_qos():
@@ -568,7 +579,7 @@ def write_joint_trajectory(
             tmp.write_text("\n".join(_point_lines(names, t, Q, V, A)) + "\n")
         return final
     _check_topic(topic)
-    ns = round(float(start_time) * 1e9)
+    ns = _start_ns(float(start_time)) if math.isfinite(start_time) else -1
     if not ns >= 0:
         raise ValidationError(f"start_time must be >= 0 seconds; got {start_time!r}")
     msg = _trajectory_message(names, t, Q, V, A)

@@ -1,0 +1,155 @@
+"""What ``ndlfd generate`` writes for ROS 2: bags and joint trajectories.
+
+A bag is ``-o NAME.mcap`` / ``NAME.db3`` (one storage file) or a bag folder:
+``-o NAME/`` (a trailing slash), or ``--format bag`` with a name without a
+suffix. ``--format joint-trajectory`` writes a ``JointTrajectory`` as YAML
+(``.yaml``/``.yml``) or, for any other name, a bag of that one message for
+``ros2 bag play``. The flags here set the frame, the stamps and the joints of
+those outputs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from pathlib import Path
+
+from .._errors import ValidationError
+from ..io import write_bag, write_joint_trajectory
+from ..io._bag import BAG_SUFFIXES, bag_frame_id
+from ..io._bagout import JOINT_UNITS, TRAJECTORY_TOPIC
+from ._options import split_names
+
+__all__ = [
+    "ROS_FORMATS",
+    "add_ros_output_options",
+    "check_ros_output",
+    "is_folder_output",
+    "write_ros_output",
+]
+
+#: The ``--format`` values written here.
+ROS_FORMATS = ("bag", "joint-trajectory")
+#: The frame of a bag's poses when neither ``--frame-id`` nor the input says.
+DEFAULT_FRAME = "world"
+
+
+def is_folder_output(raw: str) -> bool:
+    """Whether ``-o`` names a folder to write (it ends with a slash)."""
+    return raw.endswith(("/", os.sep))
+
+
+def add_ros_output_options(p) -> None:
+    """Add ``--frame-id``, ``--start-time``, ``--joint-names``, ``--units``."""
+    g = p.add_argument_group(
+        "ROS 2 outputs (bags, joint trajectories)",
+        "ROS wants joint angles in radians: joints in degrees (LeRobot's SO-100/101"
+        " arms) need --units deg. The joint trajectory's velocities and"
+        " accelerations are 0 at both ends (they fade over the first and last 5 %"
+        " of the duration), as a joint_trajectory_controller wants.",
+    )
+    g.add_argument(
+        "--frame-id",
+        metavar="FRAME",
+        help="the headers' frame of a bag's poses (default: the frame the input"
+        f" bag's poses were in, its base frame for --frame; else {DEFAULT_FRAME})",
+    )
+    g.add_argument(
+        "--start-time",
+        type=float,
+        metavar="SECONDS",
+        help="stamp the output from this time, in seconds since 1970 (default 0:"
+        " stamps from 0)",
+    )
+    g.add_argument(
+        "--joint-names",
+        metavar="NAME[,NAME...]",
+        help="the joints' names in the JointState / JointTrajectory (the URDF's),"
+        " one per joint column, gripper last (default: the columns' names)",
+    )
+    g.add_argument(
+        "--units",
+        choices=tuple(JOINT_UNITS),
+        default="rad",
+        help="the units of the joint columns (default rad); deg is converted to"
+        " radians for ROS",
+    )
+
+
+def check_ros_output(args: argparse.Namespace, out: Path, fmt: str) -> None:
+    """Refuse ROS flags for another output, and a bag that cannot be written."""
+    ros = fmt in ROS_FORMATS
+    given = [
+        flag
+        for flag, value in (
+            ("--topic", args.topic),
+            ("--frame-id", args.frame_id),
+            ("--start-time", args.start_time),
+            ("--joint-names", args.joint_names),
+        )
+        if value is not None
+    ]
+    if given and not ros:
+        raise ValidationError(
+            f"{given[0]} sets a ROS 2 output (-o PATH.mcap, a bag folder PATH/, or"
+            f" PATH.yaml); -o {out} writes {fmt}"
+        )
+    yaml = out.suffix.lower() in (".yaml", ".yml")
+    if fmt == "bag" and (
+        yaml or (out.suffix and out.suffix.lower() not in BAG_SUFFIXES)
+    ):
+        raise ValidationError(
+            f"--format bag writes one .mcap (or .db3) file or a bag folder (a name"
+            f" without a suffix, or ending in /); got -o {out} (e.g. -o"
+            f" {out.with_suffix('.mcap')})"
+        )
+    if yaml and (args.topic is not None or args.start_time is not None):
+        raise ValidationError(
+            f"{'--topic' if args.topic is not None else '--start-time'} sets a bag;"
+            f" -o {out} writes YAML"
+        )
+    if args.frame_id is not None and fmt != "bag":
+        raise ValidationError(
+            f"--frame-id sets the poses' frame of a bag (-o PATH.mcap); -o {out}"
+            " writes a joint trajectory, which has no frame"
+        )
+    if args.start_time is not None and not (
+        math.isfinite(args.start_time) and args.start_time >= 0
+    ):
+        raise ValidationError(
+            f"--start-time must be seconds since 1970, >= 0; got {args.start_time:g}"
+        )
+    if not (out.suffix.lower() in BAG_SUFFIXES or yaml) and out.exists():
+        raise ValidationError(f"-o {out}: exists; a bag folder is written new")
+
+
+def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
+    """Write ``path`` as ``fmt`` to ``out``; what was written, for the summary."""
+    joint_names = split_names(args.joint_names, "--joint-names")
+    start = args.start_time or 0.0
+    try:
+        if fmt == "bag":
+            frame = args.frame_id or bag_frame_id(mapping) or DEFAULT_FRAME
+            write_bag(
+                path,
+                out,
+                topic=args.topic or "/ndlfd/path",
+                frame_id=frame,
+                start_time=start,
+                joint_names=joint_names,
+                units=args.units,
+            )
+            return f"a bag in frame {frame}"
+        write_joint_trajectory(
+            path,
+            out,
+            joint_names=joint_names,
+            units=args.units,
+            topic=args.topic or TRAJECTORY_TOPIC,
+            start_time=start,
+        )
+    except ValidationError as exc:
+        text = str(exc).replace("joint_names", "--joint-names")
+        raise ValidationError(text.replace("units='deg'", "--units deg")) from None
+    return "a joint trajectory"
