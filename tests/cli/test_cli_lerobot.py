@@ -214,3 +214,29 @@ def test_so101_generate_a_parquet_episode_and_fit_it_again(tmp_path, capsys):
     rc, err = cli(capsys, "fit", out, "-o", tmp_path / "again.ndlfd")
     assert rc == 0, err
     assert "joints=shoulder_pan.pos" in err[0] and "time=timestamp" in err[0]
+
+
+def test_so101_observed_prefix_with_episodes_and_a_float64_clock(tmp_path, capsys):
+    # --episodes selects the --like episode, not from the --observed CSV; the
+    # robot logged its prefix on the float64 clock k / 30, the dataset float32
+    root, _ = write_so101(tmp_path / "so101", n_demos=5)
+    model = tmp_path / "m.ndlfd"
+    rc, err = cli(capsys, "fit", root, "-o", model, "--episodes", "0:4")
+    assert rc == 0, err
+    (like,) = read_lerobot(root, episodes=[4])
+    k = 12
+    rows = np.column_stack([np.arange(k) / 30.0, like.X[:k]])
+    prefix = tmp_path / "prefix.csv"
+    prefix.write_text(
+        ",".join(["time", *SO101_STATE]) + "\n"
+        + "\n".join(",".join(map(repr, r)) for r in rows.tolist()) + "\n"
+    )  # fmt: skip
+    out = tmp_path / "next.csv"
+    rc, err = cli(capsys, "generate", model, "--like", root, "--episodes", "4",
+                  "--observed", prefix, "-o", out)  # fmt: skip
+    assert rc == 0, err
+    assert err[-1].endswith(f"(the first {k} observed) -> {out}")
+    table = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_array_equal(table[:k, 0], rows[:, 0])  # the prefix's stamps
+    np.testing.assert_array_equal(table[k:, 0], like.t[k:])  # then the episode's
+    np.testing.assert_allclose(table[:k, 1:], like.X[:k], rtol=1e-9)

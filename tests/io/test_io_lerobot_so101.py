@@ -12,7 +12,8 @@ from hypothesis import strategies as st
 pytest.importorskip("pyarrow")
 
 from lerobot_writer import SO101_MOTORS, SO101_STATE, write_lerobot, write_so101
-from ndlfd import KeypointHMM
+from ndlfd import KeypointHMM, ValidationError
+from ndlfd.demonstration import Demonstration
 from ndlfd.io import DemoFiles, group_of_column, read_lerobot, write_csv
 from ndlfd.io._lerobot import lerobot_episodes, read_episode_mapped
 from ndlfd.io._mapping import LIBRARY_HINTS, MAPPING_DEFAULTS, MOTOR_KINDS
@@ -134,3 +135,26 @@ def test_a_generated_path_is_written_with_the_dataset_names(tmp_path):
     np.testing.assert_array_equal(table[:, 0], path.t)
     np.testing.assert_array_equal(table[:, 1:6], path.get("joints"))
     np.testing.assert_array_equal(table[:, 6], path.get("gripper")[:, 0])
+
+
+def test_a_float32_prefix_continues_a_float64_plan(tmp_path):
+    # LeRobot stores timestamp as float32; the plan is the float64 clock k / fps
+    root, _ = write_so101(tmp_path / "so101", n_demos=6)
+    demos = read_lerobot(root)
+    model = KeypointHMM().fit(demos[:5])
+    episode = demos[5]
+    n = episode.n_samples
+    plan = np.arange(n) / 30.0
+    prefix = Demonstration(episode.t[:9], episode.X[:9], episode.columns,
+                           episode.groups)  # fmt: skip
+    assert prefix.t[8] != plan[8]  # 0.2666666805744171 against 0.26666666666666666
+    path = model.generate(plan, observed=prefix)
+    np.testing.assert_array_equal(path.t[9:], plan[9:])
+    np.testing.assert_allclose(path.t[:9], plan[:9], rtol=0, atol=6e-8)
+    # the prefix is kept (the path starts where the robot was)
+    np.testing.assert_allclose(path.get("joints")[:9], prefix.get("joints"), atol=1e-9)
+    # a stamp a microsecond off is another sample: a clear error
+    late = plan.copy()
+    late[8] += 1e-6
+    with pytest.raises(ValidationError, match=r"its sample 8 is at .* expected at"):
+        model.generate(late, observed=prefix)

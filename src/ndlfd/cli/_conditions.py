@@ -5,7 +5,8 @@
 a typo is reported first (:func:`parse_condition`, :func:`parse_via`), then
 checked against the model's groups and generation (:func:`model_conditions`,
 :func:`check_condition_flags`; the three steps: :func:`load_with_conditions`).
-An executed prefix is read like ``--like`` (:func:`read_observed`) and its
+An executed prefix is read like ``--like`` (:func:`read_observed`; but
+``--episodes`` selects from the ``--like`` dataset only) and its
 time stamps become the first of the output (:func:`observed_timing`). Every
 error is one line naming the flag.
 """
@@ -19,6 +20,7 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..demonstration import Demonstration
+from ..io._lerobot import is_lerobot_dataset
 from ..learner import KeypointHMM
 from ._options import GROUP_NAME, parse_floats, read_one
 
@@ -229,7 +231,12 @@ def read_observed(args: argparse.Namespace, timing) -> tuple:
     """
     if args.observed is None:
         return None, timing, None
-    prefix, mapping = read_one(args, args.observed, "--observed")
+    # --episodes selects from the --like dataset, never from --observed (one
+    # prefix, read whole); --feature applies to an --observed dataset too
+    own = {**vars(args), "episodes": None}
+    if not is_lerobot_dataset(args.observed):
+        own["feature"] = None
+    prefix, mapping = read_one(argparse.Namespace(**own), args.observed, "--observed")
     return prefix, observed_timing(prefix, timing), mapping
 
 

@@ -98,6 +98,7 @@ __all__ = [
     "observed_log_weights",
     "orient_via",
     "prefix_rows",
+    "stamp_tolerance",
     "via_log_weights",
 ]
 
@@ -375,14 +376,38 @@ def check_observed(
             f"observed must be shorter than the timing ({all_t.size} time"
             f" stamps); got {n} samples"
         )
-    tol = 1e-9 * (all_t[-1] - all_t[0])
-    if not np.allclose(d.t, all_t[:n], rtol=0.0, atol=tol):
-        bad = int(np.flatnonzero(~np.isclose(d.t, all_t[:n], rtol=0.0, atol=tol))[0])
+    tol = stamp_tolerance(all_t[:n], all_t[-1] - all_t[0])
+    off = np.abs(d.t - all_t[:n]) > tol
+    if off.any():
+        bad = int(np.flatnonzero(off)[0])
         raise ValidationError(
             "observed must be sampled at the first time stamps of the timing;"
-            f" its sample {bad} is at {d.t[bad]:g}, the timing's at {all_t[bad]:g}"
+            f" its sample {bad} is at {d.t[bad]!r}, the timing's at"
+            f" {all_t[bad]!r} (a difference of {abs(d.t[bad] - all_t[bad]):.3g} s;"
+            f" expected at most {tol[bad]:.3g} s)"
         )
     return d
+
+
+def stamp_tolerance(t: np.ndarray, span: float) -> np.ndarray:
+    """How far a prefix's stamp may be from the timing's and still be the same.
+
+    A billionth of the timing's ``span``, or one float32 spacing at the stamp
+    (``numpy.spacing``), whichever is larger: a stamp stored as float32
+    (LeRobot's ``timestamp``) is within half a float32 spacing of the float64
+    clock that made it (``k / fps``), so the two are the same sample.
+
+    Examples
+    --------
+    >>> t = np.array([0.0, 8 / 30])
+    >>> bool(abs(np.float32(8 / 30) - 8 / 30) <= stamp_tolerance(t, 3.0)[1])
+    True
+    >>> print(f"{stamp_tolerance(t, 3.0)[0]:.3g}")  # at 0: a billionth of the span
+    3e-09
+    """
+    t = np.asarray(t, dtype=np.float64)
+    f32 = np.spacing(np.abs(t).astype(np.float32)).astype(np.float64)
+    return np.maximum(1e-9 * float(span), f32)
 
 
 def prefix_rows(n: int) -> np.ndarray:
