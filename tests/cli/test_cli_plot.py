@@ -236,3 +236,66 @@ def test_plot_colours_the_demonstrations_by_route(tmp_path, capsys, monkeypatch)
     rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png", "--routes", "7")
     assert rc == 2
     assert "n_routes=7 is more than the 6 demonstrations" in err[-1]
+
+
+def test_plot_joint_data_draws_each_channel_over_time(tmp_path, capsys, monkeypatch):
+    # before: three joints in a 3-D projection, no time axis
+    pytest.importorskip("matplotlib")
+    pytest.importorskip("pyarrow")
+    import ndlfd.plot
+    from lerobot_writer import SO101_MOTORS, write_so101
+    from ndlfd.io import read_lerobot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+
+    def keep(fig, path, **kw):
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    root, _ = write_so101(tmp_path / "so101", n_demos=4)
+    model, gen, std = tmp_path / "m.ndlfd", tmp_path / "g.csv", tmp_path / "s.csv"
+    assert main(["fit", str(root), "-o", str(model), "-q"]) == 0
+    assert main(["generate", str(model), "--like", str(root), "--episodes", "1",
+                 "--dense", "--std", str(std), "-o", str(gen), "-q"]) == 0  # fmt: skip
+    rc, err = cli(capsys, "plot", root, "--path", gen, "--std", std,
+                  "-o", tmp_path / "p.png")  # fmt: skip
+    assert rc == 0, err
+    fitted = KeypointHMM.load(model)
+    counts = [len(k) for k in fitted.keypoints_]
+    assert err[-1] == (
+        "drew 4 demonstration(s) over time, one axis per channel (6: joints,"
+        f" gripper), with their key points ({min(counts)}-{max(counts)} at"
+        " --epsilon 0.05), the generated path and its ±1 sd band ->"
+        f" {tmp_path / 'p.png'}"
+    )
+    axes = figures[-1].axes
+    # the dataset's channels in its order, each over the time axis
+    assert [ax.get_ylabel() for ax in axes] == list(SO101_MOTORS)
+    assert all(ax.name != "3d" and ax.get_aspect() == "auto" for ax in axes)
+    demos = read_lerobot(root)
+    path = read_csv(gen)
+    s = read_table(std)[1]
+    banded = 0
+    for j, ax in enumerate(axes):
+        for i, d in enumerate(demos):  # line, key points (those fit finds)
+            np.testing.assert_array_equal(
+                ax.lines[2 * i].get_xydata(), np.c_[d.t, d.X[:, j]]
+            )
+            k = fitted.keypoints_[i]
+            np.testing.assert_array_equal(
+                ax.lines[2 * i + 1].get_xydata(), np.c_[d.t[k], d.X[k, j]]
+            )
+        np.testing.assert_array_equal(
+            ax.lines[-1].get_xydata(), np.c_[path.t, path.X[:, j]]
+        )
+        band = ax.collections[0].get_paths()[0]
+        m = 20
+        if s[m, 1 + j] > 0:  # (the gripper's sd is 0 where it is open)
+            banded += 1
+            y, w = path.X[m, j], s[m, 1 + j]
+            assert band.contains_point((path.t[m], y + 0.9 * w))
+            assert not band.contains_point((path.t[m], y + 1.1 * w))
+    assert banded >= 5
+    assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

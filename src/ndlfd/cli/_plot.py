@@ -148,7 +148,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         route_groups=args.route_groups,
         n_routes=args.routes,
     )
-    group = "position" if demos[0].has_group("position") else demos[0].group_names[0]
+    if not demos[0].has_group("position"):  # joints, a gripper: over time
+        return _plot_over_time(args, out, prepared, keypoints, routes, sample_files,
+                               demos[0].columns)  # fmt: skip
+    group = "position"
     k = demos[0].columns_of(group).size
     path = S = None
     if args.path is not None:
@@ -246,6 +249,75 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     return 0
 
 
+def _std_of(args, path, path_map) -> np.ndarray:
+    """``--std`` as an array of ``path``'s columns (matched by the file's names)."""
+    if path_map.layout in ("arrays", "ndlfd"):
+        raise ValidationError(
+            f"--std goes with a CSV --path (as 'ndlfd generate' writes it); got"
+            f" {args.path}"
+        )
+    header = parse_table(Path(args.path)).columns
+    table = parse_table(Path(args.std))
+    if table.columns not in (header, csv_header(path, "t")) or (
+        table.data.shape[0] != path.n_samples
+    ):
+        raise ValidationError(
+            f"--std {args.std} must have the columns and rows of --path"
+            f" {args.path} ({', '.join(header)}; {path.n_samples} rows); got"
+            f" {', '.join(table.columns)}; {table.data.shape[0]} rows"
+        )
+    if table.columns != header:  # the model's own names, in the path's order
+        return table.data[:, 1:]
+    names = [k for _, ks in path_map.groups for k in ks]
+    if len(names) != path.n_dims:  # Euler angles: the file's order as read
+        return table.data[:, 1:]
+    return table.data[:, [1 + header[1:].index(k) for k in names]]
+
+
+def _plot_over_time(args, out, demos, keypoints, routes, files, order) -> int:
+    """Each learned channel over time (no position): small multiples."""
+    columns = [c for c in order if c in demos[0].columns]
+    columns += [c for c in demos[0].columns if c not in columns]  # derived
+    path = S = None
+    if args.path is not None:
+        pairs = _read_path(Path(args.path), args)
+        path, path_map = pairs[0]
+        if len(pairs) != 1 or not set(columns) & set(path.columns):
+            raise ValidationError(
+                f"--path {args.path} must be one path with columns of the"
+                f" demonstrations ({', '.join(columns)}); got {len(pairs)} path(s)"
+                f" with {', '.join(path.columns)}"
+            )
+        if args.std is not None:
+            S = _std_of(args, path, path_map)
+    samples = [_read_path(p, args)[0][0] for p in files]
+    fig, _ = plot.plot_channels(demos, columns=columns, keypoints=keypoints,
+                                generated=path, std=S, routes=routes,
+                                samples=samples, title=args.title)  # fmt: skip
+    plot.save_figure(fig, out)
+    counts = np.array([len(i) for i in keypoints])
+    budget = (
+        f"--n-points {args.n_points}"
+        if args.n_points is not None
+        else f"--epsilon {args.epsilon if args.epsilon is not None else 0.05:g}"
+    )
+    drawn = ""
+    if path is not None:
+        drawn = ", the generated path" + (
+            " and its ±1 sd band" if S is not None else ""
+        )
+    drawn += f", {len(samples)} sample(s)" if samples else ""
+    groups = ", ".join(dict.fromkeys(demos[0].groups[demos[0].columns.index(c)]
+                                     for c in columns))  # fmt: skip
+    say(
+        args,
+        f"drew {len(demos)} demonstration(s) over time, one axis per channel"
+        f" ({len(columns)}: {groups}), with their key points"
+        f" ({counts.min()}-{counts.max()} at {budget}){drawn} -> {out}",
+    )
+    return 0
+
+
 def add_plot(sub) -> None:
     p = sub.add_parser(
         "plot",
@@ -258,7 +330,9 @@ def add_plot(sub) -> None:
             " sample') and orientation triads along a 3-D path. Positions are"
             " drawn in 2-D or 3-D by their number of columns (one column: over"
             " time; more than three: the first"
-            ' three). Needs matplotlib (pip install "ndlfd[plot]").'
+            " three). Data without a position (joints, a gripper) are drawn over"
+            " time, one axis per channel, with the path's band."
+            ' Needs matplotlib (pip install "ndlfd[plot]").'
         ),
     )
     p.add_argument("demos", nargs="+", help="files, folders or glob patterns")
@@ -293,7 +367,8 @@ def add_plot(sub) -> None:
         "--std",
         metavar="FILE.csv",
         help="the path's standard deviation (from 'ndlfd generate --std'), drawn"
-        " as a band of one standard deviation (2-D only)",
+        " as a band of one standard deviation (2-D positions, and every"
+        " channel drawn over time)",
     )
     p.add_argument(
         "--samples",
