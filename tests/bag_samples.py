@@ -260,3 +260,42 @@ def chain_bag(path):
     js = [(int(a), joint_state(a, ["j1"], [0.8 * (a - T0) / 1e9])) for a in s1]
     write_bag(path, {"/tf": tf, "/tf_static": [(T0, latched)], "/joint_states": js})
     return path, s2, static, link1, link2
+
+
+def _ramp(x):
+    x = np.clip(x, 0.0, 1.0)
+    return 10 * x**3 - 15 * x**4 + 6 * x**5
+
+
+def session(n_demos=5, move=20.4, rest=3.0, hz=50, seed=0):
+    """A robot's /tf over one session: rests of ``rest`` s between reaches.
+
+    Each reach goes out and back (minimum jerk, 0.2 m along x and up in z);
+    the arm rests between them with 20 um of encoder noise and /tf keeps
+    publishing at ``hz``. Returns the stamps (s) and the motions' spans.
+    """
+    rng = np.random.default_rng(seed)
+    total = rest + n_demos * (move + rest)
+    t = np.arange(0.0, total, 1.0 / hz)
+    x = np.full(t.size, 0.3)
+    z = np.full(t.size, 0.2)
+    spans = []
+    for i in range(n_demos):
+        a = rest + i * (move + rest)
+        spans.append((a, a + move))
+        u = (t - a) / move
+        out = _ramp(2 * u) - _ramp(2 * u - 1)  # out and back
+        x += (0.15 + 0.02 * i) * out
+        z += 0.1 * np.sin(np.pi * np.clip(u, 0, 1)) ** 2
+    x += rng.normal(0, 2e-5, t.size)
+    return t, np.column_stack([x, 0 * x, z]), spans
+
+
+def tf_bag(path, t, P):
+    """A bag of /tf: tool0 in base_link at the poses ``P`` (no rotation)."""
+    ns = T0 + np.round(t * 1e9).astype(np.int64)
+    msgs = [
+        (int(k), tf_message(transform(k, "tool0", p, [1.0, 0, 0, 0], "base_link")))
+        for k, p in zip(ns, P, strict=True)
+    ]
+    return write_bag(path, {"/tf": msgs})

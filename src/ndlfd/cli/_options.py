@@ -287,6 +287,16 @@ def add_column_options(
                 help="one demonstration per stretch of a bag without a gap in the first"
                 " topic's stamps longer than this (> 0)",
             )
+            b.add_argument(
+                "--split-still",
+                type=float,
+                metavar="SECONDS",
+                help="one demonstration per stretch of a bag between rests of at"
+                " least this long (> 0): the robot keeps publishing but nothing moves"
+                " faster than 5 %% of the recording's typical moving speed (the 90th"
+                " percentile of the speeds, every column scaled by its range); a"
+                " warning when none is found or more than 50 pieces",
+            )
     if demonstrations:
         _add_demonstration_options(p, g)
         add_bad_data_options(p)
@@ -387,15 +397,18 @@ def column_options(args: argparse.Namespace) -> dict:
         "euler": euler,
     }
     split_gap = getattr(args, "split_gap", None)
-    if split_gap is not None and not (math.isfinite(split_gap) and split_gap > 0):
-        raise ValidationError(
-            f"--split-gap must be a number of seconds > 0; got {split_gap:g}"
-        )
+    split_still = getattr(args, "split_still", None)
+    for flag, value in (("--split-gap", split_gap), ("--split-still", split_still)):
+        if value is not None and not (math.isfinite(value) and value > 0):
+            raise ValidationError(
+                f"{flag} must be a number of seconds > 0; got {value:g}"
+            )
     bag = {
         "topic": getattr(args, "bag_topic", None),
         "frame": getattr(args, "bag_frame", None),
         "base_frame": getattr(args, "bag_base_frame", None),
         "split_gap": split_gap,
+        "split_still": split_still,
     }
     options.update({k: v for k, v in bag.items() if v is not None})
     options.update(bad_data_options(args))

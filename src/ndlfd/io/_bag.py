@@ -58,6 +58,7 @@ from .._errors import DataFileError, MissingExtraError, NdlfdWarning, Validation
 from .._repairs import repaired
 from ..demonstration import Demonstration
 from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
+from ._motion import REST_SHARE, rest_pieces
 from ._tf import tf_edges, tf_pose_rows
 
 __all__ = [
@@ -75,7 +76,15 @@ __all__ = [
 #: The suffixes (any case) of ROS 2 bag storage files read as bags.
 BAG_SUFFIXES = (".mcap", ".db3")
 #: The options only the bag reader takes, with their defaults.
-BAG_OPTIONS = {"topic": None, "frame": None, "base_frame": None, "split_gap": None}
+BAG_OPTIONS = {
+    "topic": None,
+    "frame": None,
+    "base_frame": None,
+    "split_gap": None,
+    "split_still": None,
+}
+#: More pieces than this from one bag with ``split_still`` give a warning.
+MANY_PIECES = 50
 #: How the rates of several topics may differ before a warning.
 RATE_RATIO = 2.0
 
@@ -466,7 +475,40 @@ def _default_topic(p, reader, frame, flags) -> list[str]:
     return usable
 
 
-def _check_options(topic, frame, base_frame, split_gap) -> list[str] | None:
+def _still_segments(p, at, arrays, segs, seconds) -> list[slice]:
+    """``segs`` cut further at rests of at least ``seconds`` (:mod:`._motion`)."""
+    keys = list(arrays)
+    X = np.column_stack([arrays[k] for k in keys])
+    quats = [
+        [keys.index(k[:-2] + c) for c in ("qw", "qx", "qy", "qz")]
+        for k in keys
+        if k.endswith("qw") and all(k[:-2] + c in arrays for c in ("qx", "qy", "qz"))
+    ]
+    out = []
+    for seg in segs:
+        t = (at[seg] - at[seg][0]) / 1e9
+        found = rest_pieces(t, X[seg], seconds, quats)
+        out.extend(slice(seg.start + a, seg.start + b) for a, b in found)
+    if len(out) <= len(segs):
+        warnings.warn(
+            f"{p}: no rest of at least {seconds:g} s found (a stretch where"
+            f" nothing moves faster than {REST_SHARE:.0%} of the recording's"
+            " typical moving speed); read as it is",
+            NdlfdWarning,
+            stacklevel=4,
+        )
+    elif len(out) > MANY_PIECES:
+        warnings.warn(
+            f"{p}: {len(out)} pieces between rests of at least {seconds:g} s; a"
+            " longer split_still (--split-still) finds the pauses between"
+            " demonstrations only",
+            NdlfdWarning,
+            stacklevel=4,
+        )
+    return out
+
+
+def _check_options(topic, frame, base_frame, splits: dict) -> list[str] | None:
     if topic is not None:
         topic = [topic] if isinstance(topic, str) else list(topic)
         if not topic or not all(isinstance(s, str) and s for s in topic):
@@ -478,12 +520,13 @@ def _check_options(topic, frame, base_frame, split_gap) -> list[str] | None:
     for name, value in (("frame", frame), ("base_frame", base_frame)):
         if value is not None and not (isinstance(value, str) and value):
             raise ValidationError(f"{name} must be a frame name; got {value!r}")
-    if split_gap is not None and not (
-        isinstance(split_gap, (int, float)) and np.isfinite(split_gap) and split_gap > 0
-    ):
-        raise ValidationError(
-            f"split_gap must be a number of seconds > 0; got {split_gap!r}"
-        )
+    for name, value in splits.items():
+        if value is not None and not (
+            isinstance(value, (int, float)) and np.isfinite(value) and value > 0
+        ):
+            raise ValidationError(
+                f"{name} must be a number of seconds > 0; got {value!r}"
+            )
     return topic
 
 
@@ -495,6 +538,7 @@ def read_bag_mapped(
     frame=None,
     base_frame=None,
     split_gap=None,
+    split_still=None,
     groups=None,
     drop=(),
     quaternion_order="wxyz",
@@ -508,7 +552,9 @@ def read_bag_mapped(
     and ``euler`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
     ``gripper.gripper``) like CSV columns.
     """
-    topics = _check_options(topic, frame, base_frame, split_gap)
+    topics = _check_options(
+        topic, frame, base_frame, {"split_gap": split_gap, "split_still": split_still}
+    )
     flags = _flags(how)
     rosbag2, _ = rosbags_modules()
     if not p.exists():
@@ -549,6 +595,8 @@ def read_bag_mapped(
     layout = f"{BAG_LAYOUT}, frame {frames[0]}" if frames else BAG_LAYOUT
     out = []
     segs = _segments(at, split_gap)
+    if split_still is not None:
+        segs = _still_segments(p, at, arrays, segs, float(split_still))
     for i, seg in enumerate(segs):
         source = str(p) if len(segs) == 1 else f"{p}:{i}"
         part = {k: v[seg] for k, v in arrays.items()}
@@ -576,6 +624,7 @@ def read_bag(
     frame: str | None = None,
     base_frame: str | None = None,
     split_gap: float | None = None,
+    split_still: float | None = None,
     groups: Mapping[str, Sequence[str] | str] | None = None,
     drop: Sequence[str] = (),
     bad_rows: str = "error",
@@ -608,6 +657,16 @@ def read_bag(
     split_gap : float, optional
         Start a new demonstration wherever the first topic's stamps are more
         than this many seconds apart.
+    split_still : float, optional
+        Cut the recording where the motion rests for at least this many
+        seconds (a robot that keeps publishing while it waits between
+        demonstrations): one demonstration per stretch between rests, each
+        from the end of the rest before it to the start of the rest after it.
+        A sample rests when its speed (every read column scaled by its range,
+        averaged over a quarter of ``split_still`` on each side) is below 5 %
+        of the recording's typical moving speed (the 90th percentile of the
+        speeds); see :mod:`ndlfd.io._motion`. One :class:`~ndlfd.NdlfdWarning`
+        when no rest is found, or more than 50 pieces.
     groups, drop
         As in :func:`~ndlfd.io.read_csv`, on the arrays' names (``x``, ``qw``,
         ``joints.NAME``, ``gripper.gripper``).
@@ -639,6 +698,7 @@ def read_bag(
             frame=frame,
             base_frame=base_frame,
             split_gap=split_gap,
+            split_still=split_still,
             groups=groups,
             drop=drop,
             bad_rows=bad_rows,
