@@ -14,6 +14,7 @@ from ._conditions import (
     read_observed,
 )
 from ._generate import FLOAT_FORMAT
+from ._limits import add_limit_options, apply_limits, parse_limits
 from ._options import (
     add_column_options,
     add_timing_options,
@@ -58,6 +59,13 @@ def _cmd_sample(args: argparse.Namespace) -> int:
     exact_time = (
         (args.like is not None or args.rate is not None) and dense
     ) or prefix is not None
+    drawn = paths
+    paths = [apply_limits(args, path, dense=dense, std=None, prefix=prefix,
+                          report=False) for path in drawn]  # fmt: skip
+    slowed = sum(a is not b for a, b in zip(paths, drawn, strict=True))
+    if parse_limits(args) is not None:
+        exact_time = exact_time and (slowed == 0 or args.rate is not None)
+        say(args, f"slowed down {slowed} of {len(paths)} path(s) to the limits")
     digits = max(3, len(str(args.n - 1)))
     for k, path in enumerate(paths):
         write_csv(
@@ -92,6 +100,7 @@ def add_sample(sub) -> None:
     )
     add_timing_options(p)
     add_condition_options(p)
+    add_limit_options(p)
     p.add_argument(
         "--key-points",
         action="store_true",

@@ -17,6 +17,7 @@ import numpy as np
 
 from .._errors import NotFittedError
 from .._parallel import keep_workers
+from ..limits import limited
 from ._blend import MATCH_WINDOW
 from ._cache import ModelCache
 from ._conditioning import check_condition
@@ -302,6 +303,7 @@ class KeypointHMM(ParamsMixin):
         return_std: bool = False,
         via=None,
         observed=None,
+        limits=None,
     ):
         """Generate a path for a new timing, optionally from a start to a goal.
 
@@ -326,6 +328,9 @@ class KeypointHMM(ParamsMixin):
         via, observed : list of (time, mapping) / Demonstration, optional
             Via points ``[(time, {group: values})]`` the path passes through;
             the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`).
+        limits : mapping, optional
+            ``{"velocity": {group: v}, "acceleration": {group: a}}``: the
+            dense path slowed where it would exceed them (:mod:`ndlfd.limits`).
 
         Returns
         -------
@@ -351,9 +356,10 @@ class KeypointHMM(ParamsMixin):
         start = check_condition(start, "start", self.column_groups_, self.groups_)
         goal = check_condition(goal, "goal", self.column_groups_, self.groups_)
         how = GENERATIONS.get(self.generation)
-        return how(self, times_or_demo, dense=dense, start=start, goal=goal,
-                   return_std=return_std, cache=self._cache, via=via,
-                   observed=observed)  # fmt: skip
+        out = how(self, times_or_demo, dense=dense, start=start, goal=goal,
+                  return_std=return_std, cache=self._cache, via=via,
+                  observed=observed)  # fmt: skip
+        return out if limits is None else limited(out, limits, dense, return_std)
 
     def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None, goal=None,
                via=None, observed=None, random_state=None) -> list:  # fmt: skip
@@ -397,8 +403,7 @@ class KeypointHMM(ParamsMixin):
 
         Parameters
         ----------
-        path : str or path-like
-            Destination (conventionally ``*.ndlfd``).
+        path : str or path-like, conventionally ``*.ndlfd``
         """
         self._check_fitted()
         save_model(self, path)
@@ -410,7 +415,6 @@ class KeypointHMM(ParamsMixin):
         Parameters
         ----------
         path : str or path-like
-            The file.
 
         Returns
         -------

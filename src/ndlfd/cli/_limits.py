@@ -1,0 +1,107 @@
+"""The limit flags of ``generate`` and ``sample``, and the peaks report.
+
+``--max-velocity`` and ``--max-acceleration`` (:mod:`ndlfd.limits`).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from .._errors import ValidationError
+from ..demonstration import Demonstration
+from ..limits import path_peaks, time_scale
+from ._conditions import parse_condition
+from ._options import say
+
+__all__ = ["add_limit_options", "apply_limits", "parse_limits", "peaks_line"]
+
+
+def add_limit_options(p) -> None:
+    """The two limit flags (repeatable, one group each)."""
+    g = p.add_argument_group(
+        "a robot's limits",
+        "Per second (per second squared), in the units of the demonstrations,"
+        " one value for every column of the group or one per column. A path"
+        " that would exceed them is slowed down along the same route"
+        " (TOPP-RA, needs ndlfd[limits]), starting and ending at rest;"
+        " the output then lasts longer than the timing.",
+    )
+    for kind in ("velocity", "acceleration"):
+        g.add_argument(
+            f"--max-{kind}",
+            action="append",
+            metavar="[GROUP=]V1[,V2,...]",
+            help=f"the largest {kind} of each column of GROUP, e.g. --max-{kind}"
+            f" joints={'90' if kind == 'velocity' else '400'}; repeatable",
+        )
+
+
+def parse_limits(args: argparse.Namespace) -> dict | None:
+    """The flags as ``limits=`` of :func:`ndlfd.limits.time_scale` (or ``None``).
+
+    Examples
+    --------
+    >>> args = argparse.Namespace(max_velocity=["joints=90,80"],
+    ...                           max_acceleration=None)
+    >>> parse_limits(args)
+    {'velocity': {'joints': [90.0, 80.0]}}
+    """
+    out = {}
+    for kind in ("velocity", "acceleration"):
+        given = parse_condition(getattr(args, f"max_{kind}"), f"--max-{kind}")
+        if given:
+            out[kind] = given
+    return out or None
+
+
+def peaks_line(path: Demonstration) -> str:
+    """The largest velocity and acceleration of each group, and where.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> d = Demonstration.from_arrays(t, position=np.column_stack([2 * t, t * t]))
+    >>> peaks_line(d)
+    'peaks: position velocity 2 /s (x), acceleration 2 /s^2 (y)'
+    """
+    peaks = path_peaks(path)
+    parts = []
+    for g in path.group_names:
+        if g == "orientation" or (g == "velocity" and path.has_group("position")):
+            continue  # a quaternion; the derivative of the position
+        cols = path.columns_of(g)
+        v, a = peaks["velocity"][cols], peaks["acceleration"][cols]
+        iv, ia = int(np.argmax(v)), int(np.argmax(a))
+        parts.append(
+            f"{g} velocity {v[iv]:.3g} /s ({path.columns[cols[iv]]}), "
+            f"acceleration {a[ia]:.3g} /s^2 ({path.columns[cols[ia]]})"
+        )
+    return "peaks: " + "; ".join(parts)
+
+
+def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=True):
+    """The path time-scaled to the flags' limits (as it is without them).
+
+    Says (``report``) the peaks, and the new duration when the path was slowed
+    down.
+    """
+    limits = parse_limits(args)
+    if limits is not None and (not dense or std is not None or prefix is not None):
+        raise ValidationError(
+            "--max-velocity/--max-acceleration time-scale a dense path: pass"
+            " --dense, and neither --std nor --observed (whose stamps are kept)"
+        )
+    out = path if limits is None else time_scale(path, limits, rate=args.rate)
+    if not report:
+        return out
+    if out is not path:
+        say(
+            args,
+            f"slowed down to the limits: {path.duration:.4g} s -> "
+            f"{out.duration:.4g} s, {out.n_samples} samples",
+        )
+    if out.n_samples >= 3:
+        say(args, peaks_line(out))
+    return out

@@ -1,0 +1,397 @@
+"""A robot's limits: a path's peak velocity and acceleration; time-scaling to them.
+
+A generated path follows the timing it was asked for; a robot has maximum
+joint (or axis) velocities and accelerations. :func:`path_peaks` measures a
+path's peaks per column (``numpy.gradient`` over its own stamps, as a
+controller sampling it would see them); :func:`time_scale` slows the path
+down where it would exceed the limits, along the same geometric path, with
+TOPP-RA (`toppra <https://github.com/hungpham2511/toppra>`_, the extra
+``limits``): the time-optimal parameterization under velocity and
+acceleration constraints, with one more constraint that the path's clock
+never runs faster than its own timing, so the path is only ever slowed down,
+never sped up. The result starts and ends at rest.
+
+Limits are given per group, one value for every column of the group or one
+per column, in the group's units per second (per second squared):
+``{"velocity": {"joints": 90.0}, "acceleration": {"joints": [400, 400, 300]}}``.
+Each column is limited on its own, as a robot's joints are; a Cartesian
+``position`` group is limited axis by axis (its speed can reach ``sqrt(3)``
+times a common limit). Quaternion groups (``orientation``) cannot be limited
+this way and are carried along, as are two-valued grippers (held between
+samples) and a ``velocity`` group derived from ``position`` (derived again).
+
+Jerk is not limited: TOPP-RA bounds velocity and acceleration only (ruckig
+bounds jerk but plans point to point and would not keep the learned path).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Mapping
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from ._errors import MissingExtraError, ValidationError
+from .demonstration import Demonstration
+
+__all__ = [
+    "KINDS",
+    "LimitError",
+    "check_limits",
+    "limited",
+    "path_peaks",
+    "time_scale",
+]
+
+#: The quantities that can be limited.
+KINDS = ("velocity", "acceleration")
+
+#: Relative tolerance of the measured peaks against the limits (TOPP-RA
+#: meets its constraints at its grid points; between them, and through the
+#: finite differences of the samples, peaks measured 1.0001 times a limit on
+#: a 400-sample path). Above it the limits are tightened and the scaling run
+#: again (:data:`RETRIES` times) before :class:`LimitError`.
+TOLERANCE = 1e-3
+
+#: Attempts with tightened limits before giving up.
+RETRIES = 3
+
+#: Grid points of TOPP-RA at most (its cost is linear in them): 1,000
+#: samples of a 6-joint path take about 20 ms.
+MAX_GRIDPOINTS = 2000
+
+_UNLIMITED = ("orientation",)
+
+
+class LimitError(ValidationError):
+    """A path cannot be made to meet the given limits."""
+
+
+def _toppra():
+    try:
+        import toppra
+        import toppra.algorithm
+        import toppra.constraint
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise MissingExtraError(
+            "time-scaling to limits needs toppra; install it with: "
+            'pip install "ndlfd[limits]"'
+        ) from None
+    logging.getLogger("toppra").setLevel(logging.WARNING)
+    return toppra
+
+
+def _is_discrete(demo: Demonstration, cols) -> bool:
+    return all(np.unique(demo.X[:, c]).size <= 2 for c in cols)
+
+
+def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
+    """Checked limits as one array per kind, one value per column of ``demo``.
+
+    Parameters
+    ----------
+    limits : mapping of str to mapping of str to float or array-like
+        ``{kind: {group: value or values}}`` with ``kind`` in :data:`KINDS`;
+        a value for every column of the group, or one per column.
+    demo : Demonstration
+        The path the limits are for.
+
+    Returns
+    -------
+    limits : dict of str to ndarray of shape (n_dims,)
+        ``inf`` for columns without a limit.
+
+    Examples
+    --------
+    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 0], [1, 1]])
+    >>> check_limits({"velocity": {"position": 2.0}}, d)["velocity"]
+    array([2., 2.])
+    """
+    if not isinstance(limits, Mapping):
+        raise ValidationError(
+            "limits must be a mapping like {'velocity': {'joints': 90.0}}; "
+            f"got {type(limits).__name__}"
+        )
+    out = {kind: np.full(demo.n_dims, np.inf) for kind in KINDS}
+    for kind, per_group in limits.items():
+        if kind not in KINDS:
+            raise ValidationError(
+                f"unknown limit {kind!r}; expected one of {', '.join(KINDS)}"
+            )
+        if not isinstance(per_group, Mapping):
+            raise ValidationError(
+                f"limits[{kind!r}] must map group names to values; "
+                f"got {type(per_group).__name__}"
+            )
+        for group, value in per_group.items():
+            out[kind][_group_columns(demo, group)] = _limit_values(
+                value, demo, group, kind
+            )
+    return out
+
+
+def _group_columns(demo: Demonstration, group) -> np.ndarray:
+    if not isinstance(group, str) or not demo.has_group(group):
+        raise ValidationError(
+            f"no group {group!r} to limit; the path has {', '.join(demo.group_names)}"
+        )
+    if group in _UNLIMITED:
+        raise ValidationError(
+            f"group {group!r} holds quaternions and cannot be limited column by "
+            "column; limit the position or joint groups"
+        )
+    if group == "velocity" and demo.has_group("position"):
+        raise ValidationError(
+            "limit the position group's velocity and acceleration "
+            "(limits={'velocity': {'position': ...}}), not the velocity group"
+        )
+    return demo.columns_of(group)
+
+
+def _limit_values(value, demo, group, kind) -> np.ndarray:
+    cols = demo.columns_of(group)
+    try:
+        v = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValidationError(
+            f"the {kind} limit of {group!r} must be numbers; got {value!r}"
+        ) from None
+    if v.ndim > 1 or (v.ndim == 1 and v.size not in (1, cols.size)):
+        raise ValidationError(
+            f"the {kind} limit of {group!r} must be one value or {cols.size} "
+            f"(one per column: {', '.join(demo.columns[c] for c in cols)}); "
+            f"got {v.size}"
+        )
+    if not (np.isfinite(v).all() and (v > 0).all()):
+        raise ValidationError(
+            f"the {kind} limit of {group!r} must be finite and > 0; got {value!r}"
+        )
+    return np.broadcast_to(v.reshape(-1), cols.shape).copy() if v.ndim else v
+
+
+def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
+    """The largest absolute velocity and acceleration of every column.
+
+    Measured as a controller sampling the path sees them: ``numpy.gradient``
+    over the path's own stamps (second order at the ends, as
+    :func:`~ndlfd.with_velocity`), once for velocity and again for
+    acceleration.
+
+    Parameters
+    ----------
+    path : Demonstration
+        At least three samples.
+
+    Returns
+    -------
+    peaks : dict of str to ndarray of shape (n_dims,)
+        ``"velocity"`` and ``"acceleration"``.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> d = Demonstration.from_arrays(t, position=np.column_stack([2 * t, t * t]))
+    >>> {k: v.round(6).tolist() for k, v in path_peaks(d).items()}
+    {'velocity': [2.0, 2.0], 'acceleration': [0.0, 2.0]}
+    """
+    if path.n_samples < 3:
+        raise ValidationError(
+            f"peaks need a path of at least 3 samples; got {path.n_samples}"
+        )
+    V = np.gradient(path.X, path.t, axis=0, edge_order=2)
+    A = np.gradient(V, path.t, axis=0, edge_order=2)
+    return {"velocity": np.abs(V).max(axis=0), "acceleration": np.abs(A).max(axis=0)}
+
+
+def _within(peaks, lim, tol: float = TOLERANCE) -> bool:
+    return all(bool(np.all(peaks[k] <= lim[k] * (1.0 + tol))) for k in KINDS)
+
+
+def _roles(path: Demonstration):
+    """Columns scaled by TOPP-RA, quaternion columns, held columns, derived velocity."""
+    derived = path.has_group("velocity") and path.has_group("position")
+    quat, held, spline = [], [], []
+    for g in path.group_names:
+        cols = list(path.columns_of(g))
+        if g in _UNLIMITED and len(cols) == 4:
+            quat.append(cols)
+        elif g == "velocity" and derived:
+            continue
+        elif g == "gripper" and _is_discrete(path, cols):
+            held += cols
+        else:
+            spline += cols
+    return spline, quat, held, derived
+
+
+#: Without an acceleration limit a column may reach its top speed (its
+#: velocity limit, else its own peak) in this share of the path's duration.
+RAMP_SHARE = 0.02
+
+
+def _own_acceleration(path, lim, spline) -> np.ndarray:
+    """The acceleration allowed to a column without a limit.
+
+    Its own peak, or what reaches its top speed in :data:`RAMP_SHARE` of the
+    path's duration if that is more (a straight line at constant speed has
+    no acceleration of its own, and must still start and stop): without a
+    bound the scaling would jump from one speed to the next.
+    """
+    peaks = path_peaks(path)
+    top = np.minimum(peaks["velocity"][spline], lim["velocity"][spline])
+    ramp = top / (RAMP_SHARE * path.duration)
+    return np.maximum(np.maximum(peaks["acceleration"][spline], ramp), 1e-12)
+
+
+def _clock_at(toppra, path, spline, lim, n_grid):
+    """TOPP-RA's new clock: for each new time, the path's own time."""
+    t = path.t - path.t[0]
+    way = np.column_stack([path.X[:, spline], t])
+    interp = toppra.SplineInterpolator(t, way)
+    # the clock column may not run faster than the path's own timing
+    v = np.append(lim["velocity"][spline], 1.0)
+    given = lim["acceleration"][spline]
+    a_lim = np.where(np.isfinite(given), given, _own_acceleration(path, lim, spline))
+    a = np.append(a_lim, 1e3 / t[-1])
+    con = toppra.constraint
+    cv = con.JointVelocityConstraint(np.column_stack([-v, v]))
+    ca = con.JointAccelerationConstraint(
+        np.column_stack([-a, a]),
+        discretization_scheme=con.DiscretizationType.Interpolation,
+    )
+    grid = np.linspace(0.0, t[-1], n_grid)
+    algo = toppra.algorithm.TOPPRA([cv, ca], interp, gridpoints=grid,
+                                   parametrizer="ParametrizeConstAccel")  # fmt: skip
+    traj = algo.compute_trajectory(0.0, 0.0)
+    if traj is None:
+        return None
+    return traj
+
+
+def _resample(path, clock, new_t, spline, quat, held, derived) -> Demonstration:
+    t = path.t - path.t[0]
+    X = np.empty((new_t.size, path.n_dims))
+    if spline:
+        X[:, spline] = CubicSpline(t, path.X[:, spline])(clock)
+        X[[0, -1]] = path.X[[0, -1]]  # the ends exactly, not up to the spline
+    i = np.clip(np.searchsorted(t, clock, side="right") - 1, 0, t.size - 2)
+    s = np.clip((clock - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0)[:, None]
+    for cols in quat:
+        q = path.X[i][:, cols] * (1.0 - s) + path.X[i + 1][:, cols] * s
+        X[:, cols] = q / np.linalg.norm(q, axis=1, keepdims=True)
+    if held:
+        j = np.where(s[:, 0] >= 1.0, i + 1, i)
+        X[:, held] = path.X[j][:, held]
+    if derived:
+        P = X[:, path.columns_of("position")]
+        X[:, path.columns_of("velocity")] = np.gradient(P, new_t, axis=0, edge_order=2)
+    return Demonstration(new_t + path.t[0], X, path.columns, path.groups)
+
+
+def time_scale(path: Demonstration, limits, *, rate: float | None = None):
+    """Slow a path down where it exceeds velocity or acceleration limits.
+
+    A path already within the limits is returned as it is. Otherwise its
+    limited columns (and every other vector column, on the same clock) are
+    re-timed by TOPP-RA with the path's own timing as a speed limit on its
+    clock, sampled on a uniform grid of the path's median step (or
+    ``1 / rate``) up to the new duration (stretched to a whole number of
+    steps), and checked: the measured peaks (:func:`path_peaks`) must be
+    within the limits up to :data:`TOLERANCE`.
+
+    Parameters
+    ----------
+    path : Demonstration
+        A dense path (at least three samples).
+    limits : mapping
+        ``{"velocity": {group: value(s)}, "acceleration": {group: value(s)}}``
+        (:func:`check_limits`).
+    rate : float, optional
+        Samples per second of the result (stamps ``k / rate`` after the
+        path's first); the path's own median step by default.
+
+    Returns
+    -------
+    path : Demonstration
+        The same columns and groups; the stamps start where the path's did.
+
+    Raises
+    ------
+    LimitError
+        When the limits cannot be met (TOPP-RA finds no parameterization, or
+        the measured peaks stay above the limits).
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> d = Demonstration.from_arrays(t, position=np.column_stack([3 * t, 0 * t]))
+    >>> slow = time_scale(d, {"velocity": {"position": 1.5},
+    ...                       "acceleration": {"position": 10.0}})
+    >>> bool(path_peaks(slow)["velocity"].max() <= 1.5 * (1 + 1e-3))
+    True
+    >>> bool(slow.duration > 2.0), slow.X[-1].tolist()
+    (True, [3.0, 0.0])
+    """
+    if not isinstance(path, Demonstration):
+        raise ValidationError(
+            f"path must be a Demonstration; got {type(path).__name__}"
+        )
+    lim = check_limits(limits, path)
+    if _within(path_peaks(path), lim):
+        return path
+    toppra = _toppra()
+    spline, quat, held, derived = _roles(path)
+    step = float(np.median(np.diff(path.t))) if rate is None else _step(rate)
+    n_grid = int(min(MAX_GRIDPOINTS, max(3 * path.n_samples, 100)))
+    tight = {k: v.copy() for k, v in lim.items()}
+    for _ in range(RETRIES + 1):
+        traj = _clock_at(toppra, path, spline, tight, n_grid)
+        if traj is None:
+            raise LimitError(
+                "no timing of the path meets the limits (TOPP-RA found none): "
+                "check that every limit is above zero and in the path's units"
+            )
+        n = max(int(np.ceil(traj.duration / step - 1e-9)), 2)
+        new_t = np.arange(n + 1) * step if rate is None else np.arange(n + 1) / rate
+        # stretched to a whole number of steps: only slower, so still within
+        clock = traj(new_t * (traj.duration / new_t[-1]))[:, -1]
+        clock = np.clip(np.maximum.accumulate(clock), 0.0, path.t[-1] - path.t[0])
+        clock[0], clock[-1] = 0.0, path.t[-1] - path.t[0]
+        out = _resample(path, clock, new_t, spline, quat, held, derived)
+        peaks = path_peaks(out)
+        if _within(peaks, lim):
+            return out
+        for k in KINDS:
+            over = peaks[k] / lim[k]
+            tight[k] = tight[k] / np.maximum(over.max(), 1.0 + TOLERANCE)
+    worst = max(KINDS, key=lambda k: float(np.max(peaks[k] / lim[k])))
+    raise LimitError(
+        f"the path's {worst} stays above its limits after {RETRIES + 1} "
+        f"attempts: at most {float(np.max(peaks[worst] / lim[worst])):.3g} times "
+        "the limit; the path may be too rough (noise) for the sample rate"
+    )
+
+
+def limited(path, limits, dense: bool, return_std: bool) -> Demonstration:
+    """What :meth:`~ndlfd.KeypointHMM.generate` returns with ``limits=``.
+
+    The dense path :func:`time_scale`-d; key points (``dense=False``) and a
+    band (``return_std=True``) have no meaning on a new clock and are refused.
+    """
+    if not dense or return_std:
+        raise ValidationError(
+            "limits= time-scales the dense path: pass dense=True and no "
+            f"return_std (got dense={dense}, return_std={return_std})"
+        )
+    return time_scale(path, limits)
+
+
+def _step(rate) -> float:
+    try:
+        r = float(rate)
+    except (TypeError, ValueError):
+        raise ValidationError(f"rate must be a number of Hz; got {rate!r}") from None
+    if not (np.isfinite(r) and r > 0):
+        raise ValidationError(f"rate must be finite and > 0 Hz; got {rate!r}")
+    return 1.0 / r

@@ -1,0 +1,178 @@
+"""Peaks and time-scaling to a robot's limits (ndlfd.limits, TOPP-RA)."""
+
+import numpy as np
+import pytest
+import toppra
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ndlfd import Demonstration, KeypointHMM, synth
+from ndlfd._errors import ValidationError
+from ndlfd.limits import TOLERANCE, LimitError, check_limits, path_peaks, time_scale
+
+
+def _line(speed=3.0, n=201, duration=1.0):
+    t = np.linspace(0.0, duration, n)
+    P = np.column_stack([speed * t, 0.0 * t])
+    return Demonstration.from_arrays(t, position=P)
+
+
+def _within(path, limits):
+    peaks, lim = path_peaks(path), check_limits(limits, path)
+    return all(np.all(peaks[k] <= lim[k] * (1 + TOLERANCE)) for k in lim)
+
+
+def _off_path(scaled, path, cols):
+    """Largest distance of the scaled samples from the original polyline (dense)."""
+    P, Q = path.X[:, cols], scaled.X[:, cols]
+    d = np.linalg.norm(Q[:, None, :] - P[None, :, :], axis=2)
+    return float(d.min(axis=1).max())
+
+
+def test_a_straight_line_takes_the_trapezoid_a_hand_computes():
+    """3 units at most 1.5 /s and 10 /s^2, from rest to rest: 3/1.5 + 1.5/10 s."""
+    path = _line()
+    limits = {"velocity": {"position": 1.5}, "acceleration": {"position": 10.0}}
+    out = time_scale(path, limits)
+    assert out.duration == pytest.approx(3 / 1.5 + 1.5 / 10, rel=0.01)
+    assert _within(out, limits)
+    assert out.X[0].tolist() == [0.0, 0.0] and out.X[-1].tolist() == [3.0, 0.0]
+    assert np.all(np.diff(out.X[:, 0]) >= -1e-12)  # never backwards
+    assert np.abs(out.X[:, 1]).max() == 0.0  # on the line
+    # the velocity limit is reached (time-optimal, not merely slower)
+    assert path_peaks(out)["velocity"][0] >= 0.99 * 1.5
+
+
+def test_a_path_within_its_limits_is_returned_as_it_is():
+    path = _line(speed=1.0)
+    assert time_scale(path, {"velocity": {"position": 2.0}}) is path
+
+
+def test_the_stamps_are_k_over_the_rate():
+    out = time_scale(_line(), {"velocity": {"position": 1.0}}, rate=50.0)
+    assert np.array_equal(out.t, np.arange(out.n_samples) / 50.0)
+
+
+def _waves(seed, n_cols, n=300):
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 4.0, n)
+    f = rng.uniform(0.2, 1.0, n_cols)
+    a = rng.uniform(10.0, 90.0, n_cols)
+    J = a * np.sin(2 * np.pi * f * t[:, None] + rng.uniform(0, 6, n_cols))
+    return Demonstration.from_arrays(t, joints=J)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n_cols=st.integers(1, 6),
+    v_share=st.floats(0.2, 1.5),
+    a_share=st.floats(0.2, 1.5),
+)
+def test_time_scaled_paths_keep_their_route_and_meet_the_limits(
+    seed, n_cols, v_share, a_share
+):
+    path = _waves(seed, n_cols)
+    peaks = path_peaks(path)
+    limits = {
+        "velocity": {"joints": v_share * peaks["velocity"]},
+        "acceleration": {"joints": a_share * peaks["acceleration"]},
+    }
+    out = time_scale(path, limits)
+    assert _within(out, limits)
+    assert out.duration >= path.duration * (1 - 1e-9)  # never faster
+    assert np.array_equal(out.X[[0, -1]], path.X[[0, -1]])
+    # on the same route: every sample near the original (dense) polyline
+    step = np.abs(np.diff(path.X, axis=0)).max()
+    assert _off_path(out, path, slice(None)) <= step
+
+
+def test_the_peaks_agree_with_toppras_own_trajectory():
+    """TOPP-RA's spline derivatives and the samples' finite differences agree."""
+    path = _waves(3, 3)
+    lim = {"velocity": {"joints": 40.0}, "acceleration": {"joints": 120.0}}
+    out = time_scale(path, lim)
+    t = path.t - path.t[0]
+    spl = toppra.SplineInterpolator(t, path.X)
+    import toppra.algorithm as algo
+    import toppra.constraint as con
+
+    v = np.full(3, 40.0)
+    a = np.full(3, 120.0)
+    inst = algo.TOPPRA(
+        [
+            con.JointVelocityConstraint(np.column_stack([-v, v])),
+            con.JointAccelerationConstraint(np.column_stack([-a, a])),
+        ],
+        spl,
+        parametrizer="ParametrizeConstAccel",
+    )
+    traj = inst.compute_trajectory(0.0, 0.0)
+    ts = np.linspace(0.0, traj.duration, 4000)
+    theirs = np.abs(traj(ts, 1)).max(axis=0)
+    ours = path_peaks(out)["velocity"]
+    # both time-optimal under the same limits: the same peak velocities
+    assert np.allclose(ours, theirs, rtol=0.02)
+    assert out.duration == pytest.approx(traj.duration, rel=0.05)
+
+
+def test_generate_with_limits_on_joint_and_cartesian_data():
+    demos = synth.obstacle(7, 5)
+    model = KeypointHMM().fit(demos)
+    t = np.linspace(0.0, 5.0, 500)
+    path = model.generate(t, dense=True)
+    peaks = path_peaks(path)
+    top = peaks["velocity"][path.columns_of("position")].max()
+    lim = {"velocity": {"position": 0.6 * top}}
+    out = model.generate(t, dense=True, limits=lim)
+    assert _within(out, lim) and out.duration > path.duration
+    pos = path.columns_of("position")
+    assert np.array_equal(out.X[[0, -1]][:, pos], path.X[[0, -1]][:, pos])
+    # the velocity group is the new path's derivative again
+    V = np.gradient(out.get("position"), out.t, axis=0, edge_order=2)
+    assert np.allclose(out.get("velocity"), V)
+    with pytest.raises(ValidationError, match="dense=True"):
+        model.generate(t, limits=lim)
+
+
+def test_orientation_and_a_gripper_are_carried_along():
+    t = np.linspace(0.0, 2.0, 201)
+    ang = np.pi / 2 * t / 2
+    Q = np.column_stack([np.cos(ang / 2), 0 * t, 0 * t, np.sin(ang / 2)])
+    g = (t > 1.0).astype(float)
+    path = Demonstration.from_arrays(
+        t, position=np.column_stack([t, t]), orientation=Q, gripper=g
+    )
+    out = time_scale(path, {"velocity": {"position": 0.25}})
+    assert np.allclose(np.linalg.norm(out.get("orientation"), axis=1), 1.0)
+    assert set(np.unique(out.get("gripper"))) == {0.0, 1.0}
+    # the gripper switches where the hand is at x = 1, as before
+    x = out.get("position")[:, 0]
+    first = int(np.argmax(out.get("gripper")[:, 0] > 0))
+    assert x[first - 1] <= 1.0 + 0.01 and x[first] >= 1.0 - 0.01
+
+
+@pytest.mark.parametrize(
+    "limits, match",
+    [
+        ({"speed": {"position": 1.0}}, "unknown limit 'speed'"),
+        ({"velocity": {"joints": 1.0}}, "unknown group 'joints'"),
+        ({"velocity": {"position": -1.0}}, "finite and > 0"),
+        ({"velocity": {"position": [1.0, 2.0, 3.0]}}, "one value or 2"),
+        ({"velocity": {"position": "fast"}}, "must be numbers"),
+        ({"velocity": {"orientation": 1.0}}, "quaternions"),
+        ({"velocity": 1.0}, "must map group names"),
+        ([("velocity", 1.0)], "must be a mapping"),
+    ],
+)
+def test_bad_limits_say_what_was_expected(limits, match):
+    t = np.linspace(0.0, 1.0, 5)
+    d = Demonstration.from_arrays(
+        t, position=np.column_stack([t, t]), orientation=np.tile([1.0, 0, 0, 0], (5, 1))
+    )
+    with pytest.raises(ValidationError, match=match):
+        time_scale(d, limits)
+
+
+def test_a_limit_error_is_a_validation_error():
+    assert issubclass(LimitError, ValidationError)
