@@ -385,3 +385,30 @@ def test_split_still_on_the_command_line(tmp_path, capsys):
     assert rc == 2 and err == [
         "ndlfd fit: error: --split-still must be a number of seconds > 0; got 0"
     ]
+
+
+def test_readme_joint_trajectory_commands_run(tmp_path, capsys, monkeypatch):
+    import re
+    import shlex
+    from pathlib import Path
+
+    readme = (Path(__file__).parents[2] / "README.md").read_text()
+    section = readme.split("### Joint trajectories for a ROS 2 controller")[1]
+    block = re.search(r"```console\n(.*?)```", section, re.S).group(1)
+    commands = [shlex.split(line[2:]) for line in block.splitlines()]
+    assert [c[:2] for c in commands] == [
+        ["ndlfd", "fit"], ["ndlfd", "generate"], ["ros2", "bag"]
+    ]  # fmt: skip
+    bags(tmp_path / "arm_bags")
+    monkeypatch.chdir(tmp_path)
+    for args in commands[:2]:  # ROS 2 is not installed here: not ros2 bag play
+        rc, err = cli(capsys, *args[1:])
+        assert rc == 0, err
+    out = tmp_path / "traj_bag"
+    ((ns, msg),) = messages(out, "/joint_trajectory_controller/joint_trajectory")
+    assert ns == 0 and msg.joint_names == ["joint_1", "joint_2"]
+    assert len(msg.points) == 601
+    last = msg.points[-1].time_from_start
+    assert (last.sec, last.nanosec) == (6, 0)
+    for end in (msg.points[0], msg.points[-1]):
+        assert not np.any(end.velocities) and not np.any(end.accelerations)
