@@ -157,7 +157,9 @@ def add_generate(sub) -> None:
             " topic TOPIC/GROUP for each other group such as a gripper; replay it"
             " with 'ros2 bag play PATH.mcap'), or as a"
             " trajectory_msgs/msg/JointTrajectory in YAML (-o PATH.yaml: the group"
-            " joints, velocities by numpy.gradient; send it with 'ros2 topic pub'),"
+            " joints and a gripper, velocities and accelerations 0 at both ends;"
+            " --format joint-trajectory -o NAME writes it into a bag for 'ros2 bag"
+            " play'),"
             " or as a LeRobot episode's rows (-o PATH.parquet: timestamp,"
             " frame_index, episode_index, index, task_index and the path as one"
             " float32 list column named like the input's feature, e.g. action)."
@@ -186,7 +188,8 @@ def add_generate(sub) -> None:
         "--output",
         required=True,
         help="output file (its folder must exist): .csv, .parquet (a LeRobot"
-        " episode), .mcap (a ROS 2 bag) or .yaml (a joint trajectory)",
+        " episode), .mcap (a ROS 2 bag), NAME/ (a bag folder) or .yaml (a joint"
+        " trajectory)",
     )
     p.add_argument(
         "--format",
