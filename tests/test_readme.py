@@ -159,4 +159,24 @@ def test_readme_lerobot_examples_run(tmp_path):
     for args in examples:
         _run(args, tmp_path)
     pick = (tmp_path / "pick.csv").read_text().splitlines()[0]
-    assert pick == "t,x,y,z,vx,vy,vz,roll,pitch,yaw,gripper"
+    assert pick == "timestamp,x,y,z,roll,pitch,yaw,gripper,vx,vy,vz"
+    assert f"`{pick}`" in README.read_text(encoding="utf-8")  # as it says
+
+
+def test_readme_so101_examples_run(tmp_path):
+    pytest.importorskip("pyarrow")
+    pytest.importorskip("matplotlib")
+    from lerobot_writer import SO101_STATE, write_so101
+    from ndlfd.io import read_parquet
+
+    examples = _shell_examples("### An SO-101 arm")
+    assert [e[1] for e in examples] == ["fit", "generate", "generate", "plot"]
+    write_so101(tmp_path / "so101_pick", n_demos=12)  # LeRobot v3.0, as it writes
+    for args in examples:
+        _run(args, tmp_path)
+    header = (tmp_path / "next.csv").read_text().splitlines()[0]
+    assert header == ",".join(["timestamp", *SO101_STATE])
+    assert f"`{header}`" in README.read_text(encoding="utf-8")
+    back = read_parquet(tmp_path / "next.parquet")
+    assert back.groups == ("joints",) * 5 + ("gripper",)
+    assert (tmp_path / "so101.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -217,8 +217,8 @@ def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
     assert KeypointHMM.load(tmp_path / "m.ndlfd").groups_ == ("position", "velocity")
     rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "m.ndlfd", "-q")
     assert rc == 0 and err == []
-    # a group of the user's own is not learned by default, and fewer samples
-    # than the default time bins
+    # a group of the user's own is learned by default (10 levels, no --levels
+    # needed), and fewer samples than the default time bins
     short = write_reach(tmp_path / "short", demos=[
         (t[:30], np.column_stack([p[:30], p[:30, :1]]), q[:30])
         for t, p, q in reach_demos()
@@ -234,10 +234,10 @@ def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
     assert err[2].startswith(
         "routes: 2 found on position (route 0: 1, route 1: 2 demonstrations)"
     )
-    assert err[3] == (
-        "not learned: grip (in the files but not in --groups; learn it with"
-        " --groups position,velocity,orientation,grip)"
-    )
+    assert len(err) == 3 and not any(e.startswith("not learned") for e in err)
+    model = KeypointHMM.load(tmp_path / "m.ndlfd")
+    assert model.groups_ == ("position", "velocity", "orientation", "grip")
+    assert model.codebook_.levels[-1] == 10  # OTHER_LEVELS
 
 
 @pytest.mark.parametrize(
@@ -255,9 +255,6 @@ def test_fit_names_the_groups_learned_and_not_learned(tmp_path, capsys):
          " entry: a trailing or doubled comma)"),
         (["--levels", "force=10"], "--levels names force, which is not learned; the"
          " learned groups are position, velocity, orientation (--groups)"),
-        (["--groups", "position,grip", "--levels", "position=20"],
-         "--levels must give the codebook levels of group 'grip', which has no"
-         " default (e.g. --levels grip=10)"),
         (["--n-points", "500"], "--n-points must be between 2 and 50 (the number of"
          " samples of the shortest demonstration, {d}/reach0.csv); got 500"),
         (["--n-points", "1"], "--n-points must be an integer >= 2; got 1"),
@@ -375,9 +372,12 @@ def test_fit_records_the_input_names_for_generate_and_sample(tmp_path, capsys):
                   "--dense", "-o", out)  # fmt: skip
     assert rc == 0, err
     header, data = read_table(out)
-    assert header == ["time", "pos_x", "pos_y", "vx", "vy", "gripper"]
+    # the files' names in their order, the derived velocity after them
+    assert header == ["time", "pos_x", "pos_y", "gripper", "vx", "vy"]
     ref = fitted.generate(np.linspace(0, 2, 9), dense=True)
-    np.testing.assert_allclose(data[:, 1:], ref.X, rtol=1e-9, atol=1e-12)
+    assert ref.columns == ("pos_x", "pos_y", "vx", "vy", "gripper")
+    want = ref.X[:, [0, 1, 4, 2, 3]]
+    np.testing.assert_allclose(data[:, 1:], want, rtol=1e-9, atol=1e-12)
     rc, err = cli(capsys, "sample", model, "--duration", "2", "--samples", "9",
                   "-n", "2", "-o", tmp_path / "s")  # fmt: skip
     assert rc == 0, err
@@ -411,11 +411,11 @@ def test_fit_records_euler_angles_for_the_output(tmp_path, capsys):
     assert main(["generate", str(model), "--duration", "1", "--samples", "30",
                  "--dense", "-o", str(out), "-q"]) == 0  # fmt: skip
     header, data = read_table(out)
-    assert header[:4] == ["t", "x", "y", "z"] and header[-3:] == ["roll", "pitch",
-                                                                  "yaw"]  # fmt: skip
+    # the files' order (the derived velocity after the recorded columns)
+    assert header == ["t", "x", "y", "z", "roll", "pitch", "yaw", "vx", "vy", "vz"]
     path = KeypointHMM.load(model).generate(t, dense=True)
     q = path.get("orientation")
-    back = euler_to_quaternions(data[:, -3:], "xyz")
+    back = euler_to_quaternions(data[:, 4:7], "xyz")
     # the same rotation (q and -q alike)
     np.testing.assert_allclose(np.abs(np.sum(q * back, axis=1)), 1.0, atol=1e-8)
 
