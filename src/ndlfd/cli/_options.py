@@ -280,6 +280,14 @@ def add_column_options(
             " tree, e.g. base_link or world)",
         )
         if not bags:
+            g.add_argument(
+                "--rate",
+                dest="read_rate",
+                type=float,
+                metavar="HZ",
+                help="the sample rate of files without time stamps (fixed-rate logs:"
+                " no time column); row k is at k / HZ seconds",
+            )
             b.add_argument(
                 "--split-gap",
                 type=float,
@@ -409,6 +417,7 @@ def column_options(args: argparse.Namespace) -> dict:
         "base_frame": getattr(args, "bag_base_frame", None),
         "split_gap": split_gap,
         "split_still": split_still,
+        "rate": getattr(args, "read_rate", None),
     }
     options.update({k: v for k, v in bag.items() if v is not None})
     options.update(bad_data_options(args))

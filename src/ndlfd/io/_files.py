@@ -3,9 +3,10 @@
 from __future__ import annotations
 
 import glob
+import math
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from .._errors import DataFileError, ValidationError
@@ -25,6 +26,7 @@ from ._mapping import (
     CLI_HINTS,
     LIBRARY_HINTS,
     MAPPING_DEFAULTS,
+    TIME_NAMES,
     ColumnMapping,
     check_bad_rows,
 )
@@ -34,11 +36,13 @@ from ._parquet import read_parquet_mapped
 __all__ = [
     "BAD_FILES",
     "DEMO_SUFFIXES",
+    "RATE_OPTIONS",
     "READERS",
     "READER_OPTIONS",
     "READ_DEFAULTS",
     "DemoFile",
     "DemoFiles",
+    "RateMapping",
     "demo_files",
     "read_demos",
     "read_file",
@@ -160,6 +164,89 @@ BAD_FILES = ("error", "skip")
 #: The options of reading many files (not given to the readers).
 READ_DEFAULTS = {"bad_files": "error"}
 
+#: The option of files without time stamps: their sample rate in Hz (the
+#: time of row ``k`` is ``k / rate``); given to no reader.
+RATE_OPTIONS = {"rate": None}
+
+
+@dataclass(frozen=True)
+class RateMapping(ColumnMapping):
+    """The mapping of a file read at a fixed rate: time is row / ``rate``.
+
+    Attributes
+    ----------
+    rate : float
+        The sample rate in Hz.
+    """
+
+    rate: float = 1.0
+
+    def __str__(self) -> str:
+        return (
+            super()
+            .__str__()
+            .replace("time=(row number)", f"time=(row number) / {self.rate:g} Hz", 1)
+        )
+
+
+def _rate_flag(how) -> str:
+    return "--rate" if how.get("time", "").startswith("--") else "rate="
+
+
+def _at_rate(p, how, reader, options: dict, rate) -> list:
+    """Read ``p`` without a time column; row ``k`` at ``k / rate`` seconds."""
+    flag = _rate_flag(how)
+    if not (
+        isinstance(rate, (int, float))
+        and not isinstance(rate, bool)
+        and math.isfinite(rate)
+        and rate > 0
+    ):
+        raise ValidationError(f"{flag} must be a sample rate in Hz > 0; got {rate!r}")
+    if reader in (read_bag_mapped, read_episode_mapped, read_parquet_mapped):
+        raise DataFileError(
+            f"{p}: {flag} gives the time of files without time stamps (a fixed-rate"
+            " log); this one has its own stamps"
+        )
+    if options.get("bad_rows") == "drop":
+        raise ValidationError(
+            f"{flag} times the rows by their number, and dropping a bad row would"
+            " shift every later row's time; pass bad_rows='error' (--bad-rows"
+            " error) and repair the file"
+        )
+    if isinstance(options.get("time_column"), str):
+        raise ValidationError(
+            f"{flag} and {how['time']} both give the time; pass one of them"
+        )
+
+    def timed(name):
+        return DataFileError(
+            f"{p}: {flag} gives the time of files without time stamps; this one"
+            f" has a time column {name!r} (name it with {how['time']} instead of"
+            f" {flag}, or drop it)"
+        )
+
+    try:
+        pairs = reader(p, how, **{**options, "time_column": None})
+    except DataFileError:
+        try:  # a time column the mapping could not place?
+            with collecting_repairs():
+                found = reader(p, how, **options)
+        except (DataFileError, ValidationError):
+            found = []
+        if found:
+            raise timed(found[0][1].time) from None
+        raise
+    out = []
+    for demo, m in pairs:
+        names = [c for _, cols in m.groups for c in cols]
+        clock = [c for c in names if c.casefold() in TIME_NAMES]
+        if clock:
+            raise timed(clock[0])
+        demo = Demonstration(demo.t / rate, demo.X, demo.columns, demo.groups)
+        out.append((demo, RateMapping(**asdict(m), rate=float(rate))))
+    return out
+
 
 def read_or_skip(
     p: Path | LeRobotEpisode, how=LIBRARY_HINTS, **mapping
@@ -216,6 +303,8 @@ def read_file(
         reader = READERS.get(p.suffix.lower(), read_csv_mapped)
     own = READER_OPTIONS.get(reader, {})
     options = {k: v for k, v in mapping.items() if k in MAPPING_DEFAULTS or k in own}
+    if mapping.get("rate") is not None:
+        return _at_rate(p, how, reader, options, mapping["rate"])
     return reader(p, how, **options)
 
 
@@ -240,14 +329,20 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     **kwargs
         ``time_column``, ``groups``, ``quaternion_order``, ``drop``,
         ``euler``: see :func:`read_csv`; for bags also ``topic``, ``frame``,
-        ``split_gap`` (see :func:`~ndlfd.io.read_bag`); ``feature``,
-        ``episodes``: see :func:`read_lerobot`.
+        ``base_frame``, ``split_gap``, ``split_still`` (see
+        :func:`~ndlfd.io.read_bag`); ``feature``, ``episodes``: see
+        :func:`read_lerobot`; ``rate``: the sample rate in Hz of files without
+        time stamps (fixed-rate logs: CSV, ``.npz`` or HDF5 without a time
+        column), row ``k`` at ``k / rate`` seconds; an error for a file with
+        a time column or its own stamps (a bag, a LeRobot episode), and with
+        ``bad_rows="drop"`` (a dropped row would shift the later rows' times).
 
     Returns
     -------
     demos : list of Demonstration
     mappings : list of ColumnMapping
-        Only with ``return_mappings=True``.
+        Only with ``return_mappings=True`` (a :class:`RateMapping` with
+        ``rate``).
 
     Raises
     ------
@@ -297,7 +392,7 @@ def _summed(log, p) -> list[tuple[str, str, int]]:
 
 def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
     """The column mapping options with their defaults; unknown names refused."""
-    known = {**MAPPING_DEFAULTS, **READ_DEFAULTS}
+    known = {**MAPPING_DEFAULTS, **READ_DEFAULTS, **RATE_OPTIONS}
     for options in READER_OPTIONS.values():
         known.update(options)
     unknown = sorted(set(kwargs) - set(known))
@@ -312,7 +407,7 @@ def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
             f" {kwargs['bad_files']!r}"
         )
     check_bad_rows(kwargs.get("bad_rows", "error"))
-    return {**MAPPING_DEFAULTS, **READ_DEFAULTS, **kwargs}
+    return {**MAPPING_DEFAULTS, **READ_DEFAULTS, **RATE_OPTIONS, **kwargs}
 
 
 @dataclass(frozen=True)
