@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 pytest.importorskip("rosbags")
 
@@ -18,6 +20,7 @@ from bag_samples import (
 )
 from ndlfd._errors import DataFileError
 from ndlfd.io import read_bag
+from ndlfd.io._tf import TfEdge, tf_pose_rows
 
 
 def by_hand(*links):
@@ -145,3 +148,63 @@ def test_tf_errors_name_the_bag_and_the_frames_found(tmp_path):
         DataFileError, match=r"frame 'marker' has several parents.*'base', 'map'"
     ):
         read_bag(bag3, frame="marker")
+
+
+def matrix(values):
+    """The 4x4 homogeneous matrix of x, y, z, qw, qx, qy, qz."""
+    m = np.eye(4)
+    m[:3, :3] = Rotation.from_quat(np.roll(values[3:], -1)).as_matrix()
+    m[:3, 3] = values[:3]
+    return m
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    parents=st.lists(st.integers(0, 10), min_size=2, max_size=7),
+    moving=st.lists(st.booleans(), min_size=7, max_size=7),
+    pick=st.tuples(st.integers(0, 7), st.integers(0, 7)),
+    seed=st.integers(0, 2**16),
+)
+def test_any_frame_in_any_base_equals_the_matrix_product(parents, moving, pick, seed):
+    """Random trees: the pose against 4x4 matrices multiplied by hand."""
+    rng = np.random.default_rng(seed)
+    n_frames = len(parents) + 1  # frame k > 0 has parent parents[k-1] % k
+    parent = {k: parents[k - 1] % k for k in range(1, n_frames)}
+    if not any(moving[: n_frames - 1]):
+        moving = [True, *moving[1:]]
+    ns = np.arange(6, dtype=np.int64) * 10**8
+    edges, values = {}, {}
+    for k, p in parent.items():
+        dyn = moving[k - 1]
+        q = Rotation.random(len(ns) if dyn else 1, random_state=rng).as_quat()
+        v = np.column_stack([rng.normal(size=(len(q), 3)), q[:, 3], q[:, :3]])
+        values[k] = v if dyn else np.repeat(v, len(ns), axis=0)
+        edges[f"f{k}"] = TfEdge(f"f{p}", f"f{k}", not dyn, ns if dyn else ns[:1], v)
+
+    def root_to(k, i):  # the pose of frame k in f0 at stamp i
+        m = np.eye(4)
+        while k:
+            m = matrix(values[k][i]) @ m
+            k = parent[k]
+        return m
+
+    frame, base = (f % n_frames for f in pick)
+    path = [frame]
+    while path[-1]:
+        path.append(parent[path[-1]])
+    up = [base]
+    while up[-1]:
+        up.append(parent[up[-1]])
+    common = next(f for f in path if f in up)
+    chain = {*path[: path.index(common)], *up[: up.index(common)]}
+    if not any(moving[k - 1] for k in chain):
+        with pytest.raises(DataFileError, match="is constant"):
+            tf_pose_rows("bag", edges, f"f{frame}", f"f{base}", topics="/tf")
+        return
+    got_base, stamps, got = tf_pose_rows(
+        "bag", edges, f"f{frame}", f"f{base}", topics="/tf"
+    )
+    assert got_base == f"f{base}" and np.array_equal(stamps, ns)
+    for i in range(len(ns)):
+        want = np.linalg.inv(root_to(base, i)) @ root_to(frame, i)
+        assert np.allclose(matrix(got[i]), want, atol=1e-9)
