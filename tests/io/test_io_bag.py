@@ -352,3 +352,32 @@ def test_joint_trajectory_yaml_parses_back_exactly(tmp_path):
         ValidationError, match=r"needs the group 'joints'.* has position"
     ):
         write_joint_trajectory(plain, tmp_path / "p.yaml")
+
+
+def test_joint_state_velocities_are_the_group_joint_velocity(tmp_path):
+    ns = 10**9 + np.arange(8) * 10_000_000
+    rng = np.random.default_rng(1)
+    pos, vel = rng.normal(size=(8, 2)), rng.normal(size=(8, 2))
+    msgs = []
+    for k, p, v in zip(ns, pos, vel, strict=True):
+        m = joint_state(k, ["shoulder", "elbow"], p)
+        m.velocity = np.array(v)
+        msgs.append((int(k), m))
+    bag = write_bag(tmp_path / "js", {"/joint_states": msgs})
+    (d,) = read_bag(bag, "/joint_states")
+    assert d.columns == ("shoulder", "elbow", "shoulder.vel", "elbow.vel")
+    assert d.groups == ("joints", "joints", "joint_velocity", "joint_velocity")
+    assert np.array_equal(d.get("joints"), pos)
+    assert np.array_equal(d.get("joint_velocity"), vel)  # as published
+    # velocities for some joints only: a clear error
+    m = joint_state(ns[-1] + 10**7, ["shoulder", "elbow"], [0.0, 0.0])
+    m.velocity = np.array([1.0])
+    bag = write_bag(
+        tmp_path / "bad", {"/joint_states": [*msgs, (int(ns[-1]) + 10**7, m)]}
+    )
+    with pytest.raises(
+        DataFileError,
+        match=r"JointState message 8 on '/joint_states' has 1 velocities for 2"
+        r" joints; expected none or one per joint",
+    ):
+        read_bag(bag, "/joint_states")

@@ -15,9 +15,12 @@ topics become named arrays, mapped to groups by
   leaves it);
 * ``sensor_msgs/msg/JointState`` gives the group ``joints``, one column per
   joint, named after it, in the order the joints first appear (messages may
-  list them in any order). Messages that name different sets of joints (an
-  arm and a gripper publishing on ``/joint_states``) give one stream per set,
-  combined like several topics (the set with the most messages first);
+  list them in any order), and when every message carries velocities, the
+  group ``joint_velocity`` with a column ``NAME.vel`` per joint (as LeRobot
+  names motor velocities; efforts are not read). Messages that name
+  different sets of joints (an arm and a gripper publishing on
+  ``/joint_states``) give one stream per set, combined like several topics
+  (the set with the most messages first);
 * ``std_msgs/msg/Float64`` / ``Float32`` (a gripper command, say) give one
   column in a group named after the last part of the topic's name
   (``/robot/gripper`` → ``gripper``).
@@ -89,6 +92,8 @@ MANY_PIECES = 50
 RATE_RATIO = 2.0
 
 _POSE_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz")
+#: A JointState velocity column's key: (_VELOCITY, joint name).
+_VELOCITY = "velocity"
 #: The layout of a bag's :class:`ColumnMapping` (``", frame NAME"`` follows
 #: when the poses were read in a frame).
 BAG_LAYOUT = "ROS 2 bag"
@@ -172,7 +177,8 @@ def _transform(m, frame):
 
 
 def _joint_state(m, frame):
-    return _stamp(m), (list(m.name), np.asarray(m.position, dtype=np.float64))
+    pos = np.asarray(m.position, dtype=np.float64)
+    return _stamp(m), (list(m.name), pos, np.asarray(m.velocity, dtype=np.float64))
 
 
 def _scalar(m, frame):
@@ -331,19 +337,31 @@ def _joint_sets(p, topic, rows) -> list[tuple[list[str], list]]:
     """
     seen: dict[str, None] = {}
     sets: dict[frozenset, list] = {}
-    for i, (stamp, received, (names, v)) in enumerate(rows):
+    for i, (stamp, received, (names, v, vel)) in enumerate(rows):
         if v.shape != (len(names),) or len(set(names)) != len(names):
             raise DataFileError(
                 f"{p}: JointState message {i} on {topic!r} has {v.size} positions"
                 f" for the joints {', '.join(names) or '(none)'}; expected one per"
                 " joint, each named once"
             )
+        if vel.size not in (0, len(names)):
+            raise DataFileError(
+                f"{p}: JointState message {i} on {topic!r} has {vel.size}"
+                f" velocities for {len(names)} joints; expected none or one per"
+                " joint"
+            )
         seen.update(dict.fromkeys(names))
         value = dict(zip(names, v.tolist(), strict=True))
+        if vel.size:
+            value.update(
+                zip([(_VELOCITY, n) for n in names], vel.tolist(), strict=True)
+            )
         sets.setdefault(frozenset(names), []).append((stamp, received, value))
     out = []
     for key, part in sets.items():
         cols = [n for n in seen if n in key]
+        if cols and all((_VELOCITY, cols[0]) in v for _, _, v in part):  # each
+            cols += [(_VELOCITY, n) for n in cols]
         out.append((cols, [(s, r, [v[c] for c in cols]) for s, r, v in part]))
     out.sort(key=lambda x: -len(x[1]))  # stable: ties keep the first seen
     return out
@@ -363,7 +381,8 @@ def _topic_arrays(p, topic, kind, rows) -> list[_Topic]:
         order = np.argsort(stamps, kind="stable")
         stamps, values = stamps[order], values[order]
         keep = np.concatenate([[True], np.diff(stamps) > 0])
-        label = topic if len(sets) == 1 else f"{topic} ({', '.join(columns)})"
+        shown = [c for c in columns if isinstance(c, str)]
+        label = topic if len(sets) == 1 else f"{topic} ({', '.join(shown)})"
         if not keep.all():
             repaired(
                 "stamps",
@@ -397,12 +416,16 @@ def _named(topics: list[_Topic]) -> list[tuple[_Topic, dict[str, str]]]:
         first = owner.setdefault(tp.kind, tp.name) == tp.name
         if tp.kind == "pose" and first:
             keys = {c: c for c in tp.arrays}
-        elif tp.kind == "joints" and first:
-            keys = {c: f"joints.{c}" for c in tp.arrays}
+        elif tp.kind == "joints":  # velocities: NAME.vel, the joint_velocity group
+            head = "joints." if first else f"{base}."
+            keys = {
+                c: f"{'' if first else base + '.'}{c[1]}.vel"
+                if isinstance(c, tuple)
+                else f"{head}{c}"
+                for c in tp.arrays
+            }
         elif tp.kind == "scalar":
             keys = {None: f"{base}.{base}"}
-        elif tp.kind == "joints":
-            keys = {c: f"{base}.{c}" for c in tp.arrays}
         else:  # column names stay unique: target_x, ...
             keys = {c: f"{base}.{base}_{c}" for c in tp.arrays}
         out.append((tp, keys))
