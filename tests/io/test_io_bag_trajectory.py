@@ -150,3 +150,24 @@ def test_trajectory_names_units_and_errors(tmp_path):
     got = rosbags_read(out, "/ndlfd/path/joint_states")
     assert got[0][1].name == names
     assert np.array_equal([m.position for _, m in got], np.deg2rad(demo.get("joints")))
+
+
+def test_joint_velocities_go_in_the_joint_states_and_read_back(tmp_path):
+    from rosbags.rosbag2 import Reader
+
+    from ndlfd.io import read_bag
+
+    rng = np.random.default_rng(4)
+    t = np.arange(12) / 8.0
+    q, w = rng.normal(size=(12, 2)) * 30, rng.normal(size=(12, 2)) * 10
+    demo = Demonstration.from_arrays(
+        t, joints=q, joint_velocity=w,
+        columns={"joints": ["a", "b"], "joint_velocity": ["a.vel", "b.vel"]},
+    )  # fmt: skip
+    out = write_bag(demo, tmp_path / "js.mcap", units="deg")
+    with Reader(out) as r:
+        assert sorted(r.topics) == ["/ndlfd/path/joint_states"]
+    (back,) = read_bag(out)
+    assert back.columns == demo.columns and back.groups == demo.groups
+    assert np.allclose(back.get("joints"), np.deg2rad(q), rtol=1e-15)
+    assert np.allclose(back.get("joint_velocity"), np.deg2rad(w), rtol=1e-15)

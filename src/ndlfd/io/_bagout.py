@@ -114,6 +114,8 @@ def _bag_streams(demo: Demonstration, topic: str):
     for g in demo.group_names:
         if g in ("position", "orientation", "velocity"):
             continue
+        if g == "joint_velocity" and _joint_velocity(demo) is not None:
+            continue  # in the joints' JointState
         cols = tuple(
             c for c, h in zip(demo.columns, demo.groups, strict=True) if h == g
         )
@@ -127,6 +129,22 @@ def _bag_streams(demo: Demonstration, topic: str):
             f" write; the demonstration has only {', '.join(demo.group_names)}"
         )
     return streams
+
+
+def _joint_velocity(demo: Demonstration) -> np.ndarray | None:
+    """The joints' velocities when the group ``joint_velocity`` is ``NAME.vel`` of each.
+
+    As :func:`~ndlfd.io.read_bag` reads a ``JointState``'s velocities (and
+    LeRobot names them); ``None`` otherwise.
+    """
+    if not (demo.has_group("joints") and demo.has_group("joint_velocity")):
+        return None
+    pairs = list(zip(demo.columns, demo.groups, strict=True))
+    joints = [c for c, g in pairs if g == "joints"]
+    names = [c for c, g in pairs if g == "joint_velocity"]
+    if names != [f"{c}.vel" for c in joints]:
+        return None
+    return demo.get("joint_velocity")
 
 
 def _messages(T, demo, stream, ns, frame_id, joints):
@@ -162,15 +180,16 @@ def _messages(T, demo, stream, ns, frame_id, joints):
         for i in range(n):
             yield T[msgtype](data=float(V[i, 0]))
         return
-    if group == "joints":
-        cols, V = joints
     empty = np.zeros(0, dtype=np.float64)
+    W = None
+    if group == "joints":
+        cols, V, W = joints
     for i in range(n):
         yield T[msgtype](
             header=_header(T, ns[i], frame_id),
             name=list(cols),
             position=np.array(V[i], dtype=np.float64),
-            velocity=empty,
+            velocity=empty if W is None else np.array(W[i], dtype=np.float64),
             effort=empty,
         )
 
@@ -242,7 +261,9 @@ def write_bag(
     time both ``t + start_time``: a ``geometry_msgs/msg/PoseStamped`` on
     ``topic`` for position (up to 3 columns, missing ones 0) and orientation
     (identity when absent); a ``sensor_msgs/msg/JointState`` on
-    ``TOPIC/joint_states`` for the group ``joints`` (in radians); and for each
+    ``TOPIC/joint_states`` for the group ``joints`` (in radians; with the
+    velocities of a group ``joint_velocity`` named ``NAME.vel``, as
+    :func:`~ndlfd.io.read_bag` reads them, in radians per second); and for each
     other group (a gripper, but not velocity) ``TOPIC/GROUP``: a
     ``std_msgs/msg/Float64`` for one column, a ``JointState`` named after the
     columns for several.
@@ -293,7 +314,12 @@ def write_bag(
         cols = [
             c for c, g in zip(demo.columns, demo.groups, strict=True) if g == "joints"
         ]
-        joints = (_mapped(cols, joint_names), _radians(demo.get("joints"), cols, units))
+        W = _joint_velocity(demo)
+        joints = (
+            _mapped(cols, joint_names),
+            _radians(demo.get("joints"), cols, units),
+            None if W is None else W * JOINT_UNITS[units],
+        )
     elif joint_names is not None:
         raise ValidationError(
             "joint_names names the columns of the group 'joints'; the path has"
