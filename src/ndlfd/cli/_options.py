@@ -268,7 +268,7 @@ def add_column_options(
         b.add_argument(
             f"--{bags}frame",
             dest="bag_frame",
-            metavar="CHILD",
+            metavar="FRAME",
             help="the frame whose pose is read from /tf (implies --topic /tf):"
             " composed along the tf tree, /tf_static included, to --base-frame",
         )
