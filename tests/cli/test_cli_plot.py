@@ -10,7 +10,7 @@ from cli_helpers import (
 )
 
 from ndlfd.cli import main
-from ndlfd.io import read_csv, read_table
+from ndlfd.io import read_csv, read_table, write_table
 from ndlfd.learner import KeypointHMM
 
 
@@ -299,3 +299,37 @@ def test_plot_joint_data_draws_each_channel_over_time(tmp_path, capsys, monkeypa
             assert not band.contains_point((path.t[m], y + 1.1 * w))
     assert banded >= 5
     assert (tmp_path / "p.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_plot_a_position_of_one_column_over_time(tmp_path, capsys, monkeypatch):
+    # before: drawn over time at equal aspect, a sliver when x spans little
+    pytest.importorskip("matplotlib")
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+
+    def keep(fig, path, **kw):
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    folder = tmp_path / "d"
+    folder.mkdir()
+    t = np.linspace(0.0, 30.0, 60)
+    for k in range(3):
+        x = 0.01 * np.sin(t / 5 + 0.1 * k)  # 30 s against 2 cm
+        rows = np.column_stack([t, x, t > 15])
+        write_table(folder / f"d{k}.csv", ["t", "x", "gripper"], rows)
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "p.png")
+    assert rc == 0, err
+    assert (
+        "over time, one axis per channel (3: position, gripper, velocity)" in (err[-1])
+    )
+    axes = figures[-1].axes
+    assert [ax.get_ylabel() for ax in axes] == ["x", "gripper", "vx"]
+    assert all(ax.get_aspect() == "auto" for ax in axes)
+    d0 = read_csv(folder / "d0.csv")
+    np.testing.assert_array_equal(
+        axes[0].lines[0].get_xydata(), np.c_[d0.t, d0.X[:, 0]]
+    )

@@ -10,7 +10,7 @@ import numpy as np
 from .. import plot
 from .._errors import DataFileError, ValidationError
 from .._simplify import simplify_many
-from ..demonstration import Demonstration, unit_time
+from ..demonstration import unit_time
 from ..io import CLI_HINTS, MAPPING_DEFAULTS, csv_header, parse_table, read_file
 from ..learner import NORMALIZATIONS, KeypointHMM, demo_routes, resolve_groups
 from ..normalize import GroupScaler
@@ -148,7 +148,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         route_groups=args.route_groups,
         n_routes=args.routes,
     )
-    if not demos[0].has_group("position"):  # joints, a gripper: over time
+    position = demos[0].has_group("position")
+    if not position or demos[0].columns_of("position").size == 1:
+        # joints, a gripper, a position of one column: each channel over time
         return _plot_over_time(args, out, prepared, keypoints, routes, sample_files,
                                demos[0].columns)  # fmt: skip
     group = "position"
@@ -169,35 +171,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             )
     samples = _read_samples(args, sample_files, group, k)
     if args.std is not None:
-        if path_map.layout == "arrays" or path_map.layout == "ndlfd":
-            raise ValidationError(
-                f"--std goes with a CSV --path (as 'ndlfd generate' writes it); got"
-                f" {args.path}"
-            )
-        header = parse_table(Path(args.path)).columns
-        table = parse_table(Path(args.std))
-        # generate writes the std in the model's names, the path maybe in the input's
-        named = (header, csv_header(path, "t"))
-        if table.columns not in named or table.data.shape[0] != path.n_samples:
-            raise ValidationError(
-                f"--std {args.std} must have the columns and rows of --path"
-                f" {args.path} ({', '.join(header)}; {path.n_samples} rows); got"
-                f" {', '.join(table.columns)}; {table.data.shape[0]} rows"
-            )
-        S = table.data[:, 1 + path.columns_of(group)]
-    if k == 1:  # one column: draw it over time, with no spread in time
-
-        def over_time(d):
-            c = d.columns[d.columns_of(group)[0]]
-            X = np.column_stack([d.t, d.get(group)])
-            return Demonstration(d.t, X, ("time", c), (group, group))
-
-        demos = [over_time(d) for d in demos]
-        samples = [over_time(d) for d in samples]
-        if path is not None:
-            path = over_time(path)
-        if S is not None:
-            S = np.column_stack([np.zeros(len(S)), S])
+        S = _std_of(args, path, path_map)[:, path.columns_of(group)]
     dims = 3 if k >= 3 else 2
     fig, (ax,) = plot.new_figure(1, dims=dims)
     band = ""
@@ -328,10 +302,10 @@ def add_plot(sub) -> None:
             " optionally a generated path (--path, e.g. from 'ndlfd generate') with"
             " its band (--std), sampled paths (--samples DIR, from 'ndlfd"
             " sample') and orientation triads along a 3-D path. Positions are"
-            " drawn in 2-D or 3-D by their number of columns (one column: over"
-            " time; more than three: the first"
-            " three). Data without a position (joints, a gripper) are drawn over"
-            " time, one axis per channel, with the path's band."
+            " drawn in 2-D or 3-D by their number of columns (more than three: the"
+            " first three). Data without a position (joints, a gripper) or with a"
+            " position of one column are drawn over time, one axis per learned"
+            " channel, with the path's band."
             ' Needs matplotlib (pip install "ndlfd[plot]").'
         ),
     )
