@@ -270,10 +270,11 @@ def _plot_over_time(args, out, demos, keypoints, routes, files, order) -> int:
                                 samples=samples, title=args.title)  # fmt: skip
     plot.save_figure(fig, out)
     counts = np.array([len(i) for i in keypoints])
+    epsilon = KeypointHMM().epsilon if args.epsilon is None else args.epsilon
     budget = (
         f"--n-points {args.n_points}"
         if args.n_points is not None
-        else f"--epsilon {args.epsilon if args.epsilon is not None else 0.05:g}"
+        else f"--epsilon {epsilon:g}"
     )
     drawn = ""
     if path is not None:
