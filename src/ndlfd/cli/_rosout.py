@@ -120,7 +120,7 @@ def check_ros_output(args: argparse.Namespace, out: Path, fmt: str) -> None:
         raise ValidationError(
             f"--start-time must be seconds since 1970, >= 0; got {args.start_time:g}"
         )
-    if not (out.suffix.lower() in BAG_SUFFIXES or yaml) and out.exists():
+    if fmt == "bag" and out.suffix.lower() not in BAG_SUFFIXES and out.exists():
         raise ValidationError(f"-o {out}: exists; a bag folder is written new")
 
 
