@@ -193,3 +193,58 @@ def test_path_errors_hand_worked():
     assert got == pytest.approx(
         {"difference_pct": 10.0, "dtw_mean": 0.25, "frechet": 0.5}
     )
+
+
+# ----------------------------------------------------------- phase envelope
+def _envelope_by_loops(demos, n_bins, q):
+    """Loops: each demonstration's largest speed / acceleration per phase bin."""
+    per_v, per_a = [], []
+    for d in demos:
+        tau = (d.t - d.t[0]) / (d.t[-1] - d.t[0])
+        P = d.get("position")
+        V = np.gradient(P, tau, axis=0, edge_order=2)
+        A = np.gradient(V, tau, axis=0, edge_order=2)
+        bv, ba = [np.nan] * n_bins, [np.nan] * n_bins
+        for i in range(len(tau)):
+            b = min(int(tau[i] * n_bins), n_bins - 1)
+            v, a = float(np.linalg.norm(V[i])), float(np.linalg.norm(A[i]))
+            bv[b] = v if np.isnan(bv[b]) else max(bv[b], v)
+            ba[b] = a if np.isnan(ba[b]) else max(ba[b], a)
+        per_v.append(bv)
+        per_a.append(ba)
+    out = []
+    for per in (per_v, per_a):
+        e = [float(np.nanquantile([p[b] for p in per], q)) for b in range(n_bins)]
+        out.append(np.array([max(e[max(b - 1, 0) : b + 2]) for b in range(n_bins)]))
+    return out
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    seed=st.integers(0, 10_000), n_demos=st.integers(1, 6), n_bins=st.integers(2, 30)
+)
+def test_phase_envelope_against_loops(seed, n_demos, n_bins):
+    from ndlfd.metrics import phase_envelope
+
+    rng = np.random.default_rng(seed)
+    demos = []
+    for _ in range(n_demos):
+        n = int(rng.integers(20, 80))
+        t = np.cumsum(rng.uniform(0.5, 1.5, n))
+        demos.append(Demonstration.from_arrays(t, position=rng.normal(size=(n, 2))))
+    got = phase_envelope(demos, n_bins=n_bins, quantile=0.9)
+    want = _envelope_by_loops(demos, n_bins, 0.9)
+    for g, w in zip(got, want, strict=True):
+        np.testing.assert_allclose(g, np.nan_to_num(w), rtol=1e-12)
+
+
+def test_a_path_twice_as_fast_midway_has_twice_the_envelope_speed():
+    from ndlfd.metrics import envelope_ratios, phase_envelope
+
+    t = np.linspace(0.0, 1.0, 201)
+    demo = Demonstration.from_arrays(t, position=np.column_stack([t, 0 * t]))
+    # the same line, but the middle fifth at twice the speed (slower elsewhere)
+    s = np.interp(t, [0, 0.4, 0.6, 1], [0, 0.35, 0.65, 1])
+    path = Demonstration.from_arrays(t, position=np.column_stack([s, 0 * t]))
+    speed, _ = envelope_ratios(path, phase_envelope([demo], n_bins=20))
+    assert speed == pytest.approx(1.5, rel=1e-9)  # 0.3 in 0.2 of the time

@@ -28,11 +28,13 @@ __all__ = [
     "discrete_frechet",
     "dtw_distance",
     "endpoint_error",
+    "envelope_ratios",
     "mean_demo_baseline",
     "path_difference",
     "path_errors",
     "path_length",
     "path_length_ratio",
+    "phase_envelope",
     "time_aligned_rmse",
     "total_turning",
     "turning_ratio",
@@ -476,3 +478,106 @@ def path_errors(
         "dtw_mean": dtw_distance(a, b, normalize=True),
         "frechet": discrete_frechet(a, b),
     }
+
+
+def _phase_motion(t, P) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Phase, speed and acceleration magnitude over normalized time."""
+    tau = unit_time(t)
+    V = np.gradient(P, tau, axis=0, edge_order=2 if P.shape[0] > 2 else 1)
+    A = np.gradient(V, tau, axis=0, edge_order=2 if P.shape[0] > 2 else 1)
+    return tau, np.linalg.norm(V, axis=1), np.linalg.norm(A, axis=1)
+
+
+def _bins(tau, n_bins: int) -> np.ndarray:
+    return np.minimum((tau * n_bins).astype(np.int64), n_bins - 1)
+
+
+def phase_envelope(
+    demos, group: str = "position", *, n_bins: int = 50, quantile: float = 0.95
+) -> tuple[np.ndarray, np.ndarray]:
+    """How fast the demonstrations move at each phase: the envelope of their motion.
+
+    Each demonstration's speed and acceleration (the norms of the group's
+    first and second derivatives over normalized time, ``numpy.gradient``, so
+    that demonstrations of different durations compare) is reduced to its
+    largest value in each of ``n_bins`` equal phase bins; the envelope of a
+    bin is the ``quantile`` of those over the demonstrations, widened to the
+    largest of the bin and its two neighbours (a phase shift of one bin is
+    not a violation).
+
+    Parameters
+    ----------
+    demos : sequence of Demonstration
+    group : str, default="position"
+    n_bins : int, default=50
+    quantile : float, default=0.95
+
+    Returns
+    -------
+    speed, acceleration : ndarray of shape (n_bins,)
+        Per unit normalized time (squared).
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> t = np.linspace(0.0, 2.0, 101)
+    >>> d = Demonstration.from_arrays(t, position=np.column_stack([3 * t / 2, 0 * t]))
+    >>> speed, acc = phase_envelope([d], n_bins=4)
+    >>> speed.round(6).tolist(), acc.round(6).tolist()
+    ([3.0, 3.0, 3.0, 3.0], [0.0, 0.0, 0.0, 0.0])
+    """
+    if not demos:
+        raise ValidationError("phase_envelope needs at least one demonstration")
+    per = np.full((len(demos), 2, n_bins), np.nan)
+    for i, d in enumerate(demos):
+        tau, v, a = _phase_motion(d.t, d.get(group))
+        b = _bins(tau, n_bins)
+        for k, x in enumerate((v, a)):
+            top = np.full(n_bins, -np.inf)
+            np.maximum.at(top, b, x)
+            per[i, k] = np.where(np.isfinite(top), top, np.nan)
+    env = np.nanquantile(per, quantile, axis=0)  # (2, n_bins)
+    env = np.nan_to_num(env, nan=0.0)
+    padded = np.pad(env, ((0, 0), (1, 1)), mode="edge")
+    env = np.maximum(np.maximum(padded[:, :-2], padded[:, 1:-1]), padded[:, 2:])
+    return env[0], env[1]
+
+
+def envelope_ratios(path, envelope, group: str = "position") -> tuple[float, float]:
+    """The largest ratio of a path's speed and acceleration to an envelope.
+
+    Parameters
+    ----------
+    path : Demonstration
+    envelope : tuple of ndarray
+        :func:`phase_envelope` of the demonstrations.
+    group : str, default="position"
+
+    Returns
+    -------
+    speed, acceleration : float
+        The largest of the path's value over the envelope's at its phase
+        (values below a billionth of the envelope's top speed count as 0);
+        at most 1 is within the envelope.
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> slow = Demonstration.from_arrays(t, position=np.column_stack([t, 0 * t]))
+    >>> fast = Demonstration.from_arrays(t, position=np.column_stack([2 * t, 0 * t]))
+    >>> [round(r, 6) for r in envelope_ratios(fast, phase_envelope([slow]))]
+    [2.0, 0.0]
+    """
+    tau, v, a = _phase_motion(path.t, path.get(group))
+    # below a billionth of the top speed (per unit phase) is rounding: a
+    # straight line's acceleration of 1e-13 is no motion, whatever its envelope
+    floor = 1e-9 * float(np.max(envelope[0]))
+    out = []
+    for x, e in zip((v, a), envelope, strict=True):
+        lim = np.asarray(e, dtype=np.float64)[_bins(tau, len(e))]
+        x = np.where(x > floor, x, 0.0)
+        with np.errstate(divide="ignore"):
+            r = np.where(x > 0, x / np.maximum(lim, floor), 0.0)
+        out.append(float(r.max()))
+    return out[0], out[1]

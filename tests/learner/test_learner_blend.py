@@ -232,3 +232,32 @@ def test_condition_weights_with_a_known_bandwidth_are_the_same():
     np.testing.assert_array_equal(
         condition_weights(pts, target), condition_weights(pts, target, h)
     )
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n_knots=st.integers(2, 12),
+    half=st.floats(0.001, 0.2),
+)
+def test_smooth_warp_is_the_windowed_mean_and_stays_monotone(seed, n_knots, half):
+    from ndlfd.learner._blend import smooth_warp
+
+    rng = np.random.default_rng(seed)
+    knots = np.sort(np.concatenate([[0.0, 1.0], rng.uniform(size=n_knots - 2)]))
+    at = np.sort(rng.uniform(size=n_knots))
+    tq = np.concatenate([[0.0, 1.0], rng.uniform(size=40)])
+    got = smooth_warp(tq, knots, at, half)
+    # the mean another way: the trapezoid rule over the window's ends and
+    # every knot inside it (exact for a piecewise-linear warp)
+    for x, g in zip(tq, got, strict=True):
+        h = min(half, x, 1.0 - x)
+        if h <= 1e-12:
+            assert g == np.interp(x, knots, at)  # the ends exactly
+            continue
+        inside = knots[(knots > x - h) & (knots < x + h)]
+        xs = np.concatenate([[x - h], inside, [x + h]])
+        mean = np.trapezoid(np.interp(xs, knots, at), xs) / (2 * h)
+        assert g == pytest.approx(mean, rel=1e-9, abs=1e-12)
+    order = np.argsort(tq)
+    assert np.all(np.diff(got[order]) >= -1e-12)

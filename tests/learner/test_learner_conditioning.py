@@ -46,14 +46,21 @@ def test_coinciding_points_take_the_width_of_the_set():
     assert condition_bandwidth(np.zeros((1, 2))) == 1.0
 
 
+def _mean_around(x, share=0.01):
+    """Each row the mean of the rows within round(share * n) (at least 1) of it."""
+    n = len(x)
+    h = max(1, round(share * n))
+    return np.array([np.mean(x[max(0, i - h) : i + h + 1], axis=0) for i in range(n)])
+
+
 def test_contact_window_is_judged_while_moving_not_at_rest():
-    from ndlfd.learner._conditioning import contact_window
+    from ndlfd.learner._conditioning import SMOOTH_SHARE, contact_window
 
     # a brute-force reference: the typical speed is the median of the speeds
     # of at least a tenth of the 95th percentile; the first slow step after
     # the first at that speed or faster, the last the same backwards
     def reference(x, tq):
-        v = np.abs(np.diff(x)) / np.diff(tq)
+        v = np.abs(np.diff(_mean_around(x, SMOOTH_SHARE))) / np.diff(tq)
         fast = np.quantile(v, 0.95)
         typical = np.median([s for s in v if s >= 0.1 * fast])
         go = [i for i, s in enumerate(v) if s >= typical]
@@ -74,3 +81,61 @@ def test_contact_window_is_judged_while_moving_not_at_rest():
     # the stop at 80 % is the first slow-down, not the rest before the motion
     assert 0.79 < first < 0.81
     assert 0.84 < last < 0.86
+
+
+def test_progress_against_a_loop_over_the_rows():
+    from ndlfd.learner._conditioning import SMOOTH_SHARE, progress
+
+    rng = np.random.default_rng(3)
+    X = np.column_stack([np.cumsum(rng.normal(size=40)), 100 * rng.normal(size=40),
+                         rng.integers(0, 2, 40), rng.normal(size=40)])  # fmt: skip
+    groups = ("position", "joints", "gripper", "velocity")
+    tq = np.sort(rng.uniform(size=40))
+    S = _mean_around(X, SMOOTH_SHARE)  # the moving average, by a loop
+    spans = [np.ptp(S[:, 0]), np.ptp(S[:, 1])]
+    want = [0.0]
+    for i in range(1, 40):  # the position and the joints, each by its range
+        d = [(S[i, c] - S[i - 1, c]) / spans[c] for c in (0, 1)]
+        want.append(want[-1] + float(np.sqrt(d[0] ** 2 + d[1] ** 2)))
+    np.testing.assert_allclose(progress(X, tq, groups), want, rtol=1e-12)
+    # extra rows (key points) at their times, between the dense rows
+    extra = np.vstack([X, X[[5]]])
+    at = np.append(tq, tq[5])
+    assert progress(extra, at, groups, n_dense=40)[-1] == want[5]
+
+
+def _waiting(n_demos=6, seed=0):
+    """At rest 60 % of the time (noise), then one reach without a stop."""
+    from ndlfd import Demonstration
+    from ndlfd.learner import minimum_jerk
+
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n_demos):
+        t = np.linspace(0.0, 10.0, 500)
+        s = minimum_jerk(np.clip((t / 10.0 - 0.6) / 0.4, 0.0, 1.0))
+        P = np.column_stack([s, np.sin(np.pi * s) * 0.3]) + rng.normal(
+            0, 0.002, (500, 2)
+        )
+        out.append(Demonstration.from_arrays(t, position=P))
+    return out
+
+
+def test_a_start_offset_waits_while_the_robot_waits():
+    """The offset is faded as the path moves, not while it rests.
+
+    Faded over time, a start 0.3 off moved the path at 1.6 times the largest
+    step of the resting demonstrations, half way through their rest.
+    """
+    from ndlfd import KeypointHMM
+
+    demos = _waiting()
+    model = KeypointHMM().fit(demos)
+    t = demos[0].t
+    path = model.generate(t, dense=True, start={"position": [-0.3, 0.2]})
+    P = path.get("position")
+    np.testing.assert_allclose(P[0], [-0.3, 0.2])
+    rest = slice(0, int(0.55 * t.size))
+    resting = max(np.linalg.norm(np.diff(d.get("position")[rest], axis=0), axis=1).max()
+                  for d in demos)  # fmt: skip
+    assert np.linalg.norm(np.diff(P[rest], axis=0), axis=1).max() <= resting

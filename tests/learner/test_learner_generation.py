@@ -110,7 +110,9 @@ def test_a_conditioned_path_follows_the_matching_route():
 
 def test_band_is_the_spread_of_the_route_s_aligned_templates():
     # the reference: each template of the followed route warped by hand
-    # (np.interp of its values at its matched times), their weighted std
+    # (np.interp of its values at its matched times, on the smoothed warp
+    # tested in test_learner_blend), their weighted std
+    from ndlfd.learner._blend import smooth_warp
     from ndlfd.learner._generation import make_plan
 
     demos = two_routes(per_route=3)
@@ -123,7 +125,7 @@ def test_band_is_the_spread_of_the_route_s_aligned_templates():
     tq = (t - t[0]) / (t[-1] - t[0])
     W = []
     for U, tau, idx in zip(plan.values, plan.taus, plan.index, strict=True):
-        at = np.interp(tq, plan.knots, tau[idx])
+        at = smooth_warp(tq, plan.knots, tau[idx])
         W.append(np.column_stack([np.interp(at, tau, c) for c in U.T]))
     W = np.array(W)
     w = plan.weights / plan.weights.sum()

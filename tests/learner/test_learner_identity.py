@@ -159,7 +159,8 @@ def fit_digests(name: str, tmp_path) -> tuple[dict[str, str], np.ndarray, tuple]
 #: absorbs the offset by the gripper's first switch and conditions the blend on
 #: the point, issue 17; largest change 0.016 m of a 0.26 m range; and both
 #: blend all fourteen demonstrations since the routes are judged on position,
-#: issue 26, see make_identity_paths.py).
+#: issue 26; every blended path was retimed by issue 27's smoothed warps and
+#: progress fade, see make_identity_paths.py).
 KNOWN = {
     "arm": {
         "levels": "5592826e066ab9dd",

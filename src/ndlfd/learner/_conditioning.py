@@ -15,11 +15,14 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import ValidationError
+from ._blend import moving_average
 from ._discrete import DISCRETE_GROUPS
 
 __all__ = [
     "BANDWIDTH_FACTOR",
     "BRUTE_FORCE_POINTS",
+    "NO_PROGRESS",
+    "SMOOTH_SHARE",
     "check_condition",
     "condition_bandwidth",
     "condition_log_weights",
@@ -33,6 +36,8 @@ __all__ = [
     "orient_condition",
     "pin",
     "pin_offset",
+    "progress",
+    "smoothed",
     "switch_window",
 ]
 
@@ -397,10 +402,23 @@ SLOW_FRACTION = 0.2
 REST_FRACTION = 0.1
 
 
+#: Half-width of the moving average the speeds of :func:`contact_window` and
+#: the lengths of :func:`progress` are measured on, as a share of the rows:
+#: noise as large as the motion's steps (a robot at rest, sampled fast) is
+#: neither motion nor a stop.
+SMOOTH_SHARE = 0.01
+
+
+def smoothed(P: np.ndarray) -> np.ndarray:
+    """``P`` averaged over :data:`SMOOTH_SHARE` of its rows each side (at least 1)."""
+    return moving_average(P, max(1, round(SMOOTH_SHARE * P.shape[0])))
+
+
 def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     """Normalized times of the path's first and last slow-down while moving.
 
-    The path's typical speed is the median of its speeds while it moves (at
+    Speeds are measured on the path's moving average (:func:`smoothed`). The
+    path's typical speed is the median of its speeds while it moves (at
     least :data:`REST_FRACTION` of its 95th-percentile speed: a robot at rest
     before and after the motion does not count). The first: after the path
     first moves at that typical speed or faster, the
@@ -423,17 +441,17 @@ def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
     --------
     Moving, a stop at tau = 0.5, moving again:
 
-    >>> tq = np.linspace(0.0, 1.0, 11)
-    >>> x = np.array([0, 1, 2, 3, 4, 4, 4, 5, 6, 7, 8], dtype=float)
+    >>> tq = np.linspace(0.0, 1.0, 21)
+    >>> x = np.concatenate([np.arange(8.0), np.full(5, 8.0), np.arange(9.0, 17.0)])
     >>> [round(v, 9) for v in contact_window(x[:, None], tq)]
-    [0.4, 0.6]
+    [0.45, 0.55]
     """
     n = P.shape[0]
     if n < 3:
         return 1.0, 0.0
     dt = np.diff(tq)
     big = float(np.abs(P).max())  # scaled first: steps of 1e300 square to inf
-    steps = np.diff(P / big if big > 0 else P, axis=0)
+    steps = np.diff(smoothed(P / big if big > 0 else P), axis=0)
     speed = np.linalg.norm(steps, axis=1) / np.where(dt > 0, dt, np.inf)
     # the typical speed while moving: a robot that rests longer than it moves
     # has a median speed of its noise at rest, and any sample would "slow"
@@ -503,6 +521,58 @@ def switch_window(X, tq, column_groups) -> tuple[float, float]:
     return first, last
 
 
+#: Groups that do not count towards a path's progress (:func:`progress`):
+#: quaternions, a velocity derived from the position, a gripper.
+NO_PROGRESS = ("orientation", "velocity", *DISCRETE_GROUPS)
+
+
+def progress(X, tq, column_groups, n_dense=None) -> np.ndarray:
+    """How far the path has moved by each row: its cumulative length.
+
+    Measured on the moving average (:func:`smoothed`) of the columns of every
+    group but :data:`NO_PROGRESS`, each scaled by its range over the path (so
+    joints in degrees and a position in metres both count), between
+    consecutive rows of the first ``n_dense`` (the path in time order); the
+    other rows are interpolated at their normalized times. A path at rest
+    makes no progress, however long it rests.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_rows, n_columns)
+    tq : ndarray of shape (n_rows,)
+        Normalized time of each row, increasing over the first ``n_dense``.
+    column_groups : sequence of str
+    n_dense : int, optional
+
+    Returns
+    -------
+    length : ndarray of shape (n_rows,)
+        From 0 at the first row; all zeros where no column moves.
+
+    Examples
+    --------
+    At rest, then two unit steps, then at rest (the moving average of each
+    row and its neighbours starts moving a row earlier and stops a row later):
+
+    >>> X = np.array([[0.0], [0.0], [0.0], [1.0], [2.0], [2.0], [2.0]])
+    >>> progress(X, np.linspace(0.0, 1.0, 7), ("position",)).round(3)
+    array([0.   , 0.   , 0.167, 0.5  , 0.833, 1.   , 1.   ])
+    """
+    n = X.shape[0] if n_dense is None else n_dense
+    cols = [c for c, g in enumerate(column_groups) if g not in NO_PROGRESS]
+    if not cols or n < 2:
+        return np.zeros(X.shape[0])
+    P = smoothed(X[:n, cols])
+    span = np.ptp(P, axis=0)
+    P = P / np.where(span > 0, span, 1.0)
+    length = np.concatenate(
+        [[0.0], np.cumsum(np.linalg.norm(np.diff(P, axis=0), axis=1))]
+    )
+    if X.shape[0] == n:
+        return length
+    return np.concatenate([length, np.interp(tq[n:], tq[:n], length)])
+
+
 def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     """Shift a path onto ``start`` and ``goal`` with an offset faded before contact.
 
@@ -549,8 +619,16 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     first, last = contact_window(X[:n, pos], tq[:n]) if pos else (1.0, 0.0)
     switch_first, switch_last = switch_window(X[:n], tq[:n], column_groups)
     first, last = min(first, switch_first), max(last, switch_last)
-    to_start = 1.0 - minimum_jerk(tq / first)
-    to_goal = minimum_jerk((tq - last) / (1.0 - last))
+    c = progress(X, tq, column_groups, n)
+    c_first, c_last = np.interp([first, last], tq[:n], c[:n])
+    if c_first > 0.0:
+        to_start = 1.0 - minimum_jerk(c / c_first)
+    else:  # no motion before the contact: by time
+        to_start = 1.0 - minimum_jerk(tq / first)
+    if c[n - 1] > c_last:
+        to_goal = minimum_jerk((c - c_last) / (c[n - 1] - c_last))
+    else:
+        to_goal = minimum_jerk((tq - last) / (1.0 - last))
     X = X.copy()
     for cond, fade, row in ((start, to_start, 0), (goal, to_goal, n - 1)):
         for g, v in (cond or {}).items():
