@@ -184,13 +184,28 @@ def _resting():
     return demos, model
 
 
+def _same_phase_steps(demos, tau, window=0.03):
+    """The demonstrations' largest joint step within ``window`` of each step's phase."""
+    out = np.zeros(tau.size - 1)
+    mids = (tau[1:] + tau[:-1]) / 2
+    for d in demos:
+        dt = (d.t - d.t[0]) / d.duration
+        steps = np.abs(np.diff(d.get("joints"), axis=0)).max(axis=1)
+        at = (dt[1:] + dt[:-1]) / 2
+        for k, m in enumerate(mids):
+            near = np.abs(at - m) <= window
+            if near.any():
+                out[k] = max(out[k], steps[near].max())
+    return out
+
+
 @pytest.mark.parametrize("offset", [1.0, 5.0, 20.0])
 def test_a_start_or_goal_off_a_robot_at_rest_is_absorbed_without_a_jump(offset):
     # before: a continuous gripper counted as switching at its first sample,
     # so a start 5 deg off was gone in one sample (7 deg in 33 ms)
     demos, model = _resting()
     t = np.arange(0.0, demos[0].t[-1], 1.0 / FPS)
-    most = max(np.abs(np.diff(d.get("joints"), axis=0)).max() for d in demos)
+    most = _same_phase_steps(demos, (t - t[0]) / (t[-1] - t[0]))
     first, last = demos[0].get("joints")[0], demos[0].get("joints")[-1]
     for cond in ({"start": {"joints": first + offset}},
                  {"goal": {"joints": last - offset}},
@@ -202,7 +217,10 @@ def test_a_start_or_goal_off_a_robot_at_rest_is_absorbed_without_a_jump(offset):
         if "goal" in cond:
             np.testing.assert_allclose(J[-1], cond["goal"]["joints"])
         steps = np.abs(np.diff(J, axis=0)).max(axis=1)
-        assert steps.max() <= most, (offset, cond.keys(), steps.max(), most)
+        # no step larger than the demonstrations' at the same phase (within
+        # 3 % of the motion); measured: at most 0.95 of it (20 deg both ends)
+        worst = float((steps / most).max())
+        assert worst <= 1.0, (offset, cond.keys(), worst)
         # at rest (the first and last second) the path moves as slowly as
         # the offset's fade over the whole motion allows, never a jump
         assert steps[: int(FPS)].max() < 0.1 * offset + 0.1
