@@ -57,9 +57,17 @@ TOLERANCE = 1e-3
 #: Attempts with tightened limits before giving up.
 RETRIES = 3
 
-#: Grid points of TOPP-RA at most (its cost is linear in them): 1,000
-#: samples of a 6-joint path take about 20 ms.
-MAX_GRIDPOINTS = 2000
+#: How far below the limits the scaling aims (and tightens again after an
+#: overshoot). Without it 2 to 4 runs of TOPP-RA were needed where one now
+#: does (``benchmarks/bench_limits.py``).
+MARGIN = 0.01
+
+#: Grid points of TOPP-RA: three per sample of the path (its constraints
+#: hold at grid points only; one per sample let a noisy path's samples
+#: overshoot by 20 %), at most this many (its cost is linear in them:
+#: ``benchmarks/bench_limits.py``).
+GRID_PER_SAMPLE = 3
+MAX_GRIDPOINTS = 20_000
 
 _UNLIMITED = ("orientation",)
 
@@ -343,8 +351,10 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     toppra = _toppra()
     spline, quat, held, derived = _roles(path)
     step = float(np.median(np.diff(path.t))) if rate is None else _step(rate)
-    n_grid = int(min(MAX_GRIDPOINTS, max(3 * path.n_samples, 100)))
-    tight = {k: v.copy() for k, v in lim.items()}
+    n_grid = int(min(MAX_GRIDPOINTS, max(GRID_PER_SAMPLE * path.n_samples, 100)))
+    # aimed a margin below the limits: TOPP-RA meets them at its grid points,
+    # the samples between overshoot by up to a few per mille
+    tight = {k: v * (1.0 - MARGIN) for k, v in lim.items()}
     for _ in range(RETRIES + 1):
         traj = _clock_at(toppra, path, spline, tight, n_grid)
         if traj is None:
@@ -364,7 +374,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
             return out
         for k in KINDS:
             over = peaks[k] / lim[k]
-            tight[k] = tight[k] / np.maximum(over.max(), 1.0 + TOLERANCE)
+            tight[k] = tight[k] / (np.maximum(over.max(), 1.0) * (1.0 + MARGIN))
     worst = max(KINDS, key=lambda k: float(np.max(peaks[k] / lim[k])))
     raise LimitError(
         f"the path's {worst} stays above its limits after {RETRIES + 1} "

@@ -34,7 +34,7 @@ def test_the_path_is_slowed_to_the_limits_on_an_exact_grid(
     # time-optimal: a limit is reached (on these noisy demonstrations, the
     # acceleration's)
     top = max(peaks["velocity"][pos].max() / 2, peaks["acceleration"][pos].max() / 4)
-    assert top >= 0.97
+    assert top >= 0.95  # aimed 1 % below (MARGIN)
     said = f"position velocity {peaks['velocity'][pos].max():.3g} /s"
     assert any(line.startswith("peaks: " + said) for line in err)
 

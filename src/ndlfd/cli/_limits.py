@@ -59,6 +59,9 @@ def parse_limits(args: argparse.Namespace) -> dict | None:
 def peaks_line(path: Demonstration) -> str:
     """The largest velocity and acceleration of each group, and where.
 
+    Not of an orientation (quaternions), a velocity derived from the position,
+    or a gripper on two values (it switches in one sample).
+
     Examples
     --------
     >>> t = np.linspace(0.0, 1.0, 11)
@@ -69,9 +72,13 @@ def peaks_line(path: Demonstration) -> str:
     peaks = path_peaks(path)
     parts = []
     for g in path.group_names:
-        if g == "orientation" or (g == "velocity" and path.has_group("position")):
-            continue  # a quaternion; the derivative of the position
         cols = path.columns_of(g)
+        if (
+            g == "orientation"  # a quaternion
+            or (g == "velocity" and path.has_group("position"))  # derived
+            or (g == "gripper" and np.unique(path.X[:, cols]).size <= 2)  # switches
+        ):
+            continue
         v, a = peaks["velocity"][cols], peaks["acceleration"][cols]
         iv, ia = int(np.argmax(v)), int(np.argmax(a))
         parts.append(
