@@ -180,3 +180,37 @@ def test_readme_so101_examples_run(tmp_path):
     back = read_parquet(tmp_path / "next.parquet")
     assert back.groups == ("joints",) * 5 + ("gripper",)
     assert (tmp_path / "so101.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_readme_so101_to_ros2_examples_run(tmp_path):
+    pytest.importorskip("pyarrow")
+    pytest.importorskip("rosbags")
+    from rosbags.rosbag2 import Reader
+
+    from bag_samples import STORE
+    from lerobot_writer import write_so101
+
+    examples = _shell_examples("### From a LeRobot SO-101 dataset to a ROS 2")
+    assert [e[1] for e in examples] == ["fit", "generate"]
+    write_so101(tmp_path / "so101_pick", n_demos=12)  # LeRobot v3.0, as it writes
+    for args in examples:
+        _run(args, tmp_path)
+    flags = examples[1]
+    names = flags[flags.index("--joint-names") + 1].split(",")
+    start = [float(v) for v in flags[flags.index("--start") + 1][7:].split(",")]
+    with Reader(tmp_path / "so101_traj") as reader:
+        (conn,) = reader.connections
+        ((_, _, raw),) = list(reader.messages())
+        msg = STORE.deserialize_cdr(raw, conn.msgtype)
+    assert conn.msgtype == "trajectory_msgs/msg/JointTrajectory"
+    assert list(msg.joint_names) == names
+    P = np.array([p.positions for p in msg.points])
+    V = np.array([p.velocities for p in msg.points])
+    # radians, from the given start, within 30 deg/s per joint, at rest at both ends
+    np.testing.assert_allclose(P[0, :5], np.deg2rad(start), rtol=0, atol=1e-9)
+    assert np.abs(V[:, :5]).max() <= np.deg2rad(30.0) * (1 + 1e-3)
+    assert np.all(V[[0, -1]] == 0.0)
+    stamps = [
+        p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points
+    ]
+    assert np.all(np.diff(stamps) > 0) and stamps[-1] > 4.0  # slowed down
