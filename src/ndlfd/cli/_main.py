@@ -9,6 +9,7 @@ from collections.abc import Sequence
 
 from .. import __version__
 from .._errors import NdlfdError, NdlfdWarning
+from ._firstrun import first_run_notice, mark_run
 from ._fit import add_fit
 from ._generate import add_generate
 from ._jobs import add_evaluate, add_jobs
@@ -58,12 +59,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         text = " ".join(str(message).split())
         print(f"ndlfd {command}: warning: {text}", file=sys.stderr)
 
+    first = first_run_notice(args)
     try:
         with warnings.catch_warnings():
             # repairs of the data are news for the user, one line each
             warnings.simplefilter("always", NdlfdWarning)
             warnings.showwarning = one_line
-            return int(args.func(args) or 0)
+            status = int(args.func(args) or 0)
+        if first and status == 0:
+            mark_run(args)
+        return status
     except NdlfdError as exc:
         print(f"ndlfd {command}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
