@@ -219,7 +219,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         args,
         f"fitted {n_demos} demonstration(s) in {elapsed:.2f} s on {learned}:"
         f" key points {k.min()}-{k.max()} (median {int(np.median(k))}),"
-        f" {model.n_states_used_} of {model.codebook_.n_states} states used,"
+        f" {model.n_states_used_} codebook cells visited (of"
+        f" {model.codebook_.n_states:,} possible),"
         f" {time_bins} time bins{note} -> {out}",
     )
     say(args, describe_routes(model))
