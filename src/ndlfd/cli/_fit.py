@@ -23,6 +23,7 @@ from ..learner import (
     resolve_groups,
     route_columns,
 )
+from ..limits import path_peaks
 from ._options import (
     add_column_options,
     add_route_options,
@@ -136,11 +137,11 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     check_datasets(args, paths)
     news: list = []
     # the repairs of the data: one summary per kind at the end of the fit
-    pairs = []
+    pairs, first_path = [], paths[0]
     with collecting_repairs():
-        for path in paths:  # the first that is not skipped (--bad-files skip)
-            with noting(path, news):
-                pairs = read_or_skip(path, CLI_HINTS, **options)
+        for first_path in paths:  # the first not skipped (--bad-files skip)
+            with noting(first_path, news):
+                pairs = read_or_skip(first_path, CLI_HINTS, **options)
             if pairs or options["bad_files"] != "skip":
                 break
     tell(news)
@@ -224,6 +225,14 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         f" {time_bins} time bins{note} -> {out}",
     )
     say(args, describe_routes(model))
+    peaks = demos_peaks_line([d for d, _ in pairs], groups)
+    if peaks:  # of the first file only: the others are read on the workers
+        whose = (
+            ""
+            if len(paths) == 1
+            else f" (of {first_path} only, the first of {len(paths)})"
+        )
+        say(args, f"demonstrations' peaks{whose}: {peaks}")
     unused = [g for g in first.group_names if g not in groups]
     if unused:
         say(
@@ -233,6 +242,73 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             f" {','.join([*groups, *unused])})",
         )
     return 0
+
+
+def demos_peaks_line(demos, groups) -> str:
+    """The largest velocity and acceleration of each learned group, and where.
+
+    The largest over ``demos`` of :func:`ndlfd.limits.path_peaks`, column by
+    column, as ``generate`` reports a path's peaks: not of an orientation
+    (quaternions), a velocity beside a position (derived from it when
+    learned), or a gripper on two values (it switches in one sample).
+    Demonstrations of fewer than 3 samples have no peaks; the line is empty
+    when no group has any.
+
+    Parameters
+    ----------
+    demos : list of Demonstration
+    groups : sequence of str
+        The learned groups (others are left out).
+
+    Returns
+    -------
+    line : str
+        ``GROUP velocity V /s (COLUMN), acceleration A /s^2 (COLUMN); ...``
+
+    Examples
+    --------
+    >>> from ndlfd.demonstration import Demonstration
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> a = Demonstration.from_arrays(t, joints=np.column_stack([2 * t, t * t]))
+    >>> b = Demonstration.from_arrays(t, joints=np.column_stack([t, 3 * t * t]))
+    >>> demos_peaks_line([a, b], ["joints"])
+    'joints velocity 6 /s (joints1), acceleration 6 /s^2 (joints1)'
+    """
+    top: dict[str, dict[str, np.ndarray]] = {}  # group -> column -> (v, a)
+    for d in demos:
+        if d.n_samples < 3:
+            continue
+        peaks = path_peaks(d)
+        for c, (g, name) in enumerate(zip(d.groups, d.columns, strict=True)):
+            was = top.setdefault(g, {}).get(name, np.zeros(2))
+            now = np.array([peaks["velocity"][c], peaks["acceleration"][c]])
+            top[g][name] = np.maximum(was, now)
+    parts = []
+    for g in groups:
+        if (
+            g not in top
+            or g == "orientation"  # a quaternion
+            or (g == "velocity" and "position" in top)  # derived
+            or (g == "gripper" and _two_valued(demos, g))  # switches
+        ):
+            continue
+        names = list(top[g])
+        va = np.array([top[g][n] for n in names])
+        iv, ia = int(np.argmax(va[:, 0])), int(np.argmax(va[:, 1]))
+        parts.append(
+            f"{g} velocity {va[iv, 0]:.3g} /s ({names[iv]}), "
+            f"acceleration {va[ia, 1]:.3g} /s^2 ({names[ia]})"
+        )
+    return "; ".join(parts)
+
+
+def _two_valued(demos, group: str) -> bool:
+    """Whether every column of ``group`` takes at most two values in all demos."""
+    values: dict[str, set] = {}
+    for d in demos:
+        for c in d.columns_of(group) if d.has_group(group) else ():
+            values.setdefault(d.columns[c], set()).update(np.unique(d.X[:, c]))
+    return all(len(v) <= 2 for v in values.values())
 
 
 def describe_routes(model) -> str:
