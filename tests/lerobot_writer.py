@@ -29,6 +29,8 @@ SO101_MOTORS = (
     "gripper",
 )
 SO101_STATE = [f"{m}.pos" for m in SO101_MOTORS]
+#: The same motors as older (v2.x) SO-100 datasets name them.
+SO100_STATE = [f"main_{m}" for m in SO101_MOTORS]
 
 V2_PATH = "data/chunk-{episode_chunk:03d}/episode_{episode_index:06d}.parquet"
 V3_PATH = "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
@@ -204,3 +206,14 @@ def write_so101(root, n_demos=5, version="v3.0", seed=0):
     eps = so101_episodes(n_demos, seed)
     names = {"observation.state": SO101_STATE, "action": SO101_STATE}
     return write_lerobot(root, eps, names, version=version), eps
+
+
+def write_so100(root, n_demos=5, version="v2.1", seed=0, names_as=dict):
+    """An older SO-100 dataset: :func:`so101_episodes` under ``main_`` names.
+
+    The names stored as ``{"motors": [...]}`` (``names_as=dict``) or as a
+    list. Returns the root and the episodes.
+    """
+    eps = so101_episodes(n_demos, seed)
+    names = {"observation.state": SO100_STATE, "action": SO100_STATE}
+    return write_lerobot(root, eps, names, version=version, names_as=names_as), eps

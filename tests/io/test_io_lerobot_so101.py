@@ -11,7 +11,14 @@ from hypothesis import strategies as st
 
 pytest.importorskip("pyarrow")
 
-from lerobot_writer import SO101_MOTORS, SO101_STATE, write_lerobot, write_so101
+from lerobot_writer import (
+    SO100_STATE,
+    SO101_MOTORS,
+    SO101_STATE,
+    write_lerobot,
+    write_so100,
+    write_so101,
+)
 from ndlfd import KeypointHMM, ValidationError
 from ndlfd.demonstration import Demonstration
 from ndlfd.io import DemoFiles, group_of_column, read_lerobot, write_csv
@@ -158,3 +165,45 @@ def test_a_float32_prefix_continues_a_float64_plan(tmp_path):
     late[8] += 1e-6
     with pytest.raises(ValidationError, match=r"its sample 8 is at .* expected at"):
         model.generate(late, observed=prefix)
+
+
+@pytest.mark.parametrize("names_as", [dict, list])
+def test_so100_main_names_read_as_joints_and_a_gripper(tmp_path, names_as):
+    root, eps = write_so100(tmp_path / "so100", names_as=names_as)
+    demos = read_lerobot(root)
+    for d, e in zip(demos, eps, strict=True):
+        assert d.columns == tuple(SO100_STATE)  # each column keeps its name
+        assert d.groups == ("joints",) * 5 + ("gripper",)
+        want = e["observation.state"].astype(np.float32).astype(np.float64)
+        np.testing.assert_array_equal(d.X, want)
+    (item,) = lerobot_episodes(root, episodes=[1])
+    ((_, m),) = read_episode_mapped(item, LIBRARY_HINTS, **MAPPING_DEFAULTS)
+    assert m.groups == (
+        ("joints", tuple(SO100_STATE[:5])),
+        ("gripper", ("main_gripper",)),
+    )
+    # learned as the SO-101 names are: the same model on the same numbers
+    so101, _ = write_so101(tmp_path / "so101", version="v2.1")
+    a, b = KeypointHMM().fit(demos), KeypointHMM().fit(read_lerobot(so101))
+    assert a.groups_ == b.groups_ == ("gripper", "joints")
+    t = np.linspace(0.0, 3.0, 40)
+    np.testing.assert_array_equal(a.generate(t).X, b.generate(t).X)
+    assert a.generate(t).columns == ("main_gripper", *SO100_STATE[:5])
+
+
+@given(
+    st.sampled_from(SO101_MOTORS),
+    st.lists(st.booleans(), min_size=30, max_size=30),
+    st.sampled_from(["", "x", "_", ".pos2", "s"]),
+    st.sampled_from(["main_", "left_", "follower_", "main", "Main_"]),
+)
+def test_main_names_only_as_so100_writes_them(motor, upper, tail, prefix):
+    name = "".join(
+        ch.upper() if up else ch
+        for ch, up in zip(prefix + motor + tail, upper, strict=False)
+    )
+    hit = group_of_column(name)
+    if prefix.casefold() == "main_" and tail == "":  # any case
+        assert hit == ("gripper" if motor == "gripper" else "joints", name)
+    elif hit is not None:  # another convention's reading, never a joint
+        assert hit[0] not in ("joints", "gripper")

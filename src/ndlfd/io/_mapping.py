@@ -31,6 +31,12 @@ map another with ``groups={"gripper": ["NAME"]}``.
 exception: like a column named ``gripper`` it is the group ``gripper`` (its
 column ``gripper``), learned as a gripper (kept on its two values when it
 records two); its ``.vel`` and ``.effort`` go with the other motors'.
+
+Older LeRobot datasets (v2.x, SO-100: ``lerobot/so100_*``) name the same
+motors ``main_shoulder_pan``, ..., ``main_gripper`` (:data:`SO100_MAIN_NAMES`,
+in any case): they are read alike, the joints ``main_shoulder_pan`` ... in the
+group ``joints`` and ``main_gripper`` as the group ``gripper``, each column
+keeping its name.
 """
 
 from __future__ import annotations
@@ -60,6 +66,7 @@ __all__ = [
     "MAPPING_DEFAULTS",
     "MOTOR_KINDS",
     "NAMING_CONVENTION",
+    "SO100_MAIN_NAMES",
     "TIME_NAMES",
     "ColumnMapping",
     "check_bad_rows",
@@ -119,6 +126,18 @@ NAMING_CONVENTION: tuple[tuple[str, str], ...] = (
 #: Motor names ``NAME.KIND`` (LeRobot's robots): the group of each kind.
 MOTOR_KINDS = {"pos": "joints", "vel": "joint_velocity", "effort": "joint_effort"}
 
+#: The SO-100 arm's motor names in older LeRobot datasets (v2.x): the joints,
+#: then the gripper (read as ``NAME.pos`` names are, without a suffix).
+SO100_MAIN_NAMES = (
+    "main_shoulder_pan",
+    "main_shoulder_lift",
+    "main_elbow_flex",
+    "main_wrist_flex",
+    "main_wrist_roll",
+    "main_gripper",
+)
+_SO100_MAIN = {n.casefold(): n for n in SO100_MAIN_NAMES}
+
 _CONVENTION = tuple(
     (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
 )
@@ -136,8 +155,10 @@ def group_of_column(name: str) -> tuple[str, str] | None:
     motor names: ``NAME.pos`` → ``NAME`` in ``joints`` (but ``gripper.pos``
     → ``gripper`` in ``gripper``), ``NAME.vel`` → ``NAME.vel`` in
     ``joint_velocity``, ``NAME.effort`` → ``NAME.effort`` in
-    ``joint_effort``; ``group.column`` → ``column`` in the user group
-    ``group``; anything else → ``None``.
+    ``joint_effort``; the SO-100 names of older LeRobot datasets
+    (:data:`SO100_MAIN_NAMES`): ``main_shoulder_pan`` ... in ``joints``,
+    ``main_gripper`` in ``gripper``, as they are; ``group.column`` →
+    ``column`` in the user group ``group``; anything else → ``None``.
 
     Parameters
     ----------
@@ -164,6 +185,10 @@ def group_of_column(name: str) -> tuple[str, str] | None:
     ('gripper', 'gripper')
     >>> group_of_column("elbow_flex.vel")
     ('joint_velocity', 'elbow_flex.vel')
+    >>> group_of_column("main_elbow_flex")
+    ('joints', 'main_elbow_flex')
+    >>> group_of_column("main_gripper")
+    ('gripper', 'main_gripper')
     >>> group_of_column("speed") is None
     True
     """
@@ -178,6 +203,9 @@ def group_of_column(name: str) -> tuple[str, str] | None:
         if group and column:
             return group, column
         return None
+    main = _SO100_MAIN.get(name.casefold())
+    if main is not None:
+        return ("gripper" if main == "main_gripper" else "joints"), name
     for pattern, group in _CONVENTION:
         if pattern.match(name):
             return group, name
