@@ -106,7 +106,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     exact_time = exact_time and (scaled is path or args.rate is not None)
     path = scaled
     if fmt in ROS_FORMATS:
-        write_ros_output(args, path, out, fmt, like)
+        note = write_ros_output(args, path, out, fmt, like)
+        if note:
+            say(args, note)
     elif fmt == "npz":
         write_npz(path, out)
     elif fmt == "parquet":

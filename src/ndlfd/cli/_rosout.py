@@ -19,6 +19,8 @@ from .._errors import ValidationError
 from ..io import write_bag, write_joint_trajectory
 from ..io._bag import BAG_SUFFIXES, bag_frame_id
 from ..io._bagout import JOINT_UNITS, TRAJECTORY_TOPIC
+from ..io._lerobot import layout_feature
+from ..io._mapping import is_so_arm_joint
 from ._options import split_names
 
 __all__ = [
@@ -26,6 +28,7 @@ __all__ = [
     "add_ros_output_options",
     "check_ros_output",
     "is_folder_output",
+    "joint_units",
     "write_ros_output",
 ]
 
@@ -44,8 +47,9 @@ def add_ros_output_options(p) -> None:
     """Add ``--frame-id``, ``--start-time``, ``--joint-names``, ``--units``."""
     g = p.add_argument_group(
         "ROS 2 outputs (bags, joint trajectories)",
-        "ROS wants joint angles in radians: joints in degrees (LeRobot's SO-100/101"
-        " arms) need --units deg. The joint trajectory's velocities and"
+        "ROS wants joint angles in radians: joints in degrees need --units deg"
+        " (the default for LeRobot's SO-100/101 arms, which record degrees)."
+        " The joint trajectory's velocities and"
         " accelerations are 0 at both ends (they fade over the first and last 5 %"
         " of the duration), as a joint_trajectory_controller wants.",
     )
@@ -71,9 +75,10 @@ def add_ros_output_options(p) -> None:
     g.add_argument(
         "--units",
         choices=tuple(JOINT_UNITS),
-        default="rad",
-        help="the units of the joint columns (default rad); deg is converted to"
-        " radians for ROS",
+        default=None,
+        help="the units of the joint columns; deg is converted to radians for"
+        " ROS (default: deg when the model's data (or --like) are a LeRobot"
+        " dataset's SO-100/101 joints, NAME.pos or main_NAME; else rad)",
     )
 
 
@@ -124,10 +129,64 @@ def check_ros_output(args: argparse.Namespace, out: Path, fmt: str) -> None:
         raise ValidationError(f"-o {out}: exists; a bag folder is written new")
 
 
+def joint_units(units: str | None, mapping) -> tuple[str, str]:
+    """The joints' units: ``units`` (``--units``) if given, else inferred.
+
+    Degrees for a LeRobot dataset's SO-100/101 joints (LeRobot records those
+    arms in degrees), else radians.
+
+    Parameters
+    ----------
+    units : {"rad", "deg"} or None
+        As ``--units`` gave them (``None``: not given).
+    mapping : ColumnMapping or None
+        How the output's data were read (``--like``, ``--observed`` or the
+        model's training files).
+
+    Returns
+    -------
+    units : str
+    note : str
+        For the summary when the units were inferred as degrees, else ``""``.
+
+    Examples
+    --------
+    >>> from ndlfd.io import ColumnMapping
+    >>> m = ColumnMapping("so101 episode 0", "timestamp",
+    ...                   (("joints", ("shoulder_pan.pos", "elbow_flex.pos")),),
+    ...                   layout="LeRobot v3.0, action")
+    >>> joint_units(None, m)[0], joint_units("rad", m)[0]
+    ('deg', 'rad')
+    >>> joint_units(None, None)
+    ('rad', '')
+    """
+    if units is not None:
+        return units, ""
+    joints = dict(mapping.groups).get("joints", ()) if mapping is not None else ()
+    if (
+        joints
+        and layout_feature(mapping.layout) is not None
+        and all(map(is_so_arm_joint, joints))
+    ):
+        return "deg", (
+            "joints taken for degrees, as LeRobot records an SO-100/101 arm"
+            f" ({joints[0]}, ...), and written in radians for ROS; --units rad if"
+            " they are radians"
+        )
+    return "rad", ""
+
+
 def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
-    """Write ``path`` as ``fmt`` to ``out``; what was written, for the summary."""
+    """Write ``path`` as ``fmt`` to ``out``; a note on its units for the summary.
+
+    The note (else ``""``) says that the joints were taken for degrees
+    (:func:`joint_units`).
+    """
     joint_names = split_names(args.joint_names, "--joint-names")
     start = args.start_time or 0.0
+    units, note = joint_units(args.units, mapping)
+    if not path.has_group("joints"):
+        note = ""
     try:
         if fmt == "bag":
             frame = args.frame_id or bag_frame_id(mapping) or DEFAULT_FRAME
@@ -138,18 +197,18 @@ def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
                 frame_id=frame,
                 start_time=start,
                 joint_names=joint_names,
-                units=args.units,
+                units=units,
             )
-            return f"a bag in frame {frame}"
+            return note
         write_joint_trajectory(
             path,
             out,
             joint_names=joint_names,
-            units=args.units,
+            units=units,
             topic=args.topic or TRAJECTORY_TOPIC,
             start_time=start,
         )
     except ValidationError as exc:
         text = str(exc).replace("joint_names", "--joint-names")
         raise ValidationError(text.replace("units='deg'", "--units deg")) from None
-    return "a joint trajectory"
+    return note

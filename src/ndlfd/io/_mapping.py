@@ -67,11 +67,13 @@ __all__ = [
     "MOTOR_KINDS",
     "NAMING_CONVENTION",
     "SO100_MAIN_NAMES",
+    "SO_ARM_JOINTS",
     "TIME_NAMES",
     "ColumnMapping",
     "check_bad_rows",
     "euler_columns",
     "group_of_column",
+    "is_so_arm_joint",
     "map_arrays",
     "resolve_column",
     "wrap_error",
@@ -137,6 +139,34 @@ SO100_MAIN_NAMES = (
     "main_gripper",
 )
 _SO100_MAIN = {n.casefold(): n for n in SO100_MAIN_NAMES}
+#: The SO-100/101 arm's joints (the gripper aside), by motor name.
+SO_ARM_JOINTS = (
+    "shoulder_pan",
+    "shoulder_lift",
+    "elbow_flex",
+    "wrist_flex",
+    "wrist_roll",
+)
+
+
+def is_so_arm_joint(name: str) -> bool:
+    """Whether ``name`` is an SO-100/101 joint as LeRobot names it.
+
+    ``NAME.pos`` (SO-101 and current LeRobot) or ``main_NAME`` (older SO-100
+    datasets) for ``NAME`` in :data:`SO_ARM_JOINTS`, in any case.
+
+    Examples
+    --------
+    >>> is_so_arm_joint("elbow_flex.pos"), is_so_arm_joint("main_wrist_roll")
+    (True, True)
+    >>> is_so_arm_joint("gripper.pos"), is_so_arm_joint("elbow_flex")
+    (False, False)
+    """
+    low = name.casefold()
+    if low.endswith(".pos"):
+        return low[: -len(".pos")] in SO_ARM_JOINTS
+    return low.startswith("main_") and low[len("main_") :] in SO_ARM_JOINTS
+
 
 _CONVENTION = tuple(
     (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
