@@ -17,11 +17,13 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from ._band import band_polygons
 from ._errors import MissingExtraError, ValidationError
 from ._fileformat import atomic_path
 
 __all__ = [
     "new_figure",
+    "new_figure_beside",
     "new_grid",
     "plot_band",
     "plot_boxplot",
@@ -129,6 +131,42 @@ def new_grid(n_rows: int, n_cols: int, *, size=(4.5, 4.0)):
         for r in range(n_rows)
     ]
     return fig, axes
+
+
+def new_figure_beside(n_channels: int, *, dims: int = 2):
+    """A headless figure: a position's axes, its channels over time beside them.
+
+    Parameters
+    ----------
+    n_channels : int
+        Number of channels drawn over time (one axis each, stacked), e.g. by
+        :func:`plot_channels` with ``fig=side``.
+    dims : {2, 3}, default=2
+        Make the position's axes 3-D when 3.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    ax : Axes
+        The position's axes, on the left.
+    side : SubFigure
+        The right-hand part, for the channels.
+
+    Examples
+    --------
+    >>> from ndlfd import Demonstration
+    >>> fig, ax, side = new_figure_beside(3)
+    >>> _, axes = plot_channels([Demonstration.from_arrays([0.0, 1.0],
+    ...     joints=[[0, 1, 2], [1, 2, 3]])], fig=side)
+    >>> len(fig.axes), [a.get_ylabel() for a in axes]
+    (4, ['joints0', 'joints1', 'joints2'])
+    """
+    Figure = _matplotlib()
+    height = max(5.0, 1.2 + 1.5 * n_channels)
+    fig = Figure(figsize=(13.0, height), layout="constrained")
+    left, side = fig.subfigures(1, 2, width_ratios=[6.0, 7.0])
+    kw = {"projection": "3d"} if dims == 3 else {}
+    return fig, left.add_subplot(1, 1, 1, **kw), side
 
 
 def _xyz(values: np.ndarray) -> list[np.ndarray]:
@@ -416,7 +454,7 @@ def plot_demos(
 
 def plot_channels(
     demos, *, columns=None, keypoints=None, generated=None, std=None, routes=None,
-    samples=(), title=None,
+    samples=(), title=None, fig=None,
 ):  # fmt: skip
     """Each channel over time: one axis per channel, one shared time axis.
 
@@ -443,10 +481,13 @@ def plot_channels(
         Sampled paths, thin red lines.
     title : str, optional
         Title of the figure.
+    fig : Figure or SubFigure, optional
+        Where to draw (the channels' side of :func:`new_figure_beside`); a
+        new figure otherwise.
 
     Returns
     -------
-    fig : matplotlib.figure.Figure
+    fig : matplotlib.figure.Figure or SubFigure
     axes : list of Axes
         One per column, sharing the time axis.
 
@@ -469,8 +510,9 @@ def plot_channels(
             f" ({', '.join(demos[0].columns)}); got {columns}"
         )
     n = len(columns)
-    Figure = _matplotlib()
-    fig = Figure(figsize=(8.0, 1.2 + 1.5 * n), layout="constrained")
+    if fig is None:
+        Figure = _matplotlib()
+        fig = Figure(figsize=(8.0, 1.2 + 1.5 * n), layout="constrained")
     axes = list(np.atleast_1d(fig.subplots(n, 1, sharex=True, squeeze=False)[:, 0]))
     routes = None if routes is None else np.asarray(routes, dtype=np.int64)
     if routes is not None and routes.shape != (len(demos),):
@@ -603,13 +645,6 @@ def plot_boxplot(
     return ax
 
 
-def _ccw(poly: np.ndarray) -> np.ndarray:
-    """``poly`` (..., m, 2) with every polygon turned counter-clockwise."""
-    x, y = poly[..., 0], poly[..., 1]
-    area = np.sum(x * np.roll(y, -1, axis=-1) - np.roll(x, -1, axis=-1) * y, axis=-1)
-    return np.where((area < 0)[..., None, None], poly[..., ::-1, :], poly)
-
-
 def plot_band(
     ax, values, std, *, k: float = 1.0, color=GEN_COLOR, alpha=0.2, label=None
 ):
@@ -618,9 +653,10 @@ def plot_band(
     The band is the union of, at every point, the ellipse with semi-axes
     ``k * std`` (independent coordinates) and, along every segment, the strip
     reaching on both sides along the segment's normal ``n`` to the standard
-    deviation in that direction, ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)``. It is
-    drawn as one patch, so overlapping pieces do not darken each other and a
-    path that crosses itself leaves no holes.
+    deviation in that direction, ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)``
+    (:func:`ndlfd._band.band_polygons`). It is drawn as one patch, so
+    overlapping pieces do not darken each other and a path that crosses
+    itself leaves no holes.
 
     Parameters
     ----------
@@ -653,35 +689,9 @@ def plot_band(
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MplPath
 
-    P = np.asarray(values, dtype=float)
-    S = np.asarray(std, dtype=float)
-    if P.ndim != 2 or P.shape[1] != 2:
-        raise ValidationError(
-            f"plot_band draws 2-D paths of shape (n_samples, 2); got {P.shape}"
-        )
-    if S.shape != P.shape or not np.isfinite(S).all() or (S < 0).any():
-        raise ValidationError(
-            f"std must be finite, >= 0 and of the path's shape {P.shape}; got an"
-            f" array of shape {S.shape}"
-        )
-    # the ellipse around every point (16-gons)
-    phi = np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
-    circle = np.column_stack([np.cos(phi), np.sin(phi)])
-    pieces = [P[:, None, :] + k * S[:, None, :] * circle[None, :, :]]
-    if P.shape[0] > 1:
-        # the strip along every segment, as wide as the std across it
-        seg = np.diff(P, axis=0)
-        length = np.linalg.norm(seg, axis=1, keepdims=True)
-        N = np.column_stack([-seg[:, 1], seg[:, 0]]) / np.where(length > 0, length, 1)
-        w0 = k * np.linalg.norm(N * S[:-1], axis=1, keepdims=True)
-        w1 = k * np.linalg.norm(N * S[1:], axis=1, keepdims=True)
-        quads = np.stack(
-            [P[:-1] + w0 * N, P[1:] + w1 * N, P[1:] - w1 * N, P[:-1] - w0 * N], axis=1
-        )
-        pieces.append(quads)
+    pieces = band_polygons(values, std, k)
     verts, codes = [], []
     for poly in pieces:
-        poly = _ccw(poly)
         m = poly.shape[1]
         code = np.full(m + 1, MplPath.LINETO, dtype=MplPath.code_type)
         code[0], code[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY

@@ -333,3 +333,80 @@ def test_plot_a_position_of_one_column_over_time(tmp_path, capsys, monkeypatch):
     np.testing.assert_array_equal(
         axes[0].lines[0].get_xydata(), np.c_[d0.t, d0.X[:, 0]]
     )
+
+
+def test_plot_position_with_joints_draws_the_joints_over_time_beside(
+    tmp_path, capsys, monkeypatch
+):
+    # before: only the position was drawn; the joints and gripper not at all
+    pytest.importorskip("matplotlib")
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+
+    def keep(fig, path, **kw):
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    folder = tmp_path / "d"
+    folder.mkdir()
+    header = ["t", "x", "y", "z", "shoulder_pan.pos", "elbow_flex.pos", "gripper"]
+    rng = np.random.default_rng(0)
+    tables = []
+    for i in range(4):
+        n = 80 + 5 * i
+        s = np.linspace(0, 1, n)
+        rows = np.column_stack([
+            3 * s, s + rng.normal(0, 0.003, n), 0.3 * np.sin(np.pi * s), 0.2 * s**2,
+            40 * np.sin(np.pi * s) + i, -60 + 50 * s,
+            np.where((s > 0.4) & (s < 0.8), 5.0, 40.0),
+        ])  # fmt: skip
+        write_table(folder / f"d{i}.csv", header, rows)
+        tables.append(np.loadtxt(folder / f"d{i}.csv", delimiter=",", skiprows=1))
+    model, gen, std = tmp_path / "m.ndlfd", tmp_path / "g.csv", tmp_path / "s.csv"
+    assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
+    assert main(["generate", str(model), "--duration", "3", "--samples", "60",
+                 "--dense", "--std", str(std), "-o", str(gen), "-q"]) == 0  # fmt: skip
+    rc, err = cli(capsys, "plot", folder, "--path", gen, "--std", std,
+                  "-o", tmp_path / "p.png")  # fmt: skip
+    assert rc == 0, err
+    fitted = KeypointHMM.load(model)
+    counts = [len(k) for k in fitted.keypoints_]
+    assert err[-1] == (
+        "drew 4 demonstration(s) in 3-D (position) and over time (joints, gripper:"
+        f" 3 channel(s)) with their key points ({min(counts)}-{max(counts)} at"
+        " --epsilon 0.05), the generated path and its ±1 sd band over time (none"
+        f" in 3-D) -> {tmp_path / 'p.png'}"
+    )
+    position, *channels = figures[-1].axes
+    assert position.name == "3d"
+    assert [ax.get_ylabel() for ax in channels] == [
+        "shoulder_pan", "elbow_flex", "gripper"
+    ]  # fmt: skip
+    assert all(ax.name != "3d" for ax in channels)
+    assert channels[-1].get_xlabel() == "time"
+    gen_names = read_table(gen)[0]
+    G, S = read_table(gen)[1], read_table(std)[1]
+    for j, ax in enumerate(channels):
+        col = 4 + j  # the file's column
+        for i, tab in enumerate(tables):  # line, key points (those fit finds)
+            np.testing.assert_array_equal(
+                ax.lines[2 * i].get_xydata(), tab[:, [0, col]]
+            )
+            k = fitted.keypoints_[i]
+            np.testing.assert_array_equal(
+                ax.lines[2 * i + 1].get_xydata(), tab[k][:, [0, col]]
+            )
+        g = gen_names.index(header[col])
+        np.testing.assert_array_equal(ax.lines[-1].get_xydata(), G[:, [0, g]])
+        m = 30
+        if S[m, g] > 0:
+            band = ax.collections[0].get_paths()[0]
+            assert band.contains_point((G[m, 0], G[m, g] + 0.9 * S[m, g]))
+            assert not band.contains_point((G[m, 0], G[m, g] + 1.1 * S[m, g]))
+    # without a path: the same axes, the demonstrations only
+    rc, err = cli(capsys, "plot", folder, "-o", tmp_path / "q.png")
+    assert rc == 0 and " and over time (joints, gripper: 3 channel(s))" in err[-1]
+    assert len(figures[-1].axes) == 4

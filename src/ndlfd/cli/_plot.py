@@ -29,6 +29,10 @@ from ._options import (
 
 __all__ = ["add_plot"]
 
+#: Groups not drawn over time beside a position: the position itself, its
+#: velocity (its rate) and an orientation (quaternions; triads in 3-D).
+_NOT_OVER_TIME = ("position", "velocity", "orientation")
+
 
 def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
     """(fewest samples, its source, most samples, its source)."""
@@ -170,10 +174,21 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                 f" {', '.join(path.columns)}"
             )
     samples = _read_samples(args, sample_files, group, k)
+    S_all = None
     if args.std is not None:
-        S = _std_of(args, path, path_map)[:, path.columns_of(group)]
+        S_all = _std_of(args, path, path_map)
+        S = S_all[:, path.columns_of(group)]
     dims = 3 if k >= 3 else 2
-    fig, (ax,) = plot.new_figure(1, dims=dims)
+    # the other learned groups (joints, a gripper, a force) over time, beside
+    first = prepared[0]
+    others = {c for c, g in zip(first.columns, first.groups, strict=True)
+              if g not in _NOT_OVER_TIME}  # fmt: skip
+    beside = [c for c in demos[0].columns if c in others]
+    beside += [c for c in first.columns if c in others and c not in beside]
+    if beside:
+        fig, ax, side = plot.new_figure_beside(len(beside), dims=dims)
+    else:
+        fig, (ax,) = plot.new_figure(1, dims=dims)
     band = ""
     if S is not None:
         if dims == 2:
@@ -182,7 +197,11 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             )
             band = " and its ±1 sd band"
         else:
-            band = " (no band in 3-D)"
+            band = (
+                " and its ±1 sd band over time (none in 3-D)"
+                if beside
+                else " (no band in 3-D)"
+            )
     plot.plot_demos(
         demos,
         group=group,
@@ -201,6 +220,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     triads = _draw_triads(ax, args, group, k, path, demos, maps)
     if path is not None or samples or triads:
         ax.legend(loc="best", fontsize="small")
+    if beside:
+        plot.plot_channels(prepared, columns=beside, keypoints=keypoints,
+                           generated=path, std=S_all, routes=routes,
+                           samples=samples, fig=side)  # fmt: skip
     plot.save_figure(fig, out)
     counts = np.array([len(i) for i in keypoints])
     budget = (
@@ -215,10 +238,15 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     if n_routes > 1:
         sizes = ", ".join(str(int(c)) for c in np.bincount(routes))
         drawn += f", coloured by route ({n_routes} routes: {sizes} demonstrations)"
+    also = ""
+    if beside:
+        names = dict.fromkeys(first.groups[first.columns.index(c)] for c in beside)
+        also = f" and over time ({', '.join(names)}: {len(beside)} channel(s))"
     say(
         args,
-        f"drew {len(demos)} demonstration(s) in {dims}-D ({group}) with their key"
-        f" points ({counts.min()}-{counts.max()} at {budget}){drawn} -> {out}",
+        f"drew {len(demos)} demonstration(s) in {dims}-D ({group}){also} with"
+        f" their key points ({counts.min()}-{counts.max()} at {budget}){drawn} ->"
+        f" {out}",
     )
     return 0
 
@@ -304,7 +332,9 @@ def add_plot(sub) -> None:
             " its band (--std), sampled paths (--samples DIR, from 'ndlfd"
             " sample') and orientation triads along a 3-D path. Positions are"
             " drawn in 2-D or 3-D by their number of columns (more than three: the"
-            " first three). Data without a position (joints, a gripper) or with a"
+            " first three), and the other learned groups (joints, a gripper, a"
+            " force; not a velocity or an orientation) beside, over time."
+            " Data without a position (joints, a gripper) or with a"
             " position of one column are drawn over time, one axis per learned"
             " channel, with the path's band."
             ' Needs matplotlib (pip install "ndlfd[plot]").'
