@@ -353,3 +353,28 @@ def test_obstacle_routes_go_around_the_bump(lift):
 def test_obstacle_refuses_bad_sizes(kw, match):
     with pytest.raises(ValidationError, match=match):
         obstacle(**kw)
+
+
+def test_pick_place_is_rigid_in_its_frames():
+    from scipy.spatial.transform import Rotation
+
+    from ndlfd import synth
+
+    demos, frames = synth.pick_place(4, n_samples=201, yaw=np.deg2rad(60), noise=0.0)
+    for d, f in zip(demos, frames, strict=True):
+        P, Q, g = d.get("position"), d.get("orientation"), d.get("gripper")[:, 0]
+        tau = (d.t - d.t[0]) / d.duration
+        for frame, at in (("object", 0.42), ("place", 0.9)):
+            k = int(np.argmin(np.abs(tau - at)))
+            np.testing.assert_allclose(P[k], f[frame][:3], atol=1e-12)
+            # the hand's rotation there is the frame's (up to the sign of q)
+            r = Rotation.from_quat(np.roll(Q[k], -1)).inv() * Rotation.from_quat(
+                np.roll(f[frame][3:], -1)
+            )
+            assert r.magnitude() < 1e-9
+        closed = (tau >= synth.PICK_PLACE_GRASP) & (tau < synth.PICK_PLACE_RELEASE)
+        assert np.array_equal(g, np.where(closed, 0.0, 1.0))
+        np.testing.assert_allclose(P[-1], f["place"][:3] + [0, 0, 0.1], atol=1e-12)
+    yaws = [Rotation.from_quat(np.roll(f["object"][3:], -1)).as_euler("zyx")[0]
+            for f in frames]  # fmt: skip
+    assert np.ptp(yaws) > 0.2 and np.max(np.abs(yaws)) <= np.deg2rad(60) + 1e-12

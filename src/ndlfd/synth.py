@@ -57,6 +57,7 @@ __all__ = [
     "curve",
     "make_dataset",
     "obstacle",
+    "pick_place",
     "spiral",
     "square",
     "square_spiral",
@@ -532,3 +533,133 @@ def obstacle(
         t = 5.0 * s * rng.uniform(0.9, 1.1)
         demos.append(Demonstration(t, P, ["x", "y"], ["position"] * 2))
     return demos
+
+
+def _yaw_down(yaw) -> np.ndarray:
+    """Unit quaternions (w, x, y, z) of a hand pointing down, turned by ``yaw``."""
+    from scipy.spatial.transform import Rotation
+
+    yaw = np.atleast_1d(np.asarray(yaw, dtype=np.float64))
+    r = Rotation.from_euler("z", yaw[:, None]) * Rotation.from_euler("x", np.pi)
+    q = r.as_quat()  # x, y, z, w
+    return np.column_stack([q[:, 3], q[:, :3]])
+
+
+#: Waypoints of :func:`pick_place` on its normalized time: (time, where), where
+#: is "home", "above object", "object", "above place", "place" or "retreat".
+PICK_PLACE_PLAN = (
+    (0.0, "home"),
+    (0.3, "above object"),
+    (0.4, "object"),
+    (0.45, "object"),
+    (0.55, "above object"),
+    (0.8, "above place"),
+    (0.9, "place"),
+    (0.95, "place"),
+    (1.0, "retreat"),
+)
+
+#: When :func:`pick_place`'s gripper closes and opens (normalized time).
+PICK_PLACE_GRASP, PICK_PLACE_RELEASE = 0.42, 0.92
+
+
+def pick_place(
+    n_demos: int = 12,
+    *,
+    n_samples: int = 300,
+    shift: float = 0.1,
+    yaw: float = 0.0,
+    noise: float = 5e-4,
+    random_state=0,
+) -> tuple[list[Demonstration], list[dict]]:
+    """Pick-and-place demonstrations whose object and place move (task frames).
+
+    Each demonstration starts near ``(0.3, 0, 0.3)`` m pointing down, moves
+    above an object, down to it (the hand's pose is the object's: position and
+    yaw), closes the gripper (at :data:`PICK_PLACE_GRASP` of the motion),
+    lifts, carries it above the place, puts it down with the place's yaw,
+    opens (:data:`PICK_PLACE_RELEASE`) and retreats 0.1 m up; minimum-jerk
+    pieces between the waypoints of :data:`PICK_PLACE_PLAN`, the orientation
+    slerped. The object lies at ``(0.5, 0, 0.02)`` and the place at ``(0.3,
+    0.3, 0.02)``, each moved by up to ``shift`` in x and y and turned by up to
+    ``yaw`` radians about z (uniformly), so the motion near each is rigid in
+    its frame: the set the task-frame protocol of ``ndlfd evaluate`` holds
+    out one demonstration of at a time.
+
+    Parameters
+    ----------
+    n_demos : int, default=12
+    n_samples : int, default=300
+    shift : float, default=0.1
+        Largest move of the object and the place in x and y (m).
+    yaw : float, default=0.0
+        Largest turn of the object and the place about z (radians).
+    noise : float, default=5e-4
+        Standard deviation of the position noise (m).
+    random_state : None, int or numpy.random.Generator, default=0
+
+    Returns
+    -------
+    demos : list of Demonstration
+        Groups ``position`` (x, y, z), ``orientation`` (unit quaternions) and
+        ``gripper`` (1 open, 0 closed); about 6 s each.
+    frames : list of dict of str to ndarray of shape (7,)
+        Each demonstration's ``"object"`` and ``"place"`` poses: position,
+        then unit quaternion (w, x, y, z) of the grasp there.
+
+    Examples
+    --------
+    At the grasp, the hand is at the object:
+
+    >>> demos, frames = pick_place(3, n_samples=101)
+    >>> hand = demos[0].get("position")[int(PICK_PLACE_GRASP * 100)]
+    >>> bool(np.allclose(hand, frames[0]["object"][:3], atol=3e-3))
+    True
+    """
+    from scipy.spatial.transform import Rotation, Slerp
+
+    from .learner import minimum_jerk
+
+    n_demos = check_positive_int(n_demos, "n_demos", minimum=1)
+    n_samples = check_positive_int(n_samples, "n_samples", minimum=len(PICK_PLACE_PLAN))
+    rng = check_random_state(random_state)
+    s = np.linspace(0.0, 1.0, n_samples)
+    knots = np.array([k for k, _ in PICK_PLACE_PLAN])
+    i = np.clip(np.searchsorted(knots, s, side="right") - 1, 0, knots.size - 2)
+    u = minimum_jerk((s - knots[i]) / (knots[i + 1] - knots[i]))
+    demos, frames = [], []
+    for _ in range(n_demos):
+        home = np.array([0.3, 0.0, 0.3]) + rng.normal(0.0, 0.01, 3)
+        obj = np.array([0.5, 0.0, 0.02])
+        obj[:2] += rng.uniform(-shift, shift, 2)
+        place = np.array([0.3, 0.3, 0.02])
+        place[:2] += rng.uniform(-shift, shift, 2)
+        yaw_o, yaw_p = rng.uniform(-yaw, yaw, 2) if yaw > 0 else (0.0, 0.0)
+        up = np.array([0.0, 0.0, 0.1])
+        where = {
+            "home": (home, 0.0),
+            "above object": (obj + up, yaw_o),
+            "object": (obj, yaw_o),
+            "above place": (place + up, yaw_p),
+            "place": (place, yaw_p),
+            "retreat": (place + up, yaw_p),
+        }
+        P = np.array([where[w][0] for _, w in PICK_PLACE_PLAN])
+        yaws = np.array([where[w][1] for _, w in PICK_PLACE_PLAN])
+        pos = P[i] + (P[i + 1] - P[i]) * u[:, None]
+        pos += rng.normal(0.0, noise, pos.shape)
+        R = Rotation.from_quat(np.roll(_yaw_down(yaws), -1, axis=1))
+        q = np.empty((n_samples, 4))
+        for k in range(knots.size - 1):
+            rows = i == k
+            pair = Slerp([0.0, 1.0], R[[k, k + 1]])(u[rows]).as_quat()
+            q[rows] = np.roll(pair, 1, axis=1)
+        grip = np.where((s >= PICK_PLACE_GRASP) & (s < PICK_PLACE_RELEASE), 0.0, 1.0)
+        t = 6.0 * s * rng.uniform(0.9, 1.1)
+        demos.append(Demonstration.from_arrays(t, position=pos, orientation=q,
+                                               gripper=grip))  # fmt: skip
+        frames.append({
+            "object": np.concatenate([obj, _yaw_down(yaw_o)[0]]),
+            "place": np.concatenate([place, _yaw_down(yaw_p)[0]]),
+        })  # fmt: skip
+    return demos, frames

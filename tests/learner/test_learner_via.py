@@ -246,3 +246,30 @@ def test_an_orientation_via_point_as_minus_q_is_the_same_rotation():
     # no flip: as smooth as the path without the via point
     plain = model.generate(t, dense=True).get("orientation")
     assert np.abs(np.diff(Q, axis=0)).max() < 2 * np.abs(np.diff(plain, axis=0)).max()
+
+
+def test_with_a_via_point_the_goal_carries_over_as_the_demonstrations_co_vary():
+    """A pick-and-place whose place follows its goal: the goal moves the place.
+
+    Before the goal was an observation (it was only pinned after the release),
+    the path put the object down where the demonstrations did on average:
+    median 0.078 m from the held-out place, their spread 0.074 m; now 0.027.
+    """
+    demos, frames = synth.pick_place(12)
+    errors, spreads = [], []
+    for k in range(6):
+        train = [d for i, d in enumerate(demos) if i != k]
+        test = demos[k]
+        t, P = test.t, test.get("position")
+        grasp = int(np.rint(synth.PICK_PLACE_GRASP * (t.size - 1)))
+        place = int(np.rint(0.9 * (t.size - 1)))  # PICK_PLACE_PLAN: down at 0.9
+        model = KeypointHMM().fit(train)
+        via = [(t[grasp], {"position": frames[k]["object"][:3]})]
+        path = model.generate(t, dense=True, start={"position": P[0]},
+                              goal={"position": P[-1]}, via=via)  # fmt: skip
+        errors.append(
+            np.linalg.norm(path.get("position")[place] - frames[k]["place"][:3])
+        )
+        at = [d.get("position")[int(0.9 * (d.n_samples - 1))] for d in train]
+        spreads.append(np.linalg.norm(np.std(at, axis=0)))
+    assert np.median(errors) <= 0.5 * np.median(spreads)

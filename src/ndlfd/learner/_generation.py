@@ -632,7 +632,8 @@ def render(
     tq = est.time_bins_.normalize(all_t)
     groups = est.column_groups_
     at = np.concatenate([tq, plan.key_tau])  # the dense rows, then the key rows
-    obs_tau, observed = blend_observations(est, tq, start=start, via=via, prefix=prefix)
+    obs_tau, observed = blend_observations(est, tq, start=start, via=via,
+                                           prefix=prefix, goal=goal)  # fmt: skip
     n_at = at.size  # the observations' rows come after, dropped after the blend
     qc = _quat_cols(groups)
     templates = (plan.values, plan.taus, plan.index, plan.weights, plan.knots)

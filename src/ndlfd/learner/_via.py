@@ -494,11 +494,15 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     return X
 
 
-def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None):
-    """What the blend is conditioned on: a start with via points, or a prefix.
+def blend_observations(
+    est, tq: np.ndarray, *, start=None, via=None, prefix=None, goal=None
+):
+    """What the blend is conditioned on: a start and goal with via points, or a prefix.
 
-    The positions of a start and the via points (only when a via point
-    gives a position), or of up to :data:`PREFIX_POINTS` samples of a prefix
+    The positions of a start, the via points and a goal (only when a via
+    point gives a position: the demonstrations' deviations then carry all of
+    them over the motion, as they co-vary; a pick-and-place whose place
+    follows its goal), or of up to :data:`PREFIX_POINTS` samples of a prefix
     (:func:`prefix_rows`), as values at normalized times in the
     blend's group-weighted units (:func:`~ndlfd.learner._blend.condition_offsets`
     shifts the blend towards them; the offsets that remain are faded as
@@ -510,8 +514,8 @@ def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None
         Fitted.
     tq : ndarray of shape (n_samples,)
         Normalized times of the timing.
-    start : dict of str to ndarray, optional
-        A checked start (used with via points only).
+    start, goal : dict of str to ndarray, optional
+        A checked start and goal (used with via points only).
     via : list of (float, dict), optional
         From :func:`check_via`.
     prefix : Demonstration, optional
@@ -527,7 +531,8 @@ def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None
     scaler, cg = est.scaler_, est.column_groups_
     taus, observed = [], []
     if via is not None:
-        for tau, cond in ([(0.0, start)] if start is not None else []) + via:
+        ends = [(0.0, start)] if start is not None else []
+        for tau, cond in ends + via + ([(1.0, goal)] if goal is not None else []):
             if cond is None or "position" not in cond:
                 continue
             cols, target = condition_target(
@@ -535,7 +540,7 @@ def blend_observations(est, tq: np.ndarray, *, start=None, via=None, prefix=None
             )
             observed.append((len(taus), cols, target))
             taus.append(tau)
-        if not any(0.0 < tau for tau in taus):
+        if not any(0.0 < tau < 1.0 for tau in taus):
             return np.zeros(0), []  # no via position: the offsets only
     elif prefix is not None:
         rows = prefix_rows(prefix.t.size)
