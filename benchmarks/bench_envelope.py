@@ -68,8 +68,8 @@ def draw_conditions(demos, group, routes, n, rng):
             if kind == "via":
                 phase = rng.uniform(0.1, 0.9)
                 r = rng.choice(np.unique(routes))
-                vals = _phase_values([d for d, k in zip(demos, routes) if k == r],
-                                     group, phase)  # fmt: skip
+                on = [d for d, k in zip(demos, routes, strict=True) if k == r]
+                vals = _phase_values(on, group, phase)
             else:
                 phase, vals = (0.0, starts) if kind == "start" else (1.0, goals)
             spread = vals.std(axis=0) + 1e-3 * span
@@ -79,7 +79,7 @@ def draw_conditions(demos, group, routes, n, rng):
 
 def ndlfd_path(model, t, group, kind, phase, point):
     if kind == "via":
-        k = int(round(phase * (t.size - 1)))
+        k = round(phase * (t.size - 1))
         return model.generate(t, dense=True, via=[(t[k], {group: point})])
     return model.generate(t, dense=True, **{kind: {group: point}})
 
@@ -88,7 +88,7 @@ def promp_path(promp, t, kind, phase, point):
     if kind == "start":
         P = promp.generate(t, start=point)
     else:
-        k = t.size - 1 if kind == "goal" else int(round(phase * (t.size - 1)))
+        k = t.size - 1 if kind == "goal" else round(phase * (t.size - 1))
         P = promp.generate(t, via=[(t[k], point)])
     return Demonstration.from_arrays(t, position=P)
 
@@ -113,8 +113,8 @@ def run(name, demos, model, group, draws, peer, rng):
     print("|---|---|---:|---:|---:|---:|---:|---:|")
     for (kind, gen), r in rows.items():
         r = np.array(r)
-        cells = [f"{f(r[:, j]):.2f}" for j in (0, 1)
-                 for f in (np.median, lambda x: np.quantile(x, 0.99), np.max)]  # fmt: skip
+        stats = (np.median, lambda x: np.quantile(x, 0.99), np.max)
+        cells = [f"{f(r[:, j]):.2f}" for j in (0, 1) for f in stats]
         print(f"| {kind} | {gen} | " + " | ".join(cells) + " |")
 
 

@@ -54,8 +54,8 @@ def main(argv=None) -> None:
         }
         paths = {name: p.get("position") for name, p in paths.items()}
         promp = make_baseline("promp").fit([d.select("position") for d in train])
-        paths["promp via"] = promp.generate(t, start=P[0],
-                                            via=[(t[g], obj), (t[-1], P[-1])])  # fmt: skip
+        pins = [(t[g], obj), (t[-1], P[-1])]
+        paths["promp via"] = promp.generate(t, start=P[0], via=pins)
         for name, Q in paths.items():
             rows[name].append(dtw_distance(Q, P, normalize=True) / scale)
             grasp[name].append(float(np.linalg.norm(Q[g] - obj)))
