@@ -10,6 +10,7 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 
 from bag_samples import STORE, joint_state, pose_stamped
 from bag_samples import rosbags_read as messages
+from ndlfd.io import read_bag
 from ndlfd.learner import KeypointHMM
 
 
@@ -123,7 +124,10 @@ def test_several_topics_and_split_gap(tmp_path, capsys):
     assert rc == 0, err
     assert err[0].startswith("read 3 demonstration(s) from 1 file(s): time=/ee_pose")
     assert "joints=joints.shoulder,joints.elbow (ROS 2 bag, frame world)" in err[0]
-    assert "on position, velocity, orientation, joints (" in err[1]  # all learned
+    # the pieces between the 5 s pauses (test_split_still_on_the_command_line)
+    assert err[1].startswith(f"pieces of {bag}, in seconds from its first stamp:")
+    assert len(err[1].split("stamp: ")[1].split(", ")) == 3
+    assert "on position, velocity, orientation, joints (" in err[2]  # all learned
     rc, err = cli(
         capsys,
         "fit",
@@ -380,6 +384,14 @@ def test_split_still_on_the_command_line(tmp_path, capsys):
                   "-o", model)  # fmt: skip
     assert rc == 0, err
     assert err[0].startswith("read 5 demonstration(s) from 1 file(s): time=/tf")
+    # each piece's time span in the session: its first pose found in it
+    pieces = []
+    for d in read_bag(bag, frame="tool0", split_still=2.5):
+        (i0,) = np.flatnonzero((P == d.get("position")[0]).all(axis=1))
+        pieces.append(f"{t[i0]:.2f}-{t[i0] + d.t[-1]:.2f}")
+    assert err[1] == (
+        f"pieces of {bag}, in seconds from its first stamp: {', '.join(pieces)}"
+    )
     rc, err = cli(capsys, "fit", bag, "--frame", "tool0", "--split-still", 0,
                   "-o", model)  # fmt: skip
     assert rc == 2 and err == [

@@ -202,6 +202,9 @@ def test_receive_time_without_stamps_and_split_gap(tmp_path):
     demos, maps = read_demos(bag, topic="/ee_pose", split_gap=1.0, return_mappings=True)
     assert [x.n_samples for x in demos] == [10, 5]
     assert [m.source for m in maps] == [f"{bag}:0", f"{bag}:1"]
+    # where each piece lies: 0 to 90 ms, then 6.00 s to 6.04 s after the first
+    assert [m.span for m in maps] == [(0.0, 0.09), (6.0, 6.04)]
+    assert read_demos(bag, topic="/ee_pose", return_mappings=True)[1][0].span is None
     assert np.array_equal(demos[1].get("position"), pos[10:])
     assert demos[1].t[0] == 0.0
     with pytest.raises(ValidationError, match="split_gap must be a number of seconds"):

@@ -12,7 +12,7 @@ pytest.importorskip("rosbags")
 from bag_samples import session, tf_bag
 from ndlfd import NdlfdWarning
 from ndlfd._errors import ValidationError
-from ndlfd.io import read_bag
+from ndlfd.io import read_bag, read_demos
 from ndlfd.io._motion import rest_pieces
 
 
@@ -22,14 +22,17 @@ def test_five_demonstrations_between_rests_while_tf_publishes(tmp_path):
     bag = tf_bag(tmp_path / "session", t, P)
     (whole,) = read_bag(bag, frame="tool0")  # without: one demonstration
     assert whole.n_samples == t.size
-    demos = read_bag(bag, frame="tool0", split_still=2.5)
+    demos, maps = read_demos(bag, frame="tool0", split_still=2.5,
+                             return_mappings=True)  # fmt: skip
     assert len(demos) == 5
     step = 0.02
-    for d, (a, b) in zip(demos, spans, strict=True):
+    for d, m, (a, b) in zip(demos, maps, spans, strict=True):
         # where the piece starts in the session: its first pose, read exactly
         (i0,) = np.flatnonzero((P == d.get("position")[0]).all(axis=1))
         start = t[i0]
         stop = start + d.t[-1]
+        # ... as its mapping says (stamps in whole nanoseconds)
+        np.testing.assert_allclose(m.span, (start, stop), rtol=0, atol=2e-9)
         # the piece holds its motion (but for the slow first and last 10 %
         # of a minimum-jerk move) and none of the next one
         assert a - 3.0 <= start <= a + 0.1 * (b - a)

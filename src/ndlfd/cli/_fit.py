@@ -6,6 +6,7 @@ import argparse
 import re
 import time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 
@@ -193,6 +194,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         mappings = {text: n for text, _, n in ranges.notes}
         scanned["one_mapping"] = len(mappings) == 1
         say(args, describe_mappings(mappings, ranges.n_demos, paths))
+        pieces = describe_pieces(first_path, [m for _, m in pairs], len(paths))
+        if pieces:
+            say(args, pieces)
         bins, note = _check_bounds(args, ranges, paths, defaults.n_time_bins)
         scanned.update(n_demos=ranges.n_demos, time_bins=bins, note=note)
         return dict(n_time_bins=bins, n_points=args.n_points)
@@ -210,7 +214,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     n_demos, time_bins, note = (scanned[k] for k in ("n_demos", "time_bins", "note"))
     elapsed = time.perf_counter() - t0
     # the input's names, for 'ndlfd generate' without --like (one mapping only)
-    model.input_mapping_ = first_map if scanned["one_mapping"] else None
+    # (how the files read, not where the first piece of a split recording lay)
+    one = replace(first_map, span=None) if scanned["one_mapping"] else None
+    model.input_mapping_ = one
     model.save(out)
     k = model.n_keypoints_
     learned = ", ".join(groups) + (
@@ -242,6 +248,45 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             f" {','.join([*groups, *unused])})",
         )
     return 0
+
+
+#: The pieces of a split recording listed by :func:`describe_pieces`.
+MAX_PIECES_LISTED = 12
+
+
+def describe_pieces(source, mappings, n_files: int) -> str:
+    """One line: each piece of a split recording and where it lies in it.
+
+    Parameters
+    ----------
+    source : path-like
+        The recording (the first file read).
+    mappings : list of ColumnMapping
+        Its demonstrations' mappings; the pieces have a ``span``.
+    n_files : int
+        The files read in all (the others' pieces are read on the workers).
+
+    Returns
+    -------
+    line : str
+        Empty when the recording was not split.
+
+    Examples
+    --------
+    >>> from ndlfd.io import ColumnMapping
+    >>> m = [ColumnMapping("s:0", "t", (), span=(0.5, 9.25)),
+    ...      ColumnMapping("s:1", "t", (), span=(12.0, 20.0))]
+    >>> describe_pieces("s", m, 1)
+    'pieces of s, in seconds from its first stamp: 0.50-9.25, 12.00-20.00'
+    """
+    spans = [m.span for m in mappings if m.span is not None]
+    if not spans:
+        return ""
+    shown = ", ".join(f"{a:.2f}-{b:.2f}" for a, b in spans[:MAX_PIECES_LISTED])
+    if len(spans) > MAX_PIECES_LISTED:
+        shown += f", ... ({len(spans) - MAX_PIECES_LISTED} more)"
+    of = f" (the first of {n_files} files)" if n_files > 1 else ""
+    return f"pieces of {source}{of}, in seconds from its first stamp: {shown}"
 
 
 def demos_peaks_line(demos, groups) -> str:

@@ -636,7 +636,11 @@ def read_bag_mapped(
             source=source,
             bad_rows=bad_rows,
         )
-        out.append((demo, replace(mapping, time=what, layout=layout)))
+        span = None
+        if len(segs) > 1:  # where the piece lies in the recording
+            first, last = (at[seg][[0, -1]] - at[0]) / 1e9
+            span = (float(first), float(last))
+        out.append((demo, replace(mapping, time=what, layout=layout, span=span)))
     return out
 
 

@@ -278,6 +278,11 @@ class ColumnMapping:
     order : tuple of str
         The file's names of the mapped columns (or arrays) in the file's
         order, which outputs keep (empty: the order of ``groups``).
+    span : tuple of (float, float) or None
+        For a piece of a split recording (a bag read with ``split_gap`` or
+        ``split_still``): its first and last time stamps in seconds from the
+        recording's first (the piece's own time starts at 0); else ``None``.
+        Not part of :meth:`__str__` (pieces of one recording read alike).
 
     Examples
     --------
@@ -294,6 +299,7 @@ class ColumnMapping:
     layout: str = "comma-separated"
     euler: str | None = None
     order: tuple[str, ...] = ()
+    span: tuple[float, float] | None = None
 
     def __str__(self) -> str:
         """The mapping in one line, as the command line reports it."""
