@@ -39,7 +39,7 @@ def _off_path(scaled, path, cols):
 def test_a_straight_line_takes_the_trapezoid_a_hand_computes():
     """3 units at most 1.5 /s and 10 /s^2, from rest to rest: 3/1.5 + 1.5/10 s."""
     path = _line()
-    limits = {"velocity": {"position": 1.5}, "acceleration": {"position": 10.0}}
+    limits = {"position": {"velocity": 1.5, "acceleration": 10.0}}
     out = time_scale(path, limits)
     # aimed MARGIN below the limits, on a grid of the path's step (0.005 s)
     v, a = 1.5 * (1 - MARGIN), 10.0 * (1 - MARGIN)
@@ -54,11 +54,11 @@ def test_a_straight_line_takes_the_trapezoid_a_hand_computes():
 
 def test_a_path_within_its_limits_is_returned_as_it_is():
     path = _line(speed=1.0)
-    assert time_scale(path, {"velocity": {"position": 2.0}}) is path
+    assert time_scale(path, {"position": {"velocity": 2.0}}) is path
 
 
 def test_the_stamps_are_k_over_the_rate():
-    out = time_scale(_line(), {"velocity": {"position": 1.0}}, rate=50.0)
+    out = time_scale(_line(), {"position": {"velocity": 1.0}}, rate=50.0)
     assert np.array_equal(out.t, np.arange(out.n_samples) / 50.0)
 
 
@@ -84,8 +84,10 @@ def test_time_scaled_paths_keep_their_route_and_meet_the_limits(
     path = _waves(seed, n_cols)
     peaks = path_peaks(path)
     limits = {
-        "velocity": {"joints": v_share * peaks["velocity"]},
-        "acceleration": {"joints": a_share * peaks["acceleration"]},
+        "joints": {
+            "velocity": v_share * peaks["velocity"],
+            "acceleration": a_share * peaks["acceleration"],
+        }
     }
     out = time_scale(path, limits)
     assert _within(out, limits)
@@ -99,7 +101,7 @@ def test_time_scaled_paths_keep_their_route_and_meet_the_limits(
 def test_the_peaks_agree_with_toppras_own_trajectory():
     """TOPP-RA's spline derivatives and the samples' finite differences agree."""
     path = _waves(3, 3)
-    lim = {"velocity": {"joints": 40.0}, "acceleration": {"joints": 120.0}}
+    lim = {"joints": {"velocity": 40.0, "acceleration": 120.0}}
     out = time_scale(path, lim)
     t = path.t - path.t[0]
     spl = toppra.SplineInterpolator(t, path.X)
@@ -132,7 +134,7 @@ def test_generate_with_limits_on_joint_and_cartesian_data():
     path = model.generate(t, dense=True)
     peaks = path_peaks(path)
     top = peaks["velocity"][path.columns_of("position")].max()
-    lim = {"velocity": {"position": 0.6 * top}}
+    lim = {"position": {"velocity": 0.6 * top}}
     out = model.generate(t, dense=True, limits=lim)
     assert _within(out, lim) and out.duration > path.duration
     pos = path.columns_of("position")
@@ -152,7 +154,7 @@ def test_orientation_and_a_gripper_are_carried_along():
     path = Demonstration.from_arrays(
         t, position=np.column_stack([t, t]), orientation=Q, gripper=g
     )
-    out = time_scale(path, {"velocity": {"position": 0.25}})
+    out = time_scale(path, {"position": {"velocity": 0.25}})
     assert np.allclose(np.linalg.norm(out.get("orientation"), axis=1), 1.0)
     assert set(np.unique(out.get("gripper"))) == {0.0, 1.0}
     # the gripper switches where the hand is at x = 1, as before
@@ -164,13 +166,15 @@ def test_orientation_and_a_gripper_are_carried_along():
 @pytest.mark.parametrize(
     "limits, match",
     [
-        ({"speed": {"position": 1.0}}, "unknown limit 'speed'"),
-        ({"velocity": {"joints": 1.0}}, "unknown group 'joints'"),
-        ({"velocity": {"position": -1.0}}, "finite and > 0"),
-        ({"velocity": {"position": [1.0, 2.0, 3.0]}}, "one value or 2"),
-        ({"velocity": {"position": "fast"}}, "must be numbers"),
-        ({"velocity": {"orientation": 1.0}}, "quaternions"),
-        ({"velocity": 1.0}, "must map group names"),
+        ({"position": {"speed": 1.0}}, "unknown limit 'speed'"),
+        ({"joints": {"velocity": 1.0}}, "no group or column 'joints'"),
+        ({"position": {"velocity": -1.0}}, "finite and > 0"),
+        ({"position": {"velocity": [1.0, 2.0, 3.0]}}, "one value or 2"),
+        ({"x": {"velocity": [1.0, 2.0]}}, "one value or 1"),
+        ({"position": {"velocity": "fast"}}, "must be numbers"),
+        ({"orientation": {"velocity": 1.0}}, "quaternions"),
+        ({"qw": {"velocity": 1.0}}, "quaternions"),
+        ({"position": 1.0}, "must map velocity, acceleration, jerk"),
         ([("velocity", 1.0)], "must be a mapping"),
     ],
 )
@@ -185,3 +189,25 @@ def test_bad_limits_say_what_was_expected(limits, match):
 
 def test_a_limit_error_is_a_validation_error():
     assert issubclass(LimitError, ValidationError)
+
+
+def test_a_column_is_limited_by_its_name_and_the_smaller_limit_wins():
+    t = np.linspace(0.0, 1.0, 201)
+    d = Demonstration.from_arrays(t, position=np.column_stack([3 * t, 2 * t]))
+    lim = check_limits({"position": {"velocity": 5.0}, "y": {"velocity": 1.0}}, d)
+    assert lim["velocity"].tolist() == [5.0, 1.0]
+    out = time_scale(d, {"position": {"velocity": 5.0}, "y": {"velocity": 1.0}})
+    v = path_peaks(out)["velocity"]
+    assert v[1] <= 1.0 * (1 + TOLERANCE) and v[0] <= 3.0 * (1 + TOLERANCE)
+
+
+@pytest.mark.parametrize("share", [0.5, 0.1])
+def test_a_jerk_limit_is_met_by_slowing_down(share):
+    path = _waves(5, 3)
+    jerk = path_peaks(path)["jerk"]
+    lim = {"joints": {"jerk": share * jerk}}
+    out = time_scale(path, lim)
+    assert _within(out, lim)
+    assert np.array_equal(out.X[[0, -1]], path.X[[0, -1]])
+    # a uniform slow-down by k divides jerk by k**2 to k**3: at least this slow
+    assert out.duration >= path.duration * share ** (-1 / 3) * (1 - 0.02)

@@ -11,17 +11,21 @@ acceleration constraints, with one more constraint that the path's clock
 never runs faster than its own timing, so the path is only ever slowed down,
 never sped up. The result starts and ends at rest.
 
-Limits are given per group, one value for every column of the group or one
-per column, in the group's units per second (per second squared):
-``{"velocity": {"joints": 90.0}, "acceleration": {"joints": [400, 400, 300]}}``.
+Limits are given per group (one value for every column of the group, or one
+per column) or per column by its name, in the group's units per second (per
+second squared, cubed):
+``{"joints": {"velocity": 90.0, "acceleration": [400, 400, 300]},
+"wrist_roll": {"velocity": 60.0}}``.
 Each column is limited on its own, as a robot's joints are; a Cartesian
 ``position`` group is limited axis by axis (its speed can reach ``sqrt(3)``
 times a common limit). Quaternion groups (``orientation``) cannot be limited
 this way and are carried along, as are two-valued grippers (held between
 samples) and a ``velocity`` group derived from ``position`` (derived again).
 
-Jerk is not limited: TOPP-RA bounds velocity and acceleration only (ruckig
-bounds jerk but plans point to point and would not keep the learned path).
+TOPP-RA bounds velocity and acceleration; a jerk limit is met by slowing the
+TOPP-RA timing down uniformly until the samples' jerk is within it (not
+time-optimal: ruckig bounds jerk optimally but plans point to point and would
+not keep the learned path).
 """
 
 from __future__ import annotations
@@ -45,7 +49,7 @@ __all__ = [
 ]
 
 #: The quantities that can be limited.
-KINDS = ("velocity", "acceleration")
+KINDS = ("velocity", "acceleration", "jerk")
 
 #: Relative tolerance of the measured peaks against the limits (TOPP-RA
 #: meets its constraints at its grid points; between them, and through the
@@ -100,8 +104,10 @@ def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
     Parameters
     ----------
     limits : mapping of str to mapping of str to float or array-like
-        ``{kind: {group: value or values}}`` with ``kind`` in :data:`KINDS`;
-        a value for every column of the group, or one per column.
+        ``{group or column: {kind: value}}`` with ``kind`` in :data:`KINDS`:
+        for a group, one value for each of its columns or one per column;
+        for a column (by its name), one value. A column named twice (by its
+        group and by its name) takes the smaller limit.
     demo : Demonstration
         The path the limits are for.
 
@@ -113,78 +119,86 @@ def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
     Examples
     --------
     >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 0], [1, 1]])
-    >>> check_limits({"velocity": {"position": 2.0}}, d)["velocity"]
-    array([2., 2.])
+    >>> lim = check_limits({"position": {"velocity": 2.0}, "y": {"velocity": 1.0}}, d)
+    >>> lim["velocity"]
+    array([2., 1.])
     """
     if not isinstance(limits, Mapping):
         raise ValidationError(
-            "limits must be a mapping like {'velocity': {'joints': 90.0}}; "
+            "limits must be a mapping like {'joints': {'velocity': 90.0}}; "
             f"got {type(limits).__name__}"
         )
     out = {kind: np.full(demo.n_dims, np.inf) for kind in KINDS}
-    for kind, per_group in limits.items():
-        if kind not in KINDS:
+    for key, per_kind in limits.items():
+        cols = _limited_columns(demo, key)
+        if not isinstance(per_kind, Mapping):
             raise ValidationError(
-                f"unknown limit {kind!r}; expected one of {', '.join(KINDS)}"
+                f"limits[{key!r}] must map {', '.join(KINDS)} to values, e.g."
+                f" {{{key!r}: {{'velocity': 1.0}}}}; got {type(per_kind).__name__}"
             )
-        if not isinstance(per_group, Mapping):
-            raise ValidationError(
-                f"limits[{kind!r}] must map group names to values; "
-                f"got {type(per_group).__name__}"
-            )
-        for group, value in per_group.items():
-            out[kind][_group_columns(demo, group)] = _limit_values(
-                value, demo, group, kind
-            )
+        for kind, value in per_kind.items():
+            if kind not in KINDS:
+                raise ValidationError(
+                    f"unknown limit {kind!r} of {key!r}; expected one of"
+                    f" {', '.join(KINDS)}"
+                )
+            v = _limit_values(value, demo, key, kind, cols)
+            out[kind][cols] = np.minimum(out[kind][cols], v)
     return out
 
 
-def _group_columns(demo: Demonstration, group) -> np.ndarray:
-    if not isinstance(group, str) or not demo.has_group(group):
+def _limited_columns(demo: Demonstration, key) -> np.ndarray:
+    """The columns of a group or the one column of that name."""
+    if isinstance(key, str) and demo.has_group(key):
+        group, cols = key, demo.columns_of(key)
+    elif isinstance(key, str) and key in demo.columns:
+        cols = np.array([demo.columns.index(key)])
+        group = demo.groups[cols[0]]
+    else:
         raise ValidationError(
-            f"no group {group!r} to limit; the path has {', '.join(demo.group_names)}"
+            f"no group or column {key!r} to limit; the path has the groups"
+            f" {', '.join(demo.group_names)} and the columns {', '.join(demo.columns)}"
         )
     if group in _UNLIMITED:
         raise ValidationError(
-            f"group {group!r} holds quaternions and cannot be limited column by "
+            f"{key!r} holds quaternions and cannot be limited column by "
             "column; limit the position or joint groups"
         )
     if group == "velocity" and demo.has_group("position"):
         raise ValidationError(
             "limit the position group's velocity and acceleration "
-            "(limits={'velocity': {'position': ...}}), not the velocity group"
+            "(limits={'position': {'velocity': ...}}), not the velocity group"
         )
-    return demo.columns_of(group)
+    return cols
 
 
-def _limit_values(value, demo, group, kind) -> np.ndarray:
-    cols = demo.columns_of(group)
+def _limit_values(value, demo, key, kind, cols) -> np.ndarray:
     try:
         v = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise ValidationError(
-            f"the {kind} limit of {group!r} must be numbers; got {value!r}"
+            f"the {kind} limit of {key!r} must be numbers; got {value!r}"
         ) from None
     if v.ndim > 1 or (v.ndim == 1 and v.size not in (1, cols.size)):
         raise ValidationError(
-            f"the {kind} limit of {group!r} must be one value or {cols.size} "
+            f"the {kind} limit of {key!r} must be one value or {cols.size} "
             f"(one per column: {', '.join(demo.columns[c] for c in cols)}); "
             f"got {v.size}"
         )
     if not (np.isfinite(v).all() and (v > 0).all()):
         raise ValidationError(
-            f"the {kind} limit of {group!r} must be finite and > 0; got {value!r}"
+            f"the {kind} limit of {key!r} must be finite and > 0; got {value!r}"
         )
-    return np.broadcast_to(v.reshape(-1), cols.shape).copy() if v.ndim else v
+    return np.broadcast_to(v.reshape(-1), cols.shape).copy()
 
 
 def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
-    """The largest absolute velocity and acceleration of every column.
+    """The largest absolute velocity, acceleration and jerk of every column.
 
     Measured as a controller sampling the path sees them: ``numpy.gradient``
     over the path's own stamps (second order at the ends, as
-    :func:`~ndlfd.with_velocity`), once for velocity and again for
-    acceleration.
+    :func:`~ndlfd.with_velocity`), once for velocity, again for acceleration
+    and again for jerk.
 
     Parameters
     ----------
@@ -194,14 +208,14 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
     Returns
     -------
     peaks : dict of str to ndarray of shape (n_dims,)
-        ``"velocity"`` and ``"acceleration"``.
+        ``"velocity"``, ``"acceleration"`` and ``"jerk"``.
 
     Examples
     --------
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> d = Demonstration.from_arrays(t, position=np.column_stack([2 * t, t * t]))
     >>> {k: v.round(6).tolist() for k, v in path_peaks(d).items()}
-    {'velocity': [2.0, 2.0], 'acceleration': [0.0, 2.0]}
+    {'velocity': [2.0, 2.0], 'acceleration': [0.0, 2.0], 'jerk': [0.0, 0.0]}
     """
     if path.n_samples < 3:
         raise ValidationError(
@@ -209,7 +223,12 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
         )
     V = np.gradient(path.X, path.t, axis=0, edge_order=2)
     A = np.gradient(V, path.t, axis=0, edge_order=2)
-    return {"velocity": np.abs(V).max(axis=0), "acceleration": np.abs(A).max(axis=0)}
+    J = np.gradient(A, path.t, axis=0, edge_order=2)
+    return {
+        "velocity": np.abs(V).max(axis=0),
+        "acceleration": np.abs(A).max(axis=0),
+        "jerk": np.abs(J).max(axis=0),
+    }
 
 
 def _within(peaks, lim, tol: float = TOLERANCE) -> bool:
@@ -313,8 +332,8 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     path : Demonstration
         A dense path (at least three samples).
     limits : mapping
-        ``{"velocity": {group: value(s)}, "acceleration": {group: value(s)}}``
-        (:func:`check_limits`).
+        ``{group or column: {"velocity": v, "acceleration": a, "jerk": j}}``
+        (:func:`check_limits`; any of the three).
     rate : float, optional
         Samples per second of the result (stamps ``k / rate`` after the
         path's first); the path's own median step by default.
@@ -334,8 +353,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     --------
     >>> t = np.linspace(0.0, 1.0, 101)
     >>> d = Demonstration.from_arrays(t, position=np.column_stack([3 * t, 0 * t]))
-    >>> slow = time_scale(d, {"velocity": {"position": 1.5},
-    ...                       "acceleration": {"position": 10.0}})
+    >>> slow = time_scale(d, {"position": {"velocity": 1.5, "acceleration": 10.0}})
     >>> bool(path_peaks(slow)["velocity"].max() <= 1.5 * (1 + 1e-3))
     True
     >>> bool(slow.duration > 2.0), slow.X[-1].tolist()
@@ -355,6 +373,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     # aimed a margin below the limits: TOPP-RA meets them at its grid points,
     # the samples between overshoot by up to a few per mille
     tight = {k: v * (1.0 - MARGIN) for k, v in lim.items()}
+    stretch = 1.0  # a uniform slow-down after TOPP-RA, for jerk
     for _ in range(RETRIES + 1):
         traj = _clock_at(toppra, path, spline, tight, n_grid)
         if traj is None:
@@ -362,7 +381,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
                 "no timing of the path meets the limits (TOPP-RA found none): "
                 "check that every limit is above zero and in the path's units"
             )
-        n = max(int(np.ceil(traj.duration / step - 1e-9)), 2)
+        n = max(int(np.ceil(stretch * traj.duration / step - 1e-9)), 2)
         new_t = np.arange(n + 1) * step if rate is None else np.arange(n + 1) / rate
         # stretched to a whole number of steps: only slower, so still within
         clock = traj(new_t * (traj.duration / new_t[-1]))[:, -1]
@@ -372,9 +391,13 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
         peaks = path_peaks(out)
         if _within(peaks, lim):
             return out
-        for k in KINDS:
+        for k in ("velocity", "acceleration"):
             over = peaks[k] / lim[k]
             tight[k] = tight[k] / (np.maximum(over.max(), 1.0) * (1.0 + MARGIN))
+        # jerk falls as the square (an acceleration step sampled) to the cube
+        # of a uniform slow-down: the square root is enough either way
+        over = float(np.max(peaks["jerk"] / lim["jerk"]))
+        stretch *= np.sqrt(max(over, 1.0)) * (1.0 + MARGIN)
     worst = max(KINDS, key=lambda k: float(np.max(peaks[k] / lim[k])))
     raise LimitError(
         f"the path's {worst} stays above its limits after {RETRIES + 1} "

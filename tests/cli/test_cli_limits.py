@@ -52,7 +52,8 @@ def test_without_limits_the_peaks_are_reported(model_file, tmp_path, capsys):
     "extra, match",
     [
         ([], "pass --dense"),
-        (["--dense", "--max-velocity", "joints=1"], "unknown group 'joints'"),
+        (["--dense", "--max-velocity", "joints=1"], "no group or column 'joints'"),
+        (["--dense", "--max-velocity", "1,2"], "NAME=V1[,V2,...]"),
         (["--dense", "--max-velocity", "position=0"], "finite and > 0"),
         (["--dense", "--max-velocity", "position=1,2,3"], "one value or 2"),
     ],

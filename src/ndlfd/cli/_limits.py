@@ -11,30 +11,38 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..demonstration import Demonstration
-from ..limits import path_peaks, time_scale
-from ._conditions import parse_condition
-from ._options import say
+from ..limits import KINDS, path_peaks, time_scale
+from ._options import parse_floats, say
 
 __all__ = ["add_limit_options", "apply_limits", "parse_limits", "peaks_line"]
 
 
 def add_limit_options(p) -> None:
-    """The two limit flags (repeatable, one group each)."""
+    """The three limit flags (repeatable, one group or column each)."""
     g = p.add_argument_group(
         "a robot's limits",
-        "Per second (per second squared), in the units of the demonstrations,"
-        " one value for every column of the group or one per column. A path"
+        "Per second (squared, cubed), in the units of the demonstrations. A path"
         " that would exceed them is slowed down along the same route"
         " (TOPP-RA, needs ndlfd[limits]), starting and ending at rest;"
         " the output then lasts longer than the timing.",
     )
-    for kind in ("velocity", "acceleration"):
+    for kind, example in (
+        ("velocity", "90"),
+        ("acceleration", "400"),
+        ("jerk", "5000"),
+    ):
         g.add_argument(
             f"--max-{kind}",
             action="append",
-            metavar="[GROUP=]V1[,V2,...]",
-            help=f"the largest {kind} of each column of GROUP, e.g. --max-{kind}"
-            f" joints={'90' if kind == 'velocity' else '400'}; repeatable",
+            metavar="NAME=V1[,V2,...]",
+            help=f"the largest {kind} of each column of the group NAME (one value,"
+            f" or one per column), or of the column NAME, e.g. --max-{kind}"
+            f" joints={example}; repeatable"
+            + (
+                " (met by slowing the whole path down: not time-optimal)"
+                if kind == "jerk"
+                else ""
+            ),
         )
 
 
@@ -43,16 +51,26 @@ def parse_limits(args: argparse.Namespace) -> dict | None:
 
     Examples
     --------
-    >>> args = argparse.Namespace(max_velocity=["joints=90,80"],
-    ...                           max_acceleration=None)
-    >>> parse_limits(args)
-    {'velocity': {'joints': [90.0, 80.0]}}
+    >>> args = argparse.Namespace(max_velocity=["joints=90,80", "wrist.pos=30"],
+    ...                           max_acceleration=["joints=400"], max_jerk=None)
+    >>> limits = parse_limits(args)
+    >>> limits["joints"], limits["wrist.pos"]
+    ({'velocity': [90.0, 80.0], 'acceleration': [400.0]}, {'velocity': [30.0]})
     """
-    out = {}
-    for kind in ("velocity", "acceleration"):
-        given = parse_condition(getattr(args, f"max_{kind}"), f"--max-{kind}")
-        if given:
-            out[kind] = given
+    out: dict[str, dict] = {}
+    for kind in KINDS:
+        flag = f"--max-{kind}"
+        for text in getattr(args, f"max_{kind}", None) or []:
+            name, eq, values = text.partition("=")
+            name = name.strip()
+            if not eq or not name:
+                raise ValidationError(
+                    f"{flag} must look like NAME=V1[,V2,...] (a group or a column);"
+                    f" got {text!r}"
+                )
+            if kind in out.get(name, {}):
+                raise ValidationError(f"{flag} gives {name} twice; give it once")
+            out.setdefault(name, {})[kind] = parse_floats(values, f"{flag} {name}")
     return out or None
 
 
@@ -97,7 +115,7 @@ def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=
     limits = parse_limits(args)
     if limits is not None and (not dense or std is not None or prefix is not None):
         raise ValidationError(
-            "--max-velocity/--max-acceleration time-scale a dense path: pass"
+            "--max-velocity/-acceleration/-jerk time-scale a dense path: pass"
             " --dense, and neither --std nor --observed (whose stamps are kept)"
         )
     out = path if limits is None else time_scale(path, limits, rate=args.rate)

@@ -329,8 +329,8 @@ class KeypointHMM(ParamsMixin):
             Via points ``[(time, {group: values})]`` the path passes through;
             the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`).
         limits : mapping, optional
-            ``{"velocity": {group: v}, "acceleration": {group: a}}``: the
-            dense path slowed where it would exceed them (:mod:`ndlfd.limits`).
+            ``{group or column: {"velocity": v, "acceleration": a, "jerk": j}}``:
+            the dense path slowed where it would exceed them (:mod:`ndlfd.limits`).
 
         Returns
         -------
