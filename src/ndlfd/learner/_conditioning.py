@@ -584,6 +584,10 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     gripper switch if that comes earlier (:func:`switch_window`), the goal's
     offset comes in after the last of them, so the path reaches a grasp or
     placement where the demonstrations do, not shifted by a start elsewhere.
+    The ramp runs on the path's :func:`progress`, not its clock: the offset
+    is absorbed as the path moves, in proportion, and a path at rest (a robot
+    waiting before it moves) stays at rest; a window without motion fades by
+    time.
 
     Parameters
     ----------
