@@ -4,8 +4,8 @@ Demonstrations are reduced to key points by an n-dimensional Douglas–Peucker
 algorithm over group-normalized channels, encoded as codebook states, learned by
 a supervised discrete hidden Markov model, and decoded for a new timing by
 Viterbi. The public names live in small private modules and are re-exported
-here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``metrics``,
-``plot``, ``baselines`` and ``evaluation`` are public too.
+here; the submodules ``hmm``, ``synth``, ``datasets``, ``io``, ``limits``,
+``metrics``, ``plot``, ``baselines`` and ``evaluation`` are public too.
 """
 
 from . import (
@@ -13,6 +13,7 @@ from . import (
     datasets,
     hmm,
     io,
+    limits,
     metrics,
     orientation,
     plot,
@@ -69,6 +70,7 @@ __all__ = [
     "hmm",
     "io",
     "keep_workers",
+    "limits",
     "load_lasa",
     "metrics",
     "orientation",
