@@ -70,6 +70,16 @@ def test_so_arm_joints_go_out_in_radians_by_default(
         " are radians"
     )
     assert err[-1] == f"generated 30 samples -> {out}"
+    # a bag's JointState alike
+    pytest.importorskip("rosbags")
+    from bag_samples import rosbags_read
+
+    rc, err = cli(capsys, "generate", model, *GENERATE, "-o", tmp_path / "j.mcap")
+    assert rc == 0 and err[-2].startswith("joints taken for degrees"), err
+    got = rosbags_read(tmp_path / "j.mcap", "/ndlfd/path/joint_states")
+    np.testing.assert_allclose(
+        [m.position for _, m in got], np.deg2rad(want[:, :5]), rtol=1e-12
+    )
     # --units rad: as they are (and the warning that they look like degrees)
     rc, err = cli(capsys, "generate", model, *GENERATE, "--units", "rad",
                   "-o", out)  # fmt: skip
