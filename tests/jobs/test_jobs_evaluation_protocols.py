@@ -48,6 +48,39 @@ def test_each_protocol_gives_what_it_says():
     # two samples: one observed, one generated
     kw, first = PROTOCOLS.get("prefix").conditions(_demo(2))
     assert first == 1 and kw["observed"].shape == (1, 2)
+    # the start, the grasp (42 % of the samples: 0.42 * 40 = 16.8 -> 17), the goal
+    kw, first = PROTOCOLS.get("task").conditions(test)
+    assert first == 0 and sorted(kw) == ["start", "via"]
+    np.testing.assert_array_equal(kw["start"], P[0])
+    assert [w for w, _ in kw["via"]] == [t[17], t[40]]
+    np.testing.assert_array_equal(np.array([p for _, p in kw["via"]]), P[[17, 40]])
+
+
+def test_the_pick_and_place_sets_are_the_synthetic_ones():
+    from ndlfd import synth
+    from ndlfd.jobs._evaluation_protocols import TASK_SHAPES, load_shape, shape_group
+
+    for name, yaw in TASK_SHAPES.items():
+        demos = load_shape(name)
+        want, _ = synth.pick_place(12, yaw=np.deg2rad(yaw), random_state=0)
+        assert len(demos) == 12 and all(
+            a == b for a, b in zip(demos, want, strict=True)
+        )
+        assert shape_group(name) == "task"
+
+
+def test_evaluate_runs_the_task_protocol_on_a_pick_and_place_set():
+    from ndlfd.jobs.evaluation import evaluate
+
+    result = evaluate(["PickPlace"], generators=["ndlfd", "mean"], folds=2, n_jobs=1,
+                      progress=False)  # fmt: skip
+    assert result.protocols == ("time", "time+start", "via", "prefix", "task")
+    rows = [r for r in result.rows if r["protocol"] == "task"]
+    assert len(rows) == 4 and all(r["ok"] and r["group"] == "task" for r in rows)
+    # both pass through the grasp and the goal exactly
+    assert all(r["via_error"] < 1e-9 for r in rows)
+    lasa = evaluate(["Line"], generators=["mean"], folds=1, n_jobs=1, progress=False)
+    assert "task" not in lasa.protocols
 
 
 def _path(test, seed):

@@ -97,13 +97,19 @@ def add_evaluate(sub) -> None:
             ' DMP need pip install "ndlfd[eval]".'
         ),
     )
-    p.add_argument("--shapes", help="comma-separated LASA shapes (default: all 30)")
+    p.add_argument(
+        "--shapes",
+        help="comma-separated LASA shapes (default: all 30), or the pick-and-place"
+        " sets PickPlace, PickPlaceTurned (protocol task: the start, the grasp and"
+        " the goal given)",
+    )
     p.add_argument(
         "--folds", type=int, help="held-out demonstrations per shape (default: 7)"
     )
     p.add_argument(
         "--protocols",
-        help="comma-separated protocols: time, time+start, via, prefix (default: all)",
+        help="comma-separated protocols: time, time+start, via, prefix, task"
+        " (default: all, task only with a pick-and-place set)",
     )
     p.add_argument(
         "--generators",

@@ -12,12 +12,15 @@ from __future__ import annotations
 import numpy as np
 
 from .. import plot
-from ..datasets import load_lasa
-from ._evaluation_protocols import shape_group
+from ._evaluation_protocols import load_shape, shape_group
 
 __all__ = ["GROUPS", "boxplot_figure", "shape_figure"]
 
-GROUPS = {"single": "single-pattern shapes", "multi": "Multi_Models shapes"}
+GROUPS = {
+    "single": "single-pattern shapes",
+    "multi": "Multi_Models shapes",
+    "task": "pick-and-place sets",
+}
 
 
 def boxplot_figure(rows, groups, protocols, generators):
@@ -57,7 +60,7 @@ def shape_figure(shape: str, example: dict, protocols, generators):
     a last panel draws the samples (:data:`~._evaluation_protocols.SAMPLES`
     paths drawn from the model, thin red lines) when there are some.
     """
-    demos = load_lasa(shape)
+    demos = load_shape(shape)
     k = example["fold"]
     train = [d for i, d in enumerate(demos) if i != k]
     samples = example.get("samples") or []

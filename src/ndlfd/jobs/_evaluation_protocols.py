@@ -12,7 +12,17 @@ are scored:
 ``"prefix"``      protocol *P*: its first :data:`PREFIX_FRACTION` of samples
                   observed (``observed=p[:n_observed]``, as a robot replanning
                   during an execution); only the remaining samples are scored
+``"task"``        its start, its position at the grasp (the object's, at
+                  :data:`~ndlfd.synth.PICK_PLACE_GRASP` of its samples) and
+                  its goal, the last two as via points
+                  (``via=[(t[g], p[g]), (t[-1], p[-1])]``): a pick-and-place
+                  whose object and place moved
 ================  ==========================================================
+
+Besides LASA's shapes, :data:`TASK_SHAPES` are pick-and-place sets
+(:func:`ndlfd.synth.pick_place`, 12 demonstrations: the object and the place
+moved by up to 0.1 m, and in ``"PickPlaceTurned"`` turned by up to 60
+degrees), the group ``"task"``.
 
 :func:`run_fold` fits every generator on all demonstrations of a shape but
 one and scores each protocol's path (:func:`score`).
@@ -40,6 +50,7 @@ from ..metrics import (
     time_aligned_rmse,
     turning_ratio,
 )
+from ..synth import PICK_PLACE_GRASP, pick_place
 
 __all__ = [
     "METRICS",
@@ -47,7 +58,9 @@ __all__ = [
     "PROTOCOLS",
     "ROW_KEYS",
     "SAMPLES",
+    "TASK_SHAPES",
     "Protocol",
+    "load_shape",
     "message",
     "run_fold",
     "score",
@@ -118,6 +131,13 @@ def _via(test):
     return {"start": P[0], "via": [(float(test.t[k]), P[k])]}, 0
 
 
+def _task(test):
+    P, n = test.get("position"), test.n_samples
+    g = round(PICK_PLACE_GRASP * (n - 1))
+    return {"start": P[0], "via": [(float(test.t[g]), P[g]),
+                                   (float(test.t[-1]), P[-1])]}, 0  # fmt: skip
+
+
 def _prefix(test):
     n = min(test.n_samples - 1, math.ceil(PREFIX_FRACTION * test.n_samples))
     return {"observed": test.get("position")[:n]}, n
@@ -129,16 +149,38 @@ PROTOCOLS.add("time", Protocol(_time))
 PROTOCOLS.add("time+start", Protocol(_start))
 PROTOCOLS.add("via", Protocol(_via, ("via_error",)))
 PROTOCOLS.add("prefix", Protocol(_prefix, ("prefix_jump",)))
+PROTOCOLS.add("task", Protocol(_task, ("via_error",)))
+
+#: The pick-and-place sets besides LASA's shapes: name -> largest turn (deg).
+TASK_SHAPES = {"PickPlace": 0.0, "PickPlaceTurned": 60.0}
 
 
-def shape_group(name: str) -> str:
-    """``"multi"`` for the 4 ``Multi_Models_*`` shapes, ``"single"`` otherwise.
+def load_shape(name: str) -> list[Demonstration]:
+    """The demonstrations of a LASA shape or of a :data:`TASK_SHAPES` set.
 
     Examples
     --------
-    >>> shape_group("Multi_Models_2"), shape_group("GShape")
-    ('multi', 'single')
+    >>> len(load_shape("PickPlace")), load_shape("PickPlace")[0].group_names
+    (12, ('position', 'orientation', 'gripper'))
     """
+    if name in TASK_SHAPES:
+        return pick_place(12, yaw=math.radians(TASK_SHAPES[name]), random_state=0)[0]
+    return load_lasa(name)
+
+
+def shape_group(name: str) -> str:
+    """The group a shape's results are pooled in.
+
+    ``"multi"`` for the 4 ``Multi_Models_*`` shapes, ``"task"`` for the
+    :data:`TASK_SHAPES`, ``"single"`` otherwise.
+
+    Examples
+    --------
+    >>> [shape_group(s) for s in ("Multi_Models_2", "GShape", "PickPlace")]
+    ['multi', 'single', 'task']
+    """
+    if name in TASK_SHAPES:
+        return "task"
     return "multi" if name.startswith("Multi_Models") else "single"
 
 
@@ -266,7 +308,7 @@ def run_fold(
 
 
 def _run_fold(shape, fold, protocols, factories, keep_paths):
-    demos = load_lasa(shape)
+    demos = load_shape(shape)
     test = demos[fold]
     train = [d for i, d in enumerate(demos) if i != fold]
     scale = shape_range(demos)

@@ -76,7 +76,7 @@ from .._fileformat import atomic_path
 from .._registry import Registry
 from .._validation import check_positive_int
 from ..baselines import BASELINES, KeypointHMMGenerator
-from ..datasets import LASA_SHAPES, lasa_names, load_lasa
+from ..datasets import LASA_SHAPES, lasa_names
 from ._evaluation_figures import (
     GROUPS,
     boxplot_figure,
@@ -87,6 +87,8 @@ from ._evaluation_protocols import (
     METRICS,
     PROTOCOLS,
     ROW_KEYS,
+    TASK_SHAPES,
+    load_shape,
     run_fold,
     shape_group,
 )
@@ -471,7 +473,10 @@ def evaluate(
     Parameters
     ----------
     shapes : sequence of str, optional
-        LASA shape names (:func:`ndlfd.datasets.lasa_names`); all 30 by default.
+        LASA shape names (:func:`ndlfd.datasets.lasa_names`; all 30 by default)
+        or the pick-and-place sets of
+        :data:`~ndlfd.jobs._evaluation_protocols.TASK_SHAPES` (``"PickPlace"``,
+        ``"PickPlaceTurned"``; protocol ``"task"``).
     generators : sequence of str or mapping of str to callable, optional
         Names from :data:`GENERATORS` (``"ndlfd"``, ``"mean"``, ``"promp"``,
         ``"gmr"``, ``"dmp"``; all by default), or a mapping from names to
@@ -482,9 +487,10 @@ def evaluate(
         ``{"fine": functools.partial(KeypointHMMGenerator, levels=50)}``.
         With ``n_jobs > 1`` the factories must be picklable (classes and
         ``functools.partial`` are, lambdas are not).
-    protocols : sequence of {"time", "time+start", "via", "prefix"}, optional
-        What a generator is given besides the training demonstrations (all
-        four by default; see the module's description).
+    protocols : sequence of {"time", "time+start", "via", "prefix", "task"}, optional
+        What a generator is given besides the training demonstrations (the
+        first four by default, and ``"task"`` too when a pick-and-place set
+        is among the shapes; see the module's description).
     folds : int, optional
         Hold out only the first ``folds`` demonstrations of each shape (all 7
         by default).
@@ -533,25 +539,34 @@ def evaluate(
     if not names:
         raise ValidationError("shapes must name at least one LASA shape")
     for s in names:
-        LASA_SHAPES.check(s)
-    if protocols is None:
-        protocols = PROTOCOLS.names
+        if s not in TASK_SHAPES:
+            LASA_SHAPES.check(s)
+    if protocols is None:  # "task" needs a pick-and-place set
+        protocols = tuple(p for p in PROTOCOLS.names if p != "task")
+        if any(s in TASK_SHAPES for s in names):
+            protocols += ("task",)
     protocols = (protocols,) if isinstance(protocols, str) else tuple(protocols)
     if not protocols:
         raise ValidationError("protocols must name at least one protocol")
     for p in protocols:
         PROTOCOLS.check(p)
     factories = _resolve_generators(generators)
-    n_demos = len(load_lasa(names[0]))
-    n_folds = n_demos if folds is None else check_positive_int(folds, "folds")
-    if n_folds > n_demos:
-        raise ValidationError(
-            f"folds must be at most {n_demos} (the demonstrations of a shape); got"
-            f" {folds}"
-        )
+    n_demos = {s: len(load_shape(s)) for s in names}
+    fewest = min(n_demos.values())
+    if folds is None:  # every demonstration of every shape held out once
+        n_folds = max(n_demos.values())
+    else:
+        n_folds = check_positive_int(folds, "folds")
+        if n_folds > fewest:
+            raise ValidationError(
+                f"folds must be at most {fewest} (the demonstrations of a shape);"
+                f" got {folds}"
+            )
     jobs = _resolve_jobs(n_jobs)
     tasks = [
-        (s, k, protocols, factories, k == 0) for s in names for k in range(n_folds)
+        (s, k, protocols, factories, k == 0)
+        for s in names
+        for k in range(min(n_folds, n_demos[s]))
     ]
 
     from tqdm import tqdm
