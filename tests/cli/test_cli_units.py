@@ -1,10 +1,12 @@
-"""The units of ROS outputs: degrees by default for LeRobot SO-100/101 joints.
+"""The units of ROS outputs, and LeRobot SO-100/101 joints that need them said.
 
-LeRobot records an SO-100/101 arm's joints in degrees; ROS reads radians.
-``generate`` takes them for degrees when the data came from a LeRobot dataset
-with those names (``NAME.pos`` or the older ``main_NAME``), says so, and
-``--units rad`` keeps them as they are. The reference is the model's own
-path, converted here with ``numpy.deg2rad``.
+LeRobot records an SO-100/101 arm's joints in degrees when the robot was
+configured with ``use_degrees=True``, else in -100..100 of each joint's
+calibrated range (its default); ROS reads radians. ``generate`` refuses to
+guess for a LeRobot dataset with those names (``NAME.pos`` or the older
+``main_NAME``): ``--units deg`` converts, ``--units rad`` keeps them as they
+are. The reference is the model's own path, converted here with
+``numpy.deg2rad``.
 """
 
 import numpy as np
@@ -50,32 +52,29 @@ GENERATE = ("--duration", 2, "--samples", 30, "--dense")
         (write_so100, "main_shoulder_pan", SO100_STATE),
     ],
 )  # fmt: skip
-def test_so_arm_joints_go_out_in_radians_by_default(
-    tmp_path, capsys, write, first, joints
-):
+def test_so_arm_joints_need_their_units_said(tmp_path, capsys, write, first, joints):
     root, _ = write(tmp_path / "ds", n_demos=4)
     model = tmp_path / "m.ndlfd"
     rc, err = cli(capsys, "fit", root, "-o", model, "-q")
     assert rc == 0, err
     out = tmp_path / "traj.yaml"
     rc, err = cli(capsys, "generate", model, *GENERATE, "-o", out)
-    assert rc == 0, err
+    assert rc == 2 and not out.exists()
+    assert f"the joints ({first}, ...) come from a LeRobot SO-100/101" in err[-1]
+    assert "use_degrees=True" in err[-1] and "-100..100" in err[-1]
+    want = _want(model)
+    # --units deg: converted to radians, in the trajectory and a bag's JointState
+    rc, err = cli(capsys, "generate", model, *GENERATE, "--units", "deg", "-o", out)
+    assert rc == 0 and err[-1] == f"generated 30 samples -> {out}"
     names, got = _trajectory(out)
     assert names == list(joints)
-    want = _want(model)
     np.testing.assert_allclose(got, np.deg2rad(want), rtol=1e-12, atol=0)
-    assert err[-2] == (
-        "joints taken for degrees, as LeRobot records an SO-100/101 arm"
-        f" ({first}, ...), and written in radians for ROS; --units rad if they"
-        " are radians"
-    )
-    assert err[-1] == f"generated 30 samples -> {out}"
-    # a bag's JointState alike
     pytest.importorskip("rosbags")
     from bag_samples import rosbags_read
 
-    rc, err = cli(capsys, "generate", model, *GENERATE, "-o", tmp_path / "j.mcap")
-    assert rc == 0 and err[-2].startswith("joints taken for degrees"), err
+    rc, err = cli(capsys, "generate", model, *GENERATE, "--units", "deg",
+                  "-o", tmp_path / "j.mcap")  # fmt: skip
+    assert rc == 0, err
     got = rosbags_read(tmp_path / "j.mcap", "/ndlfd/path/joint_states")
     np.testing.assert_allclose(
         [m.position for _, m in got], np.deg2rad(want[:, :5]), rtol=1e-12
@@ -85,13 +84,7 @@ def test_so_arm_joints_go_out_in_radians_by_default(
                   "-o", out)  # fmt: skip
     assert rc == 0, err
     np.testing.assert_array_equal(_trajectory(out)[1], want)
-    assert not any(e.startswith("joints taken") for e in err)
     assert any("more than a turn in radians" in e for e in err)
-    # --units deg given: no note, the same radians
-    rc, err = cli(capsys, "generate", model, *GENERATE, "--units", "deg", "-o", out)
-    assert rc == 0 and err[-1] == f"generated 30 samples -> {out}"
-    assert not any(e.startswith("joints taken") for e in err)
-    np.testing.assert_allclose(_trajectory(out)[1], np.deg2rad(want), rtol=1e-12)
 
 
 def test_other_lerobot_joints_stay_radians(tmp_path, capsys):
@@ -110,12 +103,11 @@ def test_other_lerobot_joints_stay_radians(tmp_path, capsys):
     out = tmp_path / "traj.yaml"
     rc, err = cli(capsys, "generate", model, *GENERATE, "-o", out)
     assert rc == 0 and err[-1] == f"generated 30 samples -> {out}"
-    assert not any(e.startswith("joints taken") for e in err)
     np.testing.assert_array_equal(_trajectory(out)[1], _want(model))
 
 
-def test_like_decides_the_units_of_a_model_without_a_mapping(tmp_path, capsys):
-    # an SO-101 dataset's joints as a --like file: its mapping says degrees
+def test_like_decides_for_a_model_without_a_mapping(tmp_path, capsys):
+    # an SO-101 dataset's joints as a --like file: its mapping needs --units
     root, _ = write_so101(tmp_path / "ds", n_demos=4)
     model = tmp_path / "m.ndlfd"
     rc, err = cli(capsys, "fit", root, "-o", model, "-q")
@@ -124,16 +116,17 @@ def test_like_decides_the_units_of_a_model_without_a_mapping(tmp_path, capsys):
     m.input_mapping_ = None  # as a model fitted on several mappings
     m.save(model)
     out = tmp_path / "traj.yaml"
-    rc, err = cli(capsys, "generate", model, "--like", root, "--episodes", "1",
-                  "--dense", "-o", out)  # fmt: skip
+    like = ("--like", root, "--episodes", "1", "--dense")
+    rc, err = cli(capsys, "generate", model, *like, "-o", out)
+    assert rc == 2 and "come from a LeRobot SO-100/101" in err[-1]
+    rc, err = cli(capsys, "generate", model, *like, "--units", "deg", "-o", out)
     assert rc == 0, err
-    assert err[-2].startswith("joints taken for degrees")
     np.testing.assert_allclose(
         _trajectory(out)[1][:, :5],
         np.deg2rad(KeypointHMM.load(model).generate(
             read_lerobot(root, episodes=[1])[0], dense=True).get("joints")),
         rtol=1e-12,
     )  # fmt: skip
+    # without --like, the model has no mapping: radians, with the warning
     rc, err = cli(capsys, "generate", model, *GENERATE, "-o", out)
-    assert rc == 0 and not any(e.startswith("joints taken") for e in err)
-    assert any("more than a turn in radians" in e for e in err)
+    assert rc == 0 and any("more than a turn in radians" in e for e in err)

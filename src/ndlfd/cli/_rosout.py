@@ -48,7 +48,7 @@ def add_ros_output_options(p) -> None:
     g = p.add_argument_group(
         "ROS 2 outputs (bags, joint trajectories)",
         "ROS wants joint angles in radians: joints in degrees need --units deg"
-        " (the default for LeRobot's SO-100/101 arms, which record degrees)."
+        " (LeRobot's SO-100/101 arms need --units: degrees or -100..100)."
         " The joint trajectory's velocities and"
         " accelerations are 0 at both ends (they fade over the first and last 5 %"
         " of the duration), as a joint_trajectory_controller wants.",
@@ -77,8 +77,8 @@ def add_ros_output_options(p) -> None:
         choices=tuple(JOINT_UNITS),
         default=None,
         help="the units of the joint columns; deg is converted to radians for"
-        " ROS (default: deg when the model's data (or --like) are a LeRobot"
-        " dataset's SO-100/101 joints, NAME.pos or main_NAME; else rad)",
+        " ROS (default rad; required for a LeRobot dataset's SO-100/101 joints,"
+        " NAME.pos or main_NAME: degrees with use_degrees=True, else -100..100)",
     )
 
 
@@ -130,10 +130,13 @@ def check_ros_output(args: argparse.Namespace, out: Path, fmt: str) -> None:
 
 
 def joint_units(units: str | None, mapping) -> tuple[str, str]:
-    """The joints' units: ``units`` (``--units``) if given, else inferred.
+    """The joints' units: ``units`` (``--units``) if given, else radians.
 
-    Degrees for a LeRobot dataset's SO-100/101 joints (LeRobot records those
-    arms in degrees), else radians.
+    A LeRobot dataset's SO-100/101 joints are refused without ``--units``:
+    LeRobot records those arms in degrees only when the robot was configured
+    with ``use_degrees=True``; by default each joint is normalized to
+    -100..100 of its calibrated range (``MotorNormMode.RANGE_M100_100``), which
+    no unit converts to radians. Only the user knows which.
 
     Parameters
     ----------
@@ -147,7 +150,12 @@ def joint_units(units: str | None, mapping) -> tuple[str, str]:
     -------
     units : str
     note : str
-        For the summary when the units were inferred as degrees, else ``""``.
+        For the summary: what the joints were written as, else ``""``.
+
+    Raises
+    ------
+    ValidationError
+        SO-100/101 joints from LeRobot without ``units``.
 
     Examples
     --------
@@ -155,10 +163,8 @@ def joint_units(units: str | None, mapping) -> tuple[str, str]:
     >>> m = ColumnMapping("so101 episode 0", "timestamp",
     ...                   (("joints", ("shoulder_pan.pos", "elbow_flex.pos")),),
     ...                   layout="LeRobot v3.0, action")
-    >>> joint_units(None, m)[0], joint_units("rad", m)[0]
-    ('deg', 'rad')
-    >>> joint_units(None, None)
-    ('rad', '')
+    >>> joint_units("deg", m)[0], joint_units("rad", m)[0], joint_units(None, None)
+    ('deg', 'rad', ('rad', ''))
     """
     if units is not None:
         return units, ""
@@ -168,10 +174,13 @@ def joint_units(units: str | None, mapping) -> tuple[str, str]:
         and layout_feature(mapping.layout) is not None
         and all(map(is_so_arm_joint, joints))
     ):
-        return "deg", (
-            "joints taken for degrees, as LeRobot records an SO-100/101 arm"
-            f" ({joints[0]}, ...), and written in radians for ROS; --units rad if"
-            " they are radians"
+        raise ValidationError(
+            f"the joints ({joints[0]}, ...) come from a LeRobot SO-100/101 dataset,"
+            " recorded in degrees (a robot configured with use_degrees=True) or"
+            " in -100..100 of each joint's calibrated range (LeRobot's default),"
+            " and ROS wants radians: say --units deg (converted) or --units rad"
+            " (written as they are), after converting -100..100 with the arm's"
+            " calibration"
         )
     return "rad", ""
 
