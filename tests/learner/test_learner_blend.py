@@ -261,3 +261,15 @@ def test_smooth_warp_is_the_windowed_mean_and_stays_monotone(seed, n_knots, half
         assert g == pytest.approx(mean, rel=1e-9, abs=1e-12)
     order = np.argsort(tq)
     assert np.all(np.diff(got[order]) >= -1e-12)
+
+
+def test_alignment_of_values_near_the_float_limit_matches_the_scaled_one():
+    # squared distances of values near 1e300 overflowed to inf: no finite
+    # path, and the backtracking read indices from uninitialized memory
+    rng = np.random.default_rng(7)
+    U = np.cumsum(rng.normal(size=(40, 2)), axis=0)
+    C = U[[0, 9, 17, 30, 39]] + rng.normal(0, 0.1, (5, 2))
+    want = align_to_skeleton(U, C)
+    got = align_to_skeleton(U * 1e300, C * 1e300)
+    np.testing.assert_array_equal(got, want)
+    assert got[0] == 0 and got[-1] == 39

@@ -90,7 +90,9 @@ def _align_kernel(U, C, strict):  # pragma: no cover - compiled
     k = C.shape[0]
     prev = np.full(n, np.inf)
     cur = np.full(n, np.inf)
-    back = np.empty((k, n), dtype=np.int32)  # read only along finite paths
+    # zeros, not empty: a cost that overflowed to inf leaves no finite path,
+    # and backtracking must still read indices in range (never stale memory)
+    back = np.zeros((k, n), dtype=np.int32)
     s = 0.0
     for c in range(d):
         diff = U[0, c] - C[0, c]
@@ -225,6 +227,11 @@ def align_to_skeleton(
     if max_candidates is not None and n > max_candidates:
         cand = np.unique(np.r_[np.linspace(0, n - 1, max_candidates).astype(np.int64)])
         U = U[cand]
+    # one common scale: the same matches, and squared distances of values
+    # near 1e300 that do not overflow to inf
+    big = max(float(np.abs(U).max(initial=0.0)), float(np.abs(C).max(initial=0.0)))
+    if big > 1e100:
+        U, C = U / big, C / big
     U = np.ascontiguousarray(U)
     strict = C.shape[0] <= U.shape[0]
     index, _ = _align_kernel(U, C, strict)

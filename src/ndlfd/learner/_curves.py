@@ -91,7 +91,10 @@ def route_curves(values, taus, cols, n_points: int = ROUTE_POINTS) -> np.ndarray
         if M.shape[0] == 1:
             out[k] = M[0]
             continue
-        step = np.sqrt(np.sum(np.diff(M, axis=0) ** 2, axis=1))
+        big = float(np.abs(M).max())  # scaled first: steps of 1e300 square to inf
+        step = np.sqrt(
+            np.sum((np.diff(M / big if big > 0 else M, axis=0)) ** 2, axis=1)
+        )
         step = np.maximum(step - np.quantile(step, 0.1), 0.0)
         length = np.r_[0.0, np.cumsum(step)]
         clock = np.linspace(0.0, 1.0, M.shape[0])

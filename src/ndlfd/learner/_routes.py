@@ -348,8 +348,10 @@ def split_routes(
         _, _, a, b = nodes[k]
         A, B = nodes[a][0], nodes[b][0]
         diff = V[A].mean(axis=0) - V[B].mean(axis=0)
-        i = int(np.argmax(np.sum(diff * diff, axis=1)))
-        norm = float(np.sqrt(np.sum(diff[i] * diff[i])))
+        big = float(np.abs(diff).max())  # scaled first: 1e300 squares to inf
+        unit = diff / big if big > 0 else diff
+        i = int(np.argmax(np.sum(unit * unit, axis=1)))
+        norm = big * float(np.sqrt(np.sum(unit[i] * unit[i])))
         if norm == 0.0:
             return np.zeros(n), -np.inf, 0.0
         x = V[:, i] @ (diff[i] / norm)
