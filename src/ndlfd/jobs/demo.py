@@ -177,8 +177,9 @@ def run_demo(
             plotting.save_figure(fig, out / f"{name}.png")
         echo(
             f"{name:>12}: {len(tr)} demos, key points {row['keypoints_min']}-"
-            f"{row['keypoints_max']}, {row['states_used']} of {row['n_states']}"
-            f" states used, fit {t_fit * 1e3:.0f} ms, generate {t_gen * 1e3:.1f} ms,"
+            f"{row['keypoints_max']}, {row['states_used']} codebook cells visited"
+            f" (of {row['n_states']:,}), fit {t_fit * 1e3:.0f} ms, generate"
+            f" {t_gen * 1e3:.1f} ms,"
             f" DTW to the held-out test {row['dtw_mean']:.4g}"
             f" (mean of the demonstrations {row['baseline_dtw_mean']:.4g}),"
             f" difference {row['difference_pct']:.2f} %"
