@@ -257,7 +257,7 @@ def _roles(path: Demonstration):
 RAMP_SHARE = 0.02
 
 
-def _own_acceleration(path, lim, spline) -> np.ndarray:
+def _own_acceleration(path, peaks, lim, spline) -> np.ndarray:
     """The acceleration allowed to a column without a limit.
 
     Its own peak, or what reaches its top speed in :data:`RAMP_SHARE` of the
@@ -265,13 +265,12 @@ def _own_acceleration(path, lim, spline) -> np.ndarray:
     no acceleration of its own, and must still start and stop): without a
     bound the scaling would jump from one speed to the next.
     """
-    peaks = path_peaks(path)
     top = np.minimum(peaks["velocity"][spline], lim["velocity"][spline])
     ramp = top / (RAMP_SHARE * path.duration)
     return np.maximum(np.maximum(peaks["acceleration"][spline], ramp), 1e-12)
 
 
-def _clock_at(toppra, path, spline, lim, n_grid):
+def _clock_at(toppra, path, peaks, spline, lim, n_grid):
     """TOPP-RA's new clock: for each new time, the path's own time."""
     t = path.t - path.t[0]
     way = np.column_stack([path.X[:, spline], t])
@@ -279,7 +278,9 @@ def _clock_at(toppra, path, spline, lim, n_grid):
     # the clock column may not run faster than the path's own timing
     v = np.append(lim["velocity"][spline], 1.0)
     given = lim["acceleration"][spline]
-    a_lim = np.where(np.isfinite(given), given, _own_acceleration(path, lim, spline))
+    a_lim = np.where(
+        np.isfinite(given), given, _own_acceleration(path, peaks, lim, spline)
+    )
     a = np.append(a_lim, 1e3 / t[-1])
     con = toppra.constraint
     cv = con.JointVelocityConstraint(np.column_stack([-v, v]))
@@ -364,7 +365,8 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
             f"path must be a Demonstration; got {type(path).__name__}"
         )
     lim = check_limits(limits, path)
-    if _within(path_peaks(path), lim):
+    own = path_peaks(path)  # once: the retries below reuse it
+    if _within(own, lim):
         return path
     toppra = _toppra()
     spline, quat, held, derived = _roles(path)
@@ -375,7 +377,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     tight = {k: v * (1.0 - MARGIN) for k, v in lim.items()}
     stretch = 1.0  # a uniform slow-down after TOPP-RA, for jerk
     for _ in range(RETRIES + 1):
-        traj = _clock_at(toppra, path, spline, tight, n_grid)
+        traj = _clock_at(toppra, path, own, spline, tight, n_grid)
         if traj is None:
             raise LimitError(
                 "no timing of the path meets the limits (TOPP-RA found none): "
