@@ -1,10 +1,12 @@
 """Where a path from a model goes: ``--start``, ``--goal``, ``--via``, ``--observed``.
 
 ``ndlfd generate`` and ``ndlfd sample`` share these flags
-(:func:`add_condition_options`). They are parsed before the model is read, so
-a typo is reported first (:func:`parse_condition`, :func:`parse_via`), then
-checked against the model's groups and generation (:func:`model_conditions`,
-:func:`check_condition_flags`; the three steps: :func:`load_with_conditions`).
+(:func:`add_condition_options`), and ``--task-frame`` (new poses of the
+model's task frames). They are parsed before the model is read, so
+a typo is reported first (:func:`parse_condition`, :func:`parse_via`,
+:func:`parse_task_frames`), then checked against the model's groups, task
+frames and generation (:func:`model_conditions`, :func:`model_frames`,
+:func:`check_condition_flags`; the steps: :func:`load_with_conditions`).
 An executed prefix is read like ``--like`` (:func:`read_observed`; but
 ``--episodes`` selects from the ``--like`` dataset only) and its
 time stamps become the first of the output (:func:`observed_timing`). Every
@@ -15,10 +17,12 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 
 import numpy as np
 
 from .._errors import ValidationError
+from .._poses import check_frames
 from ..demonstration import Demonstration
 from ..io._lerobot import is_lerobot_dataset
 from ..learner import KeypointHMM
@@ -27,11 +31,14 @@ from ._options import GROUP_NAME, parse_floats, read_one
 __all__ = [
     "add_condition_options",
     "check_condition_flags",
+    "flag_named",
     "load_with_conditions",
     "model_conditions",
+    "model_frames",
     "observed_timing",
     "output_mapping",
     "parse_condition",
+    "parse_task_frames",
     "parse_via",
     "read_observed",
 ]
@@ -68,6 +75,18 @@ def add_condition_options(p) -> None:
         help="a via point: the path passes through these values of GROUP at"
         " TIME (on the timing's clock) and follows the route through them;"
         " repeatable, e.g. --via 2.5:position=0.6,0.1,0.3",
+    )
+    g.add_argument(
+        "--task-frame",
+        action="append",
+        metavar="NAME=X,Y[,Z[,QW,QX,QY,QZ]]",
+        help="a new pose of a task frame the model learned ('ndlfd fit"
+        " --task-frame'): its position (the position group's dimension), in 3-D"
+        " optionally followed by a unit quaternion w,x,y,z, as many values as"
+        " the demonstrations' frames had; each part of the path follows the"
+        " frame in which the demonstrations agree; repeatable, one frame each,"
+        " e.g. --task-frame object=0.5,0.1,0.02,0,1,0,0 (models fitted with"
+        " --generation blend)",
     )
     g.add_argument(
         "--observed",
@@ -138,6 +157,101 @@ def parse_via(texts: list[str] | None) -> list | None:
     return out
 
 
+#: What ``--task-frame`` looks like (generate, sample).
+_FRAME_EXAMPLE = "NAME=X,Y,Z[,QW,QX,QY,QZ] (e.g. object=0.5,0.1,0.02)"
+
+
+def parse_task_frames(texts: list[str] | None) -> dict | None:
+    """Repeated ``--task-frame`` flags as ``{name: pose}`` (or ``None``).
+
+    Examples
+    --------
+    >>> parse_task_frames(["object=0.5,0.1,0.02", "place=0.2,-0.3,0"])
+    {'object': [0.5, 0.1, 0.02], 'place': [0.2, -0.3, 0.0]}
+    """
+    if not texts:
+        return None
+    out: dict[str, list[float]] = {}
+    for text in texts:
+        name, eq, values = text.partition("=")
+        name = name.strip()
+        if not eq or not values.strip():
+            raise ValidationError(
+                f"--task-frame must look like {_FRAME_EXAMPLE}; got {text!r}"
+            )
+        if not GROUP_NAME.match(name):
+            raise ValidationError(
+                "--task-frame NAME must be a name of letters, digits, '_' and '-'"
+                f" (starting with a letter or '_'); got {name!r} in {text!r}"
+            )
+        if name in out:
+            raise ValidationError(
+                f"--task-frame gives {name} twice ({text!r}); give each frame once"
+            )
+        out[name] = parse_floats(values, f"--task-frame {name}")
+    return out
+
+
+def model_frames(model, frames: dict | None) -> dict | None:
+    """Check parsed ``--task-frame`` poses against the model's task frames.
+
+    Parameters
+    ----------
+    model : KeypointHMM
+        Fitted.
+    frames : dict of str to list of float, or None
+        From :func:`parse_task_frames`.
+
+    Returns
+    -------
+    frames : dict or None
+        As given, for :meth:`KeypointHMM.generate` and ``sample``.
+    """
+    if not frames:
+        return None
+    learned = getattr(model, "task_frames_", None) or {}
+    if not learned:
+        raise ValidationError(
+            "--task-frame gives a new pose of a task frame, but this model learned"
+            " none (fit it with --task-frame NAME=COLUMN,... to learn where each"
+            " demonstration's frame was)"
+        )
+    for name, pose in frames.items():
+        if name not in learned:
+            raise ValidationError(
+                f"--task-frame names frame {name!r}, which the model did not"
+                f" learn; it learned {', '.join(learned)}"
+            )
+        size = learned[name].shape[1]
+        if len(pose) != size:
+            what = (
+                "x, y, z, then a unit quaternion qw, qx, qy, qz"
+                if size == 7
+                else "a position"
+            )
+            raise ValidationError(
+                f"--task-frame {name} must give {size} values ({what}), as the"
+                f" demonstrations' frames had; got {len(pose)}"
+            )
+    dims = model.column_groups_.count("position") or None
+    try:  # a quaternion's length
+        check_frames(frames, dims, what="--task-frame")
+    except ValidationError as exc:
+        raise ValidationError(flag_named(exc)) from None
+    return frames
+
+
+def flag_named(exc: Exception) -> str:
+    """A message of :func:`~ndlfd._poses.check_frames` naming ``--task-frame NAME``.
+
+    Examples
+    --------
+    >>> flag_named(ValidationError("--task-frame['object'] must be finite"))
+    '--task-frame object must be finite'
+    """
+    return re.sub(r"--task-frame\['([^']*)'\]", r"--task-frame \1", str(exc))
+
+
 def model_conditions(model, start: dict | None, goal: dict | None) -> tuple:
     """Check parsed ``--start`` and ``--goal`` against the model's groups.
 
@@ -184,33 +298,36 @@ def check_condition_flags(args: argparse.Namespace, model) -> None:
             " be combined with --start or --via (--goal is fine)"
         )
     if model.generation != "blend":
-        for flag in ("via", "observed"):
-            if getattr(args, flag):
+        for flag in ("via", "observed", "task_frame"):
+            if getattr(args, flag, None):
                 raise ValidationError(
-                    f"--{flag} needs a model fitted with --generation blend;"
-                    f" this one uses {model.generation}"
+                    f"--{flag.replace('_', '-')} needs a model fitted with"
+                    f" --generation blend; this one uses {model.generation}"
                 )
 
 
 def load_with_conditions(args: argparse.Namespace) -> tuple:
-    """The model of ``args.model`` and the start, goal and via points for it.
+    """The model of ``args.model``, the start, goal and via points and frames.
 
     The flags are parsed before the model is read (a typo is reported
-    first), then checked against its groups and generation.
+    first), then checked against its groups, task frames and generation.
 
     Returns
     -------
     model : KeypointHMM
     start, goal : dict or None
     via : list or None
+    frames : dict or None
+        New poses of its task frames (``--task-frame``).
     """
     start = parse_condition(args.start, "--start")
     goal = parse_condition(args.goal, "--goal")
     via = parse_via(args.via)
+    frames = parse_task_frames(getattr(args, "task_frame", None))
     model = KeypointHMM.load(args.model)
     start, goal = model_conditions(model, start, goal)
     check_condition_flags(args, model)
-    return model, start, goal, via
+    return model, start, goal, via, model_frames(model, frames)
 
 
 def read_observed(args: argparse.Namespace, timing) -> tuple:

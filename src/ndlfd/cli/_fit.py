@@ -13,7 +13,7 @@ import numpy as np
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
 from .._repairs import collecting_repairs
 from .._simplify import DISTANCES
-from ..io import CLI_HINTS, DemoFiles, demo_files, read_or_skip
+from ..io import CLI_HINTS, demo_files
 from ..learner import (
     DECODERS,
     GENERATIONS,
@@ -41,6 +41,7 @@ from ._options import (
     split_names,
     tell,
 )
+from ._task_frames import FramedDemoFiles, parse_frame_columns, read_framed_or_skip
 
 __all__ = ["add_fit"]
 
@@ -112,6 +113,7 @@ def _check_bounds(args, ranges, paths, default_bins: int) -> tuple[int, str]:
 def _cmd_fit(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     groups = split_names(args.groups, "--groups")
+    frames = parse_frame_columns(args.task_frame)
     levels = _parse_levels(args.levels)
     weights = None
     if args.weights is not None:
@@ -142,7 +144,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     with collecting_repairs():
         for first_path in paths:  # the first not skipped (--bad-files skip)
             with noting(first_path, news):
-                pairs = read_or_skip(first_path, CLI_HINTS, **options)
+                pairs = read_framed_or_skip(first_path, CLI_HINTS, frames, **options)
             if pairs or options["bad_files"] != "skip":
                 break
     tell(news)
@@ -187,7 +189,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         random_state=args.random_state,
     )
     check_params(model.get_params())  # as fit does, before connecting
-    files = DemoFiles.for_cli(paths, **options)
+    files = FramedDemoFiles.for_cli(paths, frames, **options)
     scanned: dict = {}
 
     def after_scan(ranges):  # report the mappings, bound the time bins
@@ -231,6 +233,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         f" {time_bins} time bins{note} -> {out}",
     )
     say(args, describe_routes(model))
+    if model.task_frames_:
+        say(args, describe_frames(model.task_frames_))
     peaks = demos_peaks_line([d for d, _ in pairs], groups)
     if peaks:  # of the first file only: the others are read on the workers
         whose = (
@@ -248,6 +252,29 @@ def _cmd_fit(args: argparse.Namespace) -> int:
             f" {','.join([*groups, *unused])})",
         )
     return 0
+
+
+def describe_frames(frames: dict) -> str:
+    """One line: the task frames learned, and how to give new poses of them.
+
+    Examples
+    --------
+    >>> print(describe_frames({"object": np.zeros((6, 3))}))
+    task frames of the 6 demonstrations: object (3 values); new poses:
+    ndlfd generate --task-frame object=X,Y,Z
+    """
+    values = {2: "X,Y", 3: "X,Y,Z", 7: "X,Y,Z,QW,QX,QY,QZ"}
+    each, example = [], []
+    for name, poses in frames.items():
+        size = poses.shape[1]
+        quat = ", position and unit quaternion w,x,y,z" if size == 7 else ""
+        each.append(f"{name} ({size} values{quat})")
+        example.append(f"--task-frame {name}={values.get(size, 'V1,...')}")
+    n_demos = next(iter(frames.values())).shape[0]
+    return (
+        f"task frames of the {n_demos} demonstrations: {', '.join(each)}; new"
+        f" poses: ndlfd generate {' '.join(example)}"
+    )
 
 
 #: The pieces of a split recording listed by :func:`describe_pieces`.
@@ -493,4 +520,16 @@ def add_fit(sub) -> None:
         help="print no summary and no warnings of repaired data (errors still print)",
     )
     add_column_options(p)
+    p.add_argument(
+        "--task-frame",
+        action="append",
+        metavar="NAME=COLUMN,COLUMN,...",
+        help="these columns of each file are where its task frame NAME was (the"
+        " object, the place): constant over the demonstration, a position of the"
+        " position group's dimension, in 3-D optionally followed by a unit"
+        " quaternion w,x,y,z (7 columns); they are not learned as data, and"
+        " 'ndlfd generate --task-frame NAME=...' gives the frame a new pose;"
+        " repeatable, one frame each, e.g. --task-frame"
+        " object=obj_x,obj_y,obj_z",
+    )
     p.set_defaults(func=_cmd_fit)

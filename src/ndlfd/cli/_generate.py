@@ -79,7 +79,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     fmt = _output_format(args, out)
     std_out = check_output(args.std, "--std") if args.std is not None else None
     n = check_timing(args)
-    model, start, goal, via = load_with_conditions(args)
+    model, start, goal, via, frames = load_with_conditions(args)
     if std_out is not None and model.generation != "blend":
         raise ValidationError(
             "--std needs a model fitted with --generation blend; this one uses"
@@ -96,6 +96,7 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         via=via,
         observed=prefix,
         return_std=std_out is not None,
+        frames=frames,
     )
     path, std = result if std_out is not None else (result, None)
     dense = args.dense or prefix is not None  # a continuation: every time stamp

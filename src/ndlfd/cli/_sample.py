@@ -40,7 +40,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         )
     check_range(args.n, "-n", low=1, high=MAX_DRAWS)
     n = check_timing(args)
-    model, start, goal, via = load_with_conditions(args)
+    model, start, goal, via, frames = load_with_conditions(args)
     timing, like = read_timing(args, n)
     prefix, timing, observed_map = read_observed(args, timing)
     like = output_mapping(model, like, observed_map)
@@ -53,6 +53,7 @@ def _cmd_sample(args: argparse.Namespace) -> int:
         via=via,
         observed=prefix,
         random_state=args.random_state,
+        frames=frames,
     )
     folder.mkdir(exist_ok=True)
     dense = not args.key_points or prefix is not None  # a continuation: all

@@ -1,0 +1,307 @@
+"""``ndlfd fit --task-frame NAME=COL,...``: columns that are a demonstration's frame.
+
+A task frame is a pose constant over a demonstration (where the object or the
+place was; :class:`~ndlfd.Demonstration`'s ``frames``). Training files may
+record it as columns whose value is the same on every row: ``--task-frame
+object=ox,oy,oz,oqw,oqx,oqy,oqz`` makes those columns the demonstration's
+frame ``object`` (position, then optionally a unit quaternion w,x,y,z), and
+they are not learned as data.
+
+The columns are read with the file, by the same column mapping as the others
+(names in any case, ``--bad-rows``, ``--rate``): each frame is a group of its
+own under a hidden name (:data:`FRAME_GROUP` and the frame's name), taken out
+of the demonstration afterwards (:func:`read_framed`). The files of a fit are
+read on the workers: :class:`FramedDemoFiles` gives them
+:class:`FramedDemoFile` items that read so. Every error names the file and
+``--task-frame``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from .._errors import DataFileError, ValidationError
+from .._poses import check_frames, pose_size_ok
+from .._repairs import repaired
+from ..io import (
+    CLI_HINTS,
+    ColumnMapping,
+    DemoFile,
+    DemoFiles,
+    read_file,
+    read_or_skip,
+)
+from ..io._files import RateMapping
+from ..io._lerobot import LeRobotEpisode
+from ._conditions import flag_named
+from ._options import GROUP_NAME, split_names
+
+__all__ = [
+    "FRAME_GROUP",
+    "FramedDemoFile",
+    "FramedDemoFiles",
+    "FramedMapping",
+    "parse_frame_columns",
+    "read_framed",
+    "read_framed_or_skip",
+]
+
+#: The prefix of the hidden group a frame's columns are read into.
+FRAME_GROUP = "_task-frame_"
+
+#: How much a frame column may vary over a file, relative to its largest
+#: magnitude (at least 1): the rounding of a value written as text.
+CONSTANT_TOLERANCE = 1e-9
+
+_EXAMPLE = "NAME=COLUMN,COLUMN,... (e.g. object=obj_x,obj_y,obj_z)"
+
+
+def parse_frame_columns(texts: list[str] | None) -> dict | None:
+    """Repeated ``--task-frame`` flags of ``ndlfd fit`` as ``{name: columns}``.
+
+    Examples
+    --------
+    >>> parse_frame_columns(["object=ox,oy,oz", "place=px,py,pz"])
+    {'object': ['ox', 'oy', 'oz'], 'place': ['px', 'py', 'pz']}
+    """
+    if not texts:
+        return None
+    out: dict[str, list[str]] = {}
+    for text in texts:
+        name, eq, cols = text.partition("=")
+        name = name.strip()
+        if not eq:
+            raise ValidationError(
+                f"--task-frame must look like {_EXAMPLE}; got {text!r}"
+            )
+        if not GROUP_NAME.match(name):
+            raise ValidationError(
+                "--task-frame NAME must be a name of letters, digits, '_' and '-'"
+                f" (starting with a letter or '_'); got {name!r} in {text!r}"
+            )
+        if name in out:
+            raise ValidationError(
+                f"--task-frame gives {name} twice ({text!r}); give each frame once"
+            )
+        out[name] = split_names(cols, f"--task-frame {name}")
+    return out
+
+
+def _framed_text(text: str, frames) -> str:
+    return "; ".join(
+        [text, *(f"task frame {n}={','.join(cols)}" for n, cols in frames)]
+    )
+
+
+@dataclass(frozen=True)
+class FramedMapping(ColumnMapping):
+    """A :class:`~ndlfd.io.ColumnMapping` that also names the frames' columns.
+
+    Attributes
+    ----------
+    frames : tuple of (str, tuple of str)
+        Each task frame with the file's names of its columns.
+
+    Examples
+    --------
+    >>> m = FramedMapping("a.csv", "t", (("position", ("x", "y")),),
+    ...                   frames=(("object", ("ox", "oy")),))
+    >>> str(m)
+    'time=t; position=x,y; task frame object=ox,oy'
+    """
+
+    frames: tuple = ()
+
+    def __str__(self) -> str:
+        return _framed_text(super().__str__(), self.frames)
+
+
+@dataclass(frozen=True)
+class _FramedRateMapping(RateMapping):
+    """A :class:`FramedMapping` of a file read at a fixed rate (``--rate``)."""
+
+    frames: tuple = ()
+
+    def __str__(self) -> str:
+        return _framed_text(super().__str__(), self.frames)
+
+
+def _hidden(name: str) -> str:
+    return FRAME_GROUP + name
+
+
+def _renamed(exc: Exception, frames: dict) -> Exception:
+    """The reader's error with the hidden groups named as the flag names them."""
+    text = str(exc).replace(f"{CLI_HINTS['groups']} maps", "the flags map")
+    for name in frames:
+        text = text.replace(
+            f"{CLI_HINTS['groups']} {_hidden(name)}", f"--task-frame {name}"
+        )
+        text = text.replace(f"'{_hidden(name)}'", f"--task-frame {name}")
+    return type(exc)(text)
+
+
+def read_framed(p: Path | LeRobotEpisode, how, frames: dict, **mapping) -> list:
+    """:func:`~ndlfd.io.read_file` with the columns of ``frames`` as task frames.
+
+    Parameters
+    ----------
+    p : Path or LeRobotEpisode
+    how : dict
+        ``CLI_HINTS``.
+    frames : dict of str to list of str
+        Each frame's columns (:func:`parse_frame_columns`).
+    **mapping
+        The column mapping (:func:`~ndlfd.cli._options.column_options`).
+
+    Returns
+    -------
+    pairs : list of (Demonstration, FramedMapping)
+        Each demonstration with its frames, without their columns.
+    """
+    groups = dict(mapping.get("groups") or {})
+    for name, cols in frames.items():
+        groups[_hidden(name)] = list(cols)
+    try:
+        pairs = read_file(p, how, **{**mapping, "groups": groups})
+    except (DataFileError, ValidationError) as exc:
+        if any(_hidden(name) in str(exc) for name in frames):
+            raise _renamed(exc, frames) from None
+        raise
+    return [_taken_out(demo, m, frames) for demo, m in pairs]
+
+
+def _taken_out(demo, m: ColumnMapping, frames: dict):
+    """The demonstration without its frame columns, and with its frames."""
+    read = dict(m.groups)
+    missing = [n for n in frames if _hidden(n) not in read]
+    if missing:  # a reader that does not map columns by name
+        raise DataFileError(
+            f"{m.source}: --task-frame {missing[0]} names columns"
+            f" {','.join(frames[missing[0]])}, which were not read from it"
+        )
+    dims = demo.groups.count("position")
+    poses, shown = {}, []
+    for name in frames:
+        g = _hidden(name)
+        cols = read[g]
+        if not dims:
+            raise DataFileError(
+                f"{m.source}: --task-frame {name} is a pose in the position"
+                " group's coordinates, but the file has no position group"
+            )
+        if not pose_size_ok(len(cols), dims):
+            seven = " or 7 (x, y, z, then a unit quaternion qw, qx, qy, qz)"
+            raise ValidationError(
+                f"--task-frame {name} names {len(cols)} column(s); expected"
+                f" {dims} (a position, as the position group of {m.source})"
+                + (seven if dims == 3 else "")
+            )
+        block = demo.get(g)
+        lo, hi = block.min(axis=0), block.max(axis=0)
+        scale = np.maximum(1.0, np.maximum(np.abs(lo), np.abs(hi)))
+        varies = np.flatnonzero(hi - lo > CONSTANT_TOLERANCE * scale)
+        if varies.size:
+            j = int(varies[0])
+            raise DataFileError(
+                f"{m.source}: --task-frame {name}: column {cols[j]!r} must be"
+                " constant over the demonstration (a task frame is one pose per"
+                " demonstration);"
+                f" got values from {lo[j]:.10g} to {hi[j]:.10g}"
+            )
+        poses[name] = block[0]
+        shown.append((name, tuple(cols)))
+    kept = [g for g in demo.group_names if not g.startswith(FRAME_GROUP)]
+    if not kept:
+        raise DataFileError(
+            f"{m.source}: expected value columns besides the time column and the"
+            " task frames' (--task-frame); got none"
+        )
+    try:
+        checked = check_frames(poses, dims, what=f"{m.source}: --task-frame")
+    except ValidationError as exc:
+        raise DataFileError(flag_named(exc)) from None
+    demo = demo.select(*kept).with_frames(checked)
+    own = {f.name: getattr(m, f.name) for f in fields(m)}
+    own["groups"] = tuple((g, c) for g, c in m.groups if not g.startswith(FRAME_GROUP))
+    hidden = {k for g, ks in m.groups if g.startswith(FRAME_GROUP) for k in ks}
+    own["order"] = tuple(k for k in m.order if k not in hidden)
+    own["frames"] = tuple(shown)
+    cls = _FramedRateMapping if isinstance(m, RateMapping) else FramedMapping
+    return demo, cls(**own)
+
+
+def read_framed_or_skip(p, how, frames: dict | None, **mapping) -> list:
+    """:func:`read_framed`, or nothing for a bad file with ``--bad-files skip``.
+
+    As :func:`~ndlfd.io.read_or_skip` (a skipped file is reported as a repair);
+    without ``frames``, that function.
+    """
+    if not frames:
+        return read_or_skip(p, how, **mapping)
+    if mapping.get("bad_files", "error") != "skip":
+        return read_framed(p, how, frames, **mapping)
+    try:
+        pairs = read_framed(p, how, frames, **mapping)
+    except (DataFileError, ValidationError, OSError, ValueError) as exc:
+        why = str(exc)
+        text = why if why.startswith(str(p)) else f"{p}: {why}"
+        repaired("files", 1, f"skipped {text}", detail=text, stacklevel=3)
+        return []
+    if not pairs:
+        text = f"{p}: holds no demonstration"
+        repaired("files", 1, f"skipped {text}", detail=text, stacklevel=3)
+    return pairs
+
+
+@dataclass(frozen=True)
+class FramedDemoFile(DemoFile):
+    """A :class:`~ndlfd.io.DemoFile` whose demonstrations carry task frames.
+
+    Attributes
+    ----------
+    frames : tuple of (str, tuple of str)
+        Each frame with its columns.
+    """
+
+    frames: tuple = field(default=())
+
+    def read_with_mappings(self) -> list:
+        """The file's demonstrations with their frames, and the mappings used."""
+        frames = {name: list(cols) for name, cols in self.frames}
+        return read_framed_or_skip(self.path, CLI_HINTS, frames, **self.mapping)
+
+
+class FramedDemoFiles(DemoFiles):
+    """The files of ``ndlfd fit --task-frame``: :class:`FramedDemoFile` items."""
+
+    frames: tuple = ()
+
+    @classmethod
+    def for_cli(cls, paths, frames: dict | None = None, **mapping) -> DemoFiles:
+        """The files ``paths``, read for the command line with ``frames``.
+
+        Parameters
+        ----------
+        paths : sequence of path-like
+        frames : dict of str to list of str, optional
+            Each task frame's columns (:func:`parse_frame_columns`); without
+            them, a plain :class:`~ndlfd.io.DemoFiles`.
+        **mapping
+            As for :class:`~ndlfd.io.DemoFiles`.
+        """
+        if not frames:
+            return DemoFiles.for_cli(paths, **mapping)
+        files = super().for_cli(paths, **mapping)
+        files.frames = tuple((n, tuple(c)) for n, c in frames.items())
+        return files
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        return FramedDemoFile(
+            self.paths[i], dict(self._mapping), self.hints, frames=self.frames
+        )
