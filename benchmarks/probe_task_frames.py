@@ -8,6 +8,8 @@ grasp time:
 
 * ``ndlfd s+g``: ndlfd given the start and goal only;
 * ``ndlfd via``: ndlfd given the start, the goal and the via point;
+* ``ndlfd frames``: ndlfd given the start and the held-out demonstration's
+  task frames (the object's and the place's poses; no time, no goal);
 * ``promp via``: ProMP (movement_primitives) conditioned on the start, the via
   point and the goal (a via point at the last time stamp), position only.
 
@@ -37,7 +39,8 @@ def main(argv=None) -> None:
     demos, frames = synth.pick_place(args.demos, yaw=np.deg2rad(args.yaw))
     P_all = np.vstack([d.get("position") for d in demos])
     scale = float(np.linalg.norm(np.ptp(P_all, axis=0)))
-    rows = {"ndlfd s+g": [], "ndlfd via": [], "promp via": []}
+    rows = {"ndlfd s+g": [], "ndlfd via": [], "ndlfd frames": [], "promp via": []}
+    demos = [d.with_frames(f) for d, f in zip(demos, frames, strict=True)]
     grasp = {k: [] for k in rows}
     for k, test in enumerate(demos):
         train = [d for i, d in enumerate(demos) if i != k]
@@ -51,6 +54,9 @@ def main(argv=None) -> None:
         paths = {
             "ndlfd s+g": model.generate(t, dense=True, start=start, goal=goal),
             "ndlfd via": model.generate(t, dense=True, start=start, goal=goal, via=via),
+            "ndlfd frames": model.generate(
+                t, dense=True, start=start, frames=dict(test.frames)
+            ),
         }
         paths = {name: p.get("position") for name, p in paths.items()}
         promp = make_baseline("promp").fit([d.select("position") for d in train])
@@ -66,8 +72,9 @@ def main(argv=None) -> None:
         print(
             f"| {name} | {np.median(rows[name]):.4f} | {np.median(grasp[name]):.4f} |"
         )
-    ratio = np.median(rows["ndlfd via"]) / np.median(rows["promp via"])
-    print(f"ndlfd via / promp via: {ratio:.2f}")
+    for name in ("ndlfd via", "ndlfd frames"):
+        ratio = np.median(rows[name]) / np.median(rows["promp via"])
+        print(f"{name} / promp via: {ratio:.2f}")
 
 
 if __name__ == "__main__":

@@ -568,12 +568,13 @@ def test_the_jitter_check_decides_as_its_definition(seed, spread, n):
     import warnings
 
     from ndlfd import NdlfdWarning
-    from ndlfd.demonstration import JITTER_TOL, _speed_roughness, timing_jitter
+    from ndlfd._timing import speed_roughness
+    from ndlfd.demonstration import JITTER_TOL, timing_jitter
 
     rng = np.random.default_rng(seed)
     t = np.concatenate([[0.0], np.cumsum(rng.uniform(1 - spread, 1 + spread, n))])
     P = np.column_stack([np.arange(n + 1.0), rng.normal(0, 0.3, n + 1)])
-    expected = timing_jitter(t) > JITTER_TOL and _speed_roughness(P, t) > JITTER_TOL
+    expected = timing_jitter(t) > JITTER_TOL and speed_roughness(P, t) > JITTER_TOL
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         with_velocity(Demonstration.from_arrays(t, position=P))

@@ -374,7 +374,11 @@ def test_pick_place_is_rigid_in_its_frames():
             assert r.magnitude() < 1e-9
         closed = (tau >= synth.PICK_PLACE_GRASP) & (tau < synth.PICK_PLACE_RELEASE)
         assert np.array_equal(g, np.where(closed, 0.0, 1.0))
-        np.testing.assert_allclose(P[-1], f["place"][:3] + [0, 0, 0.1], atol=1e-12)
+        # the retreat, like the approach, turns with the frame: 0.05 back along
+        # the frame's x axis (horizontal: the hand points down), 0.1 up
+        x_axis = Rotation.from_quat(np.roll(f["place"][3:], -1)).apply([1, 0, 0])
+        back = -0.05 * x_axis + [0, 0, 0.1]
+        np.testing.assert_allclose(P[-1], f["place"][:3] + back, atol=1e-12)
     yaws = [Rotation.from_quat(np.roll(f["object"][3:], -1)).as_euler("zyx")[0]
             for f in frames]  # fmt: skip
     assert np.ptp(yaws) > 0.2 and np.max(np.abs(yaws)) <= np.deg2rad(60) + 1e-12

@@ -21,8 +21,10 @@ import numpy as np
 
 from ._demo_kernels import gradient, window_derivative, with_room
 from ._errors import ValidationError
+from ._poses import NO_FRAMES, check_frames
 from ._registry import Registry
 from ._repairs import repaired
+from ._timing import speed_roughness, timing_jitter
 from ._validation import (
     as_float_array,
     check_int_sequence,
@@ -142,6 +144,58 @@ def _check_names(names, d: int, what: str) -> tuple[str, ...]:
     return names
 
 
+def _group_blocks(given: dict, columns, quaternion_order: str):
+    """:meth:`Demonstration.from_arrays`'s groups as one array, names and groups."""
+    blocks, names, groups, block_groups = [], [], [], []
+    if columns is not None and not isinstance(columns, Mapping):
+        flat = list(columns) if not isinstance(columns, str) else [columns]
+        col_map = None
+    else:
+        flat = None
+        col_map = dict(columns or {})
+        unknown = sorted(set(col_map) - {g for g, v in given.items() if v is not None})
+        if unknown:
+            raise ValidationError(
+                f"columns names groups that were not given: {unknown}"
+            )
+    for group, values in given.items():
+        if values is None:
+            continue
+        a = as_float_array(values, group)
+        if a.ndim == 1:
+            a = a[:, None]
+        if a.ndim != 2:
+            raise ValidationError(
+                f"{group} must have shape (n_samples, k) or (n_samples,); got"
+                f" an array of shape {a.shape}"
+            )
+        if group == "orientation":
+            if a.shape[1] != 4:
+                raise ValidationError(
+                    "orientation must have shape (n_samples, 4) (unit"
+                    f" quaternions); got an array of shape {a.shape}"
+                )
+            a = check_quaternions(a, quaternion_order, name="orientation")
+        blocks.append(a)
+        block_groups.append(group)
+        groups.extend([group] * a.shape[1])
+        if col_map is not None:
+            names.extend(col_map.get(group, default_columns(group, a.shape[1])))
+    if not blocks:
+        raise ValidationError(
+            "from_arrays needs at least one group (position=, velocity=,"
+            " orientation=, force= or a named group); got none"
+        )
+    rows = {b.shape[0] for b in blocks}
+    if len(rows) != 1:
+        shapes = {g: b.shape for g, b in zip(block_groups, blocks, strict=True)}
+        raise ValidationError(
+            f"every group must have the same number of rows; got shapes {shapes}"
+        )
+    X = np.hstack(blocks)
+    return X, tuple(flat if flat is not None else names), tuple(groups)
+
+
 @dataclass(frozen=True, eq=False, repr=False)
 class Demonstration:
     """One demonstration: time stamps and grouped, named value columns.
@@ -162,6 +216,12 @@ class Demonstration:
         ``(w, x, y, z)``; they are sign-aligned on construction
         (:func:`~ndlfd.orientation.make_continuous`), so that invariant holds
         for every demonstration, including subsets made by :meth:`take`.
+    frames : mapping of str to array-like, optional
+        Task frames, constant over the demonstration (where the object or
+        the place was): each a position of the position group's dimension,
+        in 3-D optionally followed by a unit quaternion ``(w, x, y, z)``
+        (:func:`ndlfd._poses.check_frames`). Kept by :meth:`take`,
+        :meth:`select` and :meth:`with_group`.
 
     Attributes
     ----------
@@ -169,6 +229,8 @@ class Demonstration:
     X : ndarray of shape (n_samples, n_dims), read-only
     columns : tuple of str
     groups : tuple of str
+    frames : mapping of str to ndarray, read-only
+        Empty without frames.
 
     Examples
     --------
@@ -188,6 +250,7 @@ class Demonstration:
     X: np.ndarray
     columns: tuple[str, ...]
     groups: tuple[str, ...]
+    frames: Mapping[str, np.ndarray] | None = None
 
     def __post_init__(self) -> None:
         t = check_times(self.t, name="t")
@@ -254,6 +317,8 @@ class Demonstration:
         object.__setattr__(self, "X", X)
         object.__setattr__(self, "columns", columns)
         object.__setattr__(self, "groups", groups)
+        dims = groups.count("position") or None
+        object.__setattr__(self, "frames", check_frames(self.frames, dims))
 
     # ------------------------------------------------------------ construction
     @classmethod
@@ -267,6 +332,7 @@ class Demonstration:
         force=None,
         columns=None,
         quaternion_order: str = "wxyz",
+        frames=None,
         **other_groups,
     ) -> Demonstration:
         """Build a demonstration from one array per group.
@@ -285,6 +351,9 @@ class Demonstration:
             or all names in the final column order.
         quaternion_order : {"wxyz", "xyzw"}, default="wxyz"
             The order of ``orientation``'s components (``"xyzw"`` is scipy's).
+        frames : mapping of str to array-like, optional
+            Task frames, constant over the demonstration, e.g. ``{"object":
+            [x, y, z, qw, qx, qy, qz]}`` (see the class's ``frames``).
         **other_groups : array-like of shape (n_samples, k)
             User-named groups, laid out after the known ones in the given order.
 
@@ -308,56 +377,8 @@ class Demonstration:
             "force": force,
         }
         given.update(other_groups)
-        blocks, names, groups, block_groups = [], [], [], []
-        if columns is not None and not isinstance(columns, Mapping):
-            flat = list(columns) if not isinstance(columns, str) else [columns]
-            col_map = None
-        else:
-            flat = None
-            col_map = dict(columns or {})
-            unknown = sorted(
-                set(col_map) - {g for g, v in given.items() if v is not None}
-            )
-            if unknown:
-                raise ValidationError(
-                    f"columns names groups that were not given: {unknown}"
-                )
-        for group, values in given.items():
-            if values is None:
-                continue
-            a = as_float_array(values, group)
-            if a.ndim == 1:
-                a = a[:, None]
-            if a.ndim != 2:
-                raise ValidationError(
-                    f"{group} must have shape (n_samples, k) or (n_samples,); got"
-                    f" an array of shape {a.shape}"
-                )
-            if group == "orientation":
-                if a.shape[1] != 4:
-                    raise ValidationError(
-                        "orientation must have shape (n_samples, 4) (unit"
-                        f" quaternions); got an array of shape {a.shape}"
-                    )
-                a = check_quaternions(a, quaternion_order, name="orientation")
-            blocks.append(a)
-            block_groups.append(group)
-            groups.extend([group] * a.shape[1])
-            if col_map is not None:
-                names.extend(col_map.get(group, default_columns(group, a.shape[1])))
-        if not blocks:
-            raise ValidationError(
-                "from_arrays needs at least one group (position=, velocity=,"
-                " orientation=, force= or a named group); got none"
-            )
-        rows = {b.shape[0] for b in blocks}
-        if len(rows) != 1:
-            shapes = {g: b.shape for g, b in zip(block_groups, blocks, strict=True)}
-            raise ValidationError(
-                f"every group must have the same number of rows; got shapes {shapes}"
-            )
-        X = np.hstack(blocks)
-        return cls(t, X, tuple(flat if flat is not None else names), tuple(groups))
+        X, names, groups = _group_blocks(given, columns, quaternion_order)
+        return cls(t, X, names, groups, frames)
 
     # ------------------------------------------------------------ properties
     @property
@@ -445,6 +466,7 @@ class Demonstration:
             self.X[:, idx],
             tuple(self.columns[j] for j in idx),
             tuple(self.groups[j] for j in idx),
+            self.frames if "position" in groups else NO_FRAMES,
         )
 
     def take(self, indices) -> Demonstration:
@@ -469,7 +491,9 @@ class Demonstration:
                 "indices must be strictly increasing; got indices"
                 f"[{i}] = {idx[i]} after indices[{i - 1}] = {idx[i - 1]}"
             )
-        return Demonstration(self.t[idx], self.X[idx], self.columns, self.groups)
+        return Demonstration(
+            self.t[idx], self.X[idx], self.columns, self.groups, self.frames
+        )
 
     def with_group(self, name: str, values, columns=None) -> Demonstration:
         """Append group ``name``, or replace it if present.
@@ -506,6 +530,18 @@ class Demonstration:
         cols = default_columns(name, a.shape[1]) if columns is None else tuple(columns)
         return _with_block(self, name, a, cols)
 
+    def with_frames(self, frames) -> Demonstration:
+        """The same demonstration with these task frames (``None``: none).
+
+        >>> d = Demonstration.from_arrays([0, 1], position=[[0, 0], [1, 1]])
+        >>> d.with_frames({"object": [1.0, 0.5]}).frames["object"]
+        array([1. , 0.5])
+        """
+        dims = self.groups.count("position") or None
+        out = _assembled(self.t, self.X, self.columns, self.groups)
+        object.__setattr__(out, "frames", check_frames(frames, dims))
+        return out
+
     # ------------------------------------------------------------ dunder
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Demonstration):
@@ -515,6 +551,8 @@ class Demonstration:
             and self.groups == other.groups
             and np.array_equal(self.t, other.t)
             and np.array_equal(self.X, other.X)
+            and list(self.frames) == list(other.frames)
+            and all(np.array_equal(v, other.frames[k]) for k, v in self.frames.items())
         )
 
     __hash__ = None  # type: ignore[assignment]
@@ -527,6 +565,8 @@ class Demonstration:
         for g in self.group_names:
             cols = ", ".join(self.columns[j] for j in self.columns_of(g))
             parts.append(f"{g}=({cols})")
+        if self.frames:
+            parts.append(f"frames=({', '.join(self.frames)})")
         return f"Demonstration({', '.join(parts)})"
 
 
@@ -572,9 +612,13 @@ def _with_block(demo: Demonstration, name, a: np.ndarray, cols, X=None):
         finite = X
     new_columns = demo.columns[:lo] + tuple(cols) + demo.columns[hi:]
     new_groups = demo.groups[:lo] + (name,) * a.shape[1] + demo.groups[hi:]
-    if name != "orientation" and _valid_block(a, cols, name, new_columns, finite):
-        return _assembled(demo.t, X, new_columns, new_groups)
-    return Demonstration(demo.t, X, new_columns, new_groups)
+    checked = name == "orientation" or (name == "position" and demo.frames)
+    if not checked and _valid_block(a, cols, name, new_columns, finite):
+        out = _assembled(demo.t, X, new_columns, new_groups)
+        object.__setattr__(out, "frames", demo.frames)
+        return out
+    frames = demo.frames if "position" in new_groups else NO_FRAMES
+    return Demonstration(demo.t, X, new_columns, new_groups, frames)
 
 
 def _valid_block(a: np.ndarray, cols, name, columns, finite) -> bool:
@@ -605,48 +649,8 @@ def _assembled(t, X, columns, groups) -> Demonstration:
     X.flags.writeable = False
     for name, value in (("t", t), ("X", X), ("columns", columns), ("groups", groups)):
         object.__setattr__(out, name, value)
+    object.__setattr__(out, "frames", NO_FRAMES)
     return out
-
-
-def _speed_roughness(P: np.ndarray, t: np.ndarray) -> float:
-    """Median step-to-step change of the speed over the median speed."""
-    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(t)
-    typical = float(np.median(speed))
-    if not typical > 0:
-        return 0.0
-    return float(np.median(np.abs(np.diff(speed)))) / typical
-
-
-def timing_jitter(t) -> float:
-    """How jittery time stamps are, as a fraction of the median step.
-
-    The 90th percentile of ``|dt[i+1] - dt[i]|`` over the median step: 0 for a
-    uniform grid and small for a sampling rate that changes smoothly; logging
-    jitter of ±30 % of the step gives about 0.4. Fewer than 10 samples
-    give 0 (too few steps to tell).
-
-    Parameters
-    ----------
-    t : array-like of shape (n_samples,)
-        Strictly increasing time stamps.
-
-    Returns
-    -------
-    jitter : float
-
-    Examples
-    --------
-    >>> timing_jitter(np.arange(20.0))
-    0.0
-    >>> steps = np.tile([1.0, 1.5], 10)  # alternating: every change is 0.5
-    >>> round(timing_jitter(np.concatenate([[0.0], np.cumsum(steps)])), 6)
-    0.4
-    """
-    tt = check_times(t, name="t")
-    if tt.size < 10:
-        return 0.0
-    dt = np.diff(tt)
-    return float(np.percentile(np.abs(np.diff(dt)), 90) / np.median(dt))
 
 
 def with_velocity(
@@ -753,7 +757,7 @@ def with_velocity(
         V, steady = gradient(demo.t, P, JITTER_TOL, out=out)
     if mode == "auto":
         jitter = 0.0 if steady else timing_jitter(demo.t)
-        if jitter > JITTER_TOL and _speed_roughness(P, demo.t) > JITTER_TOL:
+        if jitter > JITTER_TOL and speed_roughness(P, demo.t) > JITTER_TOL:
             mode = "window"
         if mode == "window":
             repaired(

@@ -562,6 +562,18 @@ PICK_PLACE_PLAN = (
 #: When :func:`pick_place`'s gripper closes and opens (normalized time).
 PICK_PLACE_GRASP, PICK_PLACE_RELEASE = 0.42, 0.92
 
+#: Where :func:`pick_place`'s hand comes down from and goes up to, from the
+#: object (and the place), turned with its yaw (m): 0.1 above and 0.05 back
+#: along the frame's x axis, so the approach turns with the object.
+PICK_PLACE_APPROACH = (-0.05, 0.0, 0.1)
+
+
+def _approach(yaw: float) -> np.ndarray:
+    """:data:`PICK_PLACE_APPROACH` turned by ``yaw`` about z."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    x, y, z = PICK_PLACE_APPROACH
+    return np.array([c * x - s * y, s * x + c * y, z])
+
 
 def pick_place(
     n_demos: int = 12,
@@ -575,10 +587,11 @@ def pick_place(
     """Pick-and-place demonstrations whose object and place move (task frames).
 
     Each demonstration starts near ``(0.3, 0, 0.3)`` m pointing down, moves
-    above an object, down to it (the hand's pose is the object's: position and
-    yaw), closes the gripper (at :data:`PICK_PLACE_GRASP` of the motion),
-    lifts, carries it above the place, puts it down with the place's yaw,
-    opens (:data:`PICK_PLACE_RELEASE`) and retreats 0.1 m up; minimum-jerk
+    above and behind an object (:data:`PICK_PLACE_APPROACH` in the object's
+    frame), down to it (the hand's pose is the object's: position and yaw),
+    closes the gripper (at :data:`PICK_PLACE_GRASP` of the motion), lifts
+    back, carries it above and behind the place, puts it down with the
+    place's yaw, opens (:data:`PICK_PLACE_RELEASE`) and retreats; minimum-jerk
     pieces between the waypoints of :data:`PICK_PLACE_PLAN`, the orientation
     slerped. The object lies at ``(0.5, 0, 0.02)`` and the place at ``(0.3,
     0.3, 0.02)``, each moved by up to ``shift`` in x and y and turned by up to
@@ -602,7 +615,8 @@ def pick_place(
     -------
     demos : list of Demonstration
         Groups ``position`` (x, y, z), ``orientation`` (unit quaternions) and
-        ``gripper`` (1 open, 0 closed); about 6 s each.
+        ``gripper`` (1 open, 0 closed); about 6 s each; each carries its
+        task frames (``frames``, as returned beside).
     frames : list of dict of str to ndarray of shape (7,)
         Each demonstration's ``"object"`` and ``"place"`` poses: position,
         then unit quaternion (w, x, y, z) of the grasp there.
@@ -635,14 +649,13 @@ def pick_place(
         place = np.array([0.3, 0.3, 0.02])
         place[:2] += rng.uniform(-shift, shift, 2)
         yaw_o, yaw_p = rng.uniform(-yaw, yaw, 2) if yaw > 0 else (0.0, 0.0)
-        up = np.array([0.0, 0.0, 0.1])
         where = {
             "home": (home, 0.0),
-            "above object": (obj + up, yaw_o),
+            "above object": (obj + _approach(yaw_o), yaw_o),
             "object": (obj, yaw_o),
-            "above place": (place + up, yaw_p),
+            "above place": (place + _approach(yaw_p), yaw_p),
             "place": (place, yaw_p),
-            "retreat": (place + up, yaw_p),
+            "retreat": (place + _approach(yaw_p), yaw_p),
         }
         P = np.array([where[w][0] for _, w in PICK_PLACE_PLAN])
         yaws = np.array([where[w][1] for _, w in PICK_PLACE_PLAN])
@@ -656,10 +669,11 @@ def pick_place(
             q[rows] = np.roll(pair, 1, axis=1)
         grip = np.where((s >= PICK_PLACE_GRASP) & (s < PICK_PLACE_RELEASE), 0.0, 1.0)
         t = 6.0 * s * rng.uniform(0.9, 1.1)
-        demos.append(Demonstration.from_arrays(t, position=pos, orientation=q,
-                                               gripper=grip))  # fmt: skip
         frames.append({
             "object": np.concatenate([obj, _yaw_down(yaw_o)[0]]),
             "place": np.concatenate([place, _yaw_down(yaw_p)[0]]),
         })  # fmt: skip
+        demos.append(Demonstration.from_arrays(
+            t, position=pos, orientation=q, gripper=grip, frames=frames[-1]
+        ))  # fmt: skip
     return demos, frames

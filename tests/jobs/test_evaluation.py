@@ -35,8 +35,10 @@ def result():
 def test_rows_cover_every_shape_fold_protocol_and_generator(result):
     assert result.generators == ("ndlfd", *BASELINE_NAMES) == GENERATORS.names
     assert result.protocols == ("time", "time+start", "via", "prefix")
-    # every protocol but "task", which needs a pick-and-place set
-    assert result.protocols == tuple(p for p in PROTOCOLS.names if p != "task")
+    # every protocol but "task" and "frames", which need a pick-and-place set
+    assert result.protocols == tuple(
+        p for p in PROTOCOLS.names if p not in ("task", "frames")
+    )
     assert len(result.rows) == 2 * 2 * 4 * 5
     keys = {(r["shape"], r["fold"], r["protocol"], r["generator"]) for r in result.rows}
     assert len(keys) == len(result.rows)
@@ -132,7 +134,10 @@ def test_summary_and_markdown(result):
     summary = result.summary()
     assert len(summary) == 2 * 4 * 5
     assert [(e["group"], e["protocol"]) for e in summary[::5]] == [
-        (g, p) for g in ("single", "multi") for p in PROTOCOLS.names if p != "task"
+        (g, p)
+        for g in ("single", "multi")
+        for p in PROTOCOLS.names
+        if p not in ("task", "frames")
     ]
     for e in summary:
         assert e["rows"] == 2 and e["n_shapes"] == 1

@@ -74,13 +74,31 @@ def test_evaluate_runs_the_task_protocol_on_a_pick_and_place_set():
 
     result = evaluate(["PickPlace"], generators=["ndlfd", "mean"], folds=2, n_jobs=1,
                       progress=False)  # fmt: skip
-    assert result.protocols == ("time", "time+start", "via", "prefix", "task")
+    assert result.protocols == ("time", "time+start", "via", "prefix", "task",
+                                "frames")  # fmt: skip
     rows = [r for r in result.rows if r["protocol"] == "task"]
     assert len(rows) == 4 and all(r["ok"] and r["group"] == "task" for r in rows)
     # both pass through the grasp and the goal exactly
     assert all(r["via_error"] < 1e-9 for r in rows)
+    # with the frames, ndlfd is given no via point: its grasp is where the
+    # object's frame puts it (within 5 mm); the mean still gets the points
+    framed = {r["generator"]: r for r in result.rows if r["protocol"] == "frames"}
+    assert framed["mean"]["via_error"] < 1e-9
+    assert 0 < framed["ndlfd"]["via_error"] * framed["ndlfd"]["range"] < 5e-3
     lasa = evaluate(["Line"], generators=["mean"], folds=1, n_jobs=1, progress=False)
-    assert "task" not in lasa.protocols
+    assert "task" not in lasa.protocols and "frames" not in lasa.protocols
+
+
+def test_the_frames_protocol_gives_frames_to_who_takes_them():
+    from ndlfd.baselines import KeypointHMMGenerator, make_baseline
+    from ndlfd.jobs._evaluation_protocols import _given, load_shape
+
+    test = load_shape("PickPlace")[0]
+    kw, _ = PROTOCOLS.get("frames").conditions(test)
+    assert set(kw) == {"start", "via", "frames"}
+    np.testing.assert_array_equal(kw["frames"]["object"], test.frames["object"])
+    assert set(_given(KeypointHMMGenerator(), kw)) == {"start", "frames"}
+    assert set(_given(make_baseline("mean"), kw)) == {"start", "via"}
 
 
 def _path(test, seed):

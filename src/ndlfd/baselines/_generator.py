@@ -403,6 +403,8 @@ class KeypointHMMGenerator(Generator):
     """
 
     _name = "ndlfd"
+    #: :meth:`generate` takes task frames (the evaluation's ``"frames"``).
+    takes_frames = True
 
     def __init__(self, model: KeypointHMM | None = None, /, **params):
         if model is not None:
@@ -433,7 +435,14 @@ class KeypointHMMGenerator(Generator):
         self.model_ = KeypointHMM(**self.params).fit(demos)
 
     def generate(
-        self, times, *, start=None, via=None, observed=None, return_std: bool = False
+        self,
+        times,
+        *,
+        start=None,
+        via=None,
+        observed=None,
+        return_std: bool = False,
+        frames=None,
     ):
         """Dense generated positions at each time stamp.
 
@@ -451,6 +460,9 @@ class KeypointHMMGenerator(Generator):
         return_std : bool, default=False
             Also return the learner's standard deviation of the position
             (needs a KeypointHMM whose ``generate`` offers ``return_std``).
+        frames : mapping of str to array-like, optional
+            Passed as ``frames`` (new poses of the task frames the training
+            demonstrations carried).
 
         Returns
         -------
@@ -469,6 +481,8 @@ class KeypointHMMGenerator(Generator):
             kw["observed"] = Demonstration.from_arrays(t[:n], **{GROUP: observed})
         if return_std:
             kw["return_std"] = True
+        if frames is not None:
+            kw["frames"] = frames
         for name in kw:
             if not _keypoint_hmm_accepts(name):
                 raise ValidationError(

@@ -108,8 +108,8 @@ def add_evaluate(sub) -> None:
     )
     p.add_argument(
         "--protocols",
-        help="comma-separated protocols: time, time+start, via, prefix, task"
-        " (default: all, task only with a pick-and-place set)",
+        help="comma-separated protocols: time, time+start, via, prefix, task,"
+        " frames (default: all, task and frames only with a pick-and-place set)",
     )
     p.add_argument(
         "--generators",

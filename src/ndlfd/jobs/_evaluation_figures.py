@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import plot
+from ..demonstration import Demonstration
 from ._evaluation_protocols import load_shape, shape_group
 
 __all__ = ["GROUPS", "boxplot_figure", "shape_figure"]
@@ -60,15 +61,15 @@ def shape_figure(shape: str, example: dict, protocols, generators):
     a last panel draws the samples (:data:`~._evaluation_protocols.SAMPLES`
     paths drawn from the model, thin red lines) when there are some.
     """
-    demos = load_shape(shape)
+    demos = [_top_view(d) for d in load_shape(shape)]
     k = example["fold"]
     train = [d for i, d in enumerate(demos) if i != k]
-    samples = example.get("samples") or []
+    samples = [np.asarray(S)[:, :2] for S in example.get("samples") or []]
     fig, axes = plot.new_figure(len(protocols) + bool(samples), size=(4.5, 4.2))
     for ax, protocol in zip(axes, protocols, strict=False):
         paths, stds = (
             {
-                g: example[kind][protocol, g]
+                g: np.asarray(example[kind][protocol, g])[:, :2]
                 for g in generators
                 if (protocol, g) in example[kind]
             }
@@ -100,7 +101,19 @@ def shape_figure(shape: str, example: dict, protocols, generators):
     return fig
 
 
+def _top_view(demo):
+    """A demonstration's position seen from above (x, y): 3-D sets in 2-D panels."""
+    return Demonstration.from_arrays(demo.t, position=demo.get("position")[:, :2])
+
+
 def _mark_conditions(ax, kw: dict) -> None:
+    for i, (name, pose) in enumerate((kw.get("frames") or {}).items()):
+        ax.plot(
+            pose[0], pose[1], "s", mfc="none", color="black", markersize=9,
+            label="task frames (ndlfd)" if i == 0 else None,
+        )  # fmt: skip
+        ax.annotate(name, (pose[0], pose[1]), fontsize="small",
+                    xytext=(6, 6), textcoords="offset points")  # fmt: skip
     for i, (_, p) in enumerate(kw.get("via") or []):
         ax.plot(
             p[0], p[1], "D", color="black", markersize=7,
@@ -110,7 +123,7 @@ def _mark_conditions(ax, kw: dict) -> None:
     if observed is not None:
         obs = np.asarray(observed, dtype=float)
         ax.plot(obs[:, 0], obs[:, 1], color="black", lw=3.0, label="observed")
-    if kw.get("via") or observed is not None:
+    if kw.get("via") or kw.get("frames") or observed is not None:
         ax.legend(loc="best", fontsize="small")
 
 

@@ -17,6 +17,10 @@ are scored:
                   its goal, the last two as via points
                   (``via=[(t[g], p[g]), (t[-1], p[-1])]``): a pick-and-place
                   whose object and place moved
+``"frames"``      as ``"task"``, and the held-out demonstration's task frames
+                  (the object's and the place's poses): a generator that
+                  takes frames (ndlfd) is given the start and the frames
+                  only, no time; the others the start and the via points
 ================  ==========================================================
 
 Besides LASA's shapes, :data:`TASK_SHAPES` are pick-and-place sets
@@ -58,6 +62,7 @@ __all__ = [
     "PROTOCOLS",
     "ROW_KEYS",
     "SAMPLES",
+    "TASK_PROTOCOLS",
     "TASK_SHAPES",
     "Protocol",
     "load_shape",
@@ -138,6 +143,11 @@ def _task(test):
                                    (float(test.t[-1]), P[-1])]}, 0  # fmt: skip
 
 
+def _frames(test):
+    kw, first = _task(test)
+    return {**kw, "frames": dict(test.frames)}, first
+
+
 def _prefix(test):
     n = min(test.n_samples - 1, math.ceil(PREFIX_FRACTION * test.n_samples))
     return {"observed": test.get("position")[:n]}, n
@@ -150,6 +160,9 @@ PROTOCOLS.add("time+start", Protocol(_start))
 PROTOCOLS.add("via", Protocol(_via, ("via_error",)))
 PROTOCOLS.add("prefix", Protocol(_prefix, ("prefix_jump",)))
 PROTOCOLS.add("task", Protocol(_task, ("via_error",)))
+PROTOCOLS.add("frames", Protocol(_frames, ("via_error",)))
+#: The protocols that need a pick-and-place set (task frames, a grasp).
+TASK_PROTOCOLS = ("task", "frames")
 
 #: The pick-and-place sets besides LASA's shapes: name -> largest turn (deg).
 TASK_SHAPES = {"PickPlace": 0.0, "PickPlaceTurned": 60.0}
@@ -307,6 +320,15 @@ def run_fold(
         return _run_fold(shape, fold, protocols, factories, keep_paths)
 
 
+def _given(gen, kw: dict) -> dict:
+    """A protocol's conditions for one generator: frames only if it takes them."""
+    if "frames" not in kw:
+        return kw
+    if getattr(gen, "takes_frames", False):
+        return {k: v for k, v in kw.items() if k != "via"}
+    return {k: v for k, v in kw.items() if k != "frames"}
+
+
 def _run_fold(shape, fold, protocols, factories, keep_paths):
     demos = load_shape(shape)
     test = demos[fold]
@@ -337,7 +359,7 @@ def _run_fold(shape, fold, protocols, factories, keep_paths):
             if fit_error is None:
                 t0 = time.perf_counter()
                 try:
-                    path = gen.generate(times, **kw)
+                    path = gen.generate(times, **_given(gen, kw))
                     seconds = fit_seconds + time.perf_counter() - t0
                     row.update(score(test, times, path, scale, train, kw, first))
                     row.update(ok=True, seconds=seconds)

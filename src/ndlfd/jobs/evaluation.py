@@ -87,6 +87,7 @@ from ._evaluation_protocols import (
     METRICS,
     PROTOCOLS,
     ROW_KEYS,
+    TASK_PROTOCOLS,
     TASK_SHAPES,
     load_shape,
     run_fold,
@@ -487,10 +488,11 @@ def evaluate(
         ``{"fine": functools.partial(KeypointHMMGenerator, levels=50)}``.
         With ``n_jobs > 1`` the factories must be picklable (classes and
         ``functools.partial`` are, lambdas are not).
-    protocols : sequence of {"time", "time+start", "via", "prefix", "task"}, optional
-        What a generator is given besides the training demonstrations (the
-        first four by default, and ``"task"`` too when a pick-and-place set
-        is among the shapes; see the module's description).
+    protocols : sequence of str, optional
+        What a generator is given besides the training demonstrations:
+        ``"time"``, ``"time+start"``, ``"via"``, ``"prefix"`` (by default),
+        and ``"task"`` and ``"frames"`` (by default too when a pick-and-place
+        set is among the shapes); see the module's description.
     folds : int, optional
         Hold out only the first ``folds`` demonstrations of each shape (all 7
         by default).
@@ -541,10 +543,10 @@ def evaluate(
     for s in names:
         if s not in TASK_SHAPES:
             LASA_SHAPES.check(s)
-    if protocols is None:  # "task" needs a pick-and-place set
-        protocols = tuple(p for p in PROTOCOLS.names if p != "task")
+    if protocols is None:  # "task" and "frames" need a pick-and-place set
+        protocols = tuple(p for p in PROTOCOLS.names if p not in TASK_PROTOCOLS)
         if any(s in TASK_SHAPES for s in names):
-            protocols += ("task",)
+            protocols += TASK_PROTOCOLS
     protocols = (protocols,) if isinstance(protocols, str) else tuple(protocols)
     if not protocols:
         raise ValidationError("protocols must name at least one protocol")

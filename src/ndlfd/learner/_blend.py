@@ -305,6 +305,7 @@ def blend(
     quat_cols=None,
     observed=None,
     ridge: float = CONDITION_RIDGE,
+    mix=None,
 ):
     """Weighted average of demonstrations time-warped onto a common skeleton.
 
@@ -332,6 +333,9 @@ def blend(
         is conditioned on them (:func:`condition_offsets`).
     ridge : float, default=:data:`CONDITION_RIDGE`
         The observations' noise (:func:`condition_offsets`).
+    mix : callable, optional
+        ``mix(W, w, tq) -> W``, applied to the time-warped demonstrations
+        before they are averaged (task frames: :mod:`ndlfd.learner._frames`).
 
     Returns
     -------
@@ -351,7 +355,7 @@ def blend(
     array([[0.],
            [1.]])
     """
-    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols)
+    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols, mix)
     mean = np.tensordot(w, W, axes=1)
     if observed is not None:
         mean += condition_offsets(W, w, mean, observed, ridge)
@@ -419,7 +423,7 @@ def smooth_warp(tq, knots, at, half: float = WARP_SMOOTH) -> np.ndarray:
     return out
 
 
-def warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
+def warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None, mix=None):
     """The demonstrations time-warped onto the skeleton, and their weights.
 
     What :func:`blend` averages; see its parameters.
@@ -445,10 +449,12 @@ def warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
         for j in range(W.shape[0]):
             flip = np.sum(W[j][:, quat_cols] * ref, axis=1) < 0
             W[j][np.ix_(flip, quat_cols)] *= -1.0
+    if mix is not None:
+        W = mix(W, w, np.asarray(tq, dtype=np.float64))
     return W, w
 
 
-def spread(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
+def spread(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None, mix=None):
     """Weighted standard deviation of the warped demonstrations at each time.
 
     The blend's band: how much the demonstrations it averages differ where
@@ -456,7 +462,7 @@ def spread(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
 
     Parameters
     ----------
-    U_list, tau_list, index_list, weights, knots, tq, quat_cols
+    U_list, tau_list, index_list, weights, knots, tq, quat_cols, mix
         As :func:`blend`'s.
 
     Returns
@@ -477,7 +483,7 @@ def spread(U_list, tau_list, index_list, weights, knots, tq, quat_cols=None):
     array([[0.1],
            [0.1]])
     """
-    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols)
+    W, w = warped(U_list, tau_list, index_list, weights, knots, tq, quat_cols, mix)
     D = W - np.tensordot(w, W, axes=1)[None]
     return np.sqrt(np.tensordot(w, D * D, axes=1))
 

@@ -21,6 +21,7 @@ from ..limits import limited
 from ._blend import MATCH_WINDOW
 from ._cache import ModelCache
 from ._conditioning import check_condition
+from ._frames import split_frames
 from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_params
 from ._passes import collect_statistics, scan_ranges
@@ -136,6 +137,8 @@ class KeypointHMM(ParamsMixin):
         Values clipped by the codebook while fitting.
     routes_ : ndarray of shape (n_demos,), dtype int64
         Each demonstration's route, numbered from 0 by first demonstration.
+    task_frames_ : dict of str to ndarray of shape (n_demos, pose_size)
+        Each task frame's pose in every demonstration (empty without frames).
 
     Examples
     --------
@@ -293,18 +296,9 @@ class KeypointHMM(ParamsMixin):
         self._check_fitted()
         return decode_key_points(self, times_or_demo, self._cache)
 
-    def generate(
-        self,
-        times_or_demo,
-        *,
-        dense: bool = False,
-        start=None,
-        goal=None,
-        return_std: bool = False,
-        via=None,
-        observed=None,
-        limits=None,
-    ):
+    def generate(self, times_or_demo, *, dense: bool = False, start=None, goal=None,
+                 return_std: bool = False, via=None, observed=None, limits=None,
+                 frames=None):  # fmt: skip
         """Generate a path for a new timing, optionally from a start to a goal.
 
         Parameters
@@ -331,6 +325,11 @@ class KeypointHMM(ParamsMixin):
         limits : mapping, optional
             ``{group or column: {"velocity": v, "acceleration": a, "jerk": j}}``:
             the dense path slowed where it would exceed them (:mod:`ndlfd.limits`).
+        frames : mapping of str to array-like, optional
+            New poses of the task frames the demonstrations carried, e.g.
+            ``{"object": [x, y, z, qw, qx, qy, qz]}``: each part of the motion
+            follows the frame where the demonstrations agree most
+            (:mod:`ndlfd.learner._frames`); no time is needed.
 
         Returns
         -------
@@ -358,11 +357,12 @@ class KeypointHMM(ParamsMixin):
         how = GENERATIONS.get(self.generation)
         out = how(self, times_or_demo, dense=dense, start=start, goal=goal,
                   return_std=return_std, cache=self._cache, via=via,
-                  observed=observed)  # fmt: skip
+                  observed=observed, frames=frames)  # fmt: skip
         return out if limits is None else limited(out, limits, dense, return_std)
 
     def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None, goal=None,
-               via=None, observed=None, random_state=None) -> list:  # fmt: skip
+               via=None, observed=None, random_state=None,
+               frames=None) -> list:  # fmt: skip
         """Paths drawn from the model, each on one route (always blended).
 
         Routes in proportion to their weight, varying within a route about as
@@ -370,7 +370,7 @@ class KeypointHMM(ParamsMixin):
 
         Parameters
         ----------
-        times_or_demo, dense, start, goal, via, observed
+        times_or_demo, dense, start, goal, via, observed, frames
             As in :meth:`generate` (``dense`` true by default).
         n_samples : int, default=1
         random_state : None, int or Generator, default=None
@@ -392,7 +392,8 @@ class KeypointHMM(ParamsMixin):
         self._check_fitted()
         return sample_paths(self, times_or_demo, n_samples, dense=dense,
                             start=start, goal=goal, via=via, observed=observed,
-                            random_state=random_state, cache=self._cache)  # fmt: skip
+                            random_state=random_state, cache=self._cache,
+                            frames=frames)  # fmt: skip
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:
@@ -453,3 +454,6 @@ def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
             )
         )
         est.routes_ = model_routes(est, est._cache)
+        est.task_frames_ = split_frames(stats.frames, spec.frames)
+    else:
+        est.task_frames_ = {}

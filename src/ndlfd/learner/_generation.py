@@ -33,11 +33,19 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times, spread
+from ._blend import (
+    CONDITION_RIDGE,
+    align_many,
+    blend,
+    skeleton_times,
+    spread,
+    warped,
+)
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
+from ._frames import check_new_frames, clock_aligned, frame_mixer
 from ._phase import warp_for
 from ._prefix_route import allowed_routes, prefix_stride
 from ._routes import choose_route, route_probabilities
@@ -110,6 +118,8 @@ class Plan:
     knots : ndarray of shape (n_keys,)
         The skeleton times the templates are warped onto (the matches' mean
         time under the blend's normalized weights).
+    templates : ndarray of shape (n_templates,), dtype int64
+        Which templates they are (indices into ``template_indices_``).
     """
 
     states: np.ndarray
@@ -121,6 +131,7 @@ class Plan:
     index: list
     key_tau: np.ndarray
     knots: np.ndarray
+    templates: np.ndarray
 
 
 def times_of(times_or_demo) -> np.ndarray:
@@ -401,7 +412,9 @@ def plan_from_states(
     key_tau[0], key_tau[-1] = 0.0, 1.0
     norm = np.asarray(weights, dtype=np.float64)
     knots = skeleton_times(taus, index, norm / norm.sum())
-    return Plan(skel, logp, model, values, taus, weights, index, key_tau, knots)
+    return Plan(
+        skel, logp, model, values, taus, weights, index, key_tau, knots, templates
+    )
 
 
 def aligned_templates(est, skel, C, templates, cache: ModelCache) -> list:
@@ -594,6 +607,7 @@ def render(
     via=None,
     prefix=None,
     with_std: bool = False,
+    frames=None,
 ):
     """The path of a plan: blended, in physical units, pinned, with velocity.
 
@@ -620,6 +634,9 @@ def render(
         Also the band: the weighted standard deviation of the templates the
         path blends, aligned as they are blended
         (:func:`~ndlfd.learner._blend.spread`), in physical units.
+    frames : dict of str to ndarray, optional
+        Checked new poses of the model's task frames: the templates are
+        combined from their views in each (:mod:`ndlfd.learner._frames`).
 
     Returns
     -------
@@ -636,12 +653,18 @@ def render(
                                            prefix=prefix, goal=goal)  # fmt: skip
     n_at = at.size  # the observations' rows come after, dropped after the blend
     qc = _quat_cols(groups)
-    templates = (plan.values, plan.taus, plan.index, plan.weights, plan.knots)
+    index, mix = plan.index, None
+    if frames is not None:  # on their own clocks (ndlfd.learner._frames)
+        index = clock_aligned(plan.taus, plan.knots)
+    templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
+    if frames is not None:
+        mix = frame_mixer(est, plan.templates, frames,
+                          lambda p: warped(*templates, p, quat_cols=qc))  # fmt: skip
     phase_at, phase_obs = at, obs_tau
     if observed:  # the clock warped to meet them (ndlfd.learner._phase)
 
         def mean(p):
-            return blend(*templates, p, quat_cols=qc)
+            return blend(*templates, p, quat_cols=qc, mix=mix)
 
         phase_at, phase_obs = warp_for(mean, at, obs_tau, observed,
                                        prefix=prefix is not None)  # fmt: skip
@@ -650,11 +673,11 @@ def render(
         rows = (
             phase_at[: tq.size] if dense or prefix is not None else phase_at[tq.size :]
         )
-        std = est.scaler_.inverse_scale(spread(*templates, rows, quat_cols=qc))
+        std = est.scaler_.inverse_scale(spread(*templates, rows, quat_cols=qc, mix=mix))
     observed = [(n_at + k, c, v) for k, c, v in observed] or None
     ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
-              observed=observed, ridge=ridge)[:n_at]  # fmt: skip
+              observed=observed, ridge=ridge, mix=mix)[:n_at]  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
@@ -688,9 +711,11 @@ def generate_blend(
     cache,
     via=None,
     observed=None,
+    frames=None,
 ):
     """The blended generation (see :meth:`KeypointHMM.generate`)."""
     all_t = times_of(times_or_demo)
+    frames = check_new_frames(est, frames)
     cols, groups = est.column_groups_, est.groups_
     start, goal = orient_conditions(est, start, goal)
     via = orient_via(est, check_via(via, all_t, cols, groups), cache)
@@ -704,7 +729,8 @@ def generate_blend(
         route = prefix_route(est, prefix, all_t.size, goal, cache)
     plan = make_plan(est, all_t, start, goal, cache, extra, route)
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
-                          via=via, prefix=prefix, with_std=return_std)  # fmt: skip
+                          via=via, prefix=prefix, with_std=return_std,
+                          frames=frames)  # fmt: skip
     return (path, std) if return_std else path
 
 
@@ -719,12 +745,13 @@ def generate_paper(
     cache,
     via=None,
     observed=None,
+    frames=None,
 ):
     """The paper's generation (see :meth:`KeypointHMM.generate`)."""
-    if via is not None or observed is not None:
+    if via is not None or observed is not None or frames is not None:
         raise ValidationError(
-            "via and observed need generation='blend'; the paper's generation"
-            " has neither"
+            "via, observed and frames need generation='blend'; the paper's"
+            " generation has none of them"
         )
     if return_std:
         raise ValidationError(
@@ -749,7 +776,7 @@ def generate_paper(
 
 
 #: Generations: functions ``(est, times_or_demo, *, dense, start, goal,
-#: return_std, cache, via, observed) -> path or (path, std)``.
+#: return_std, cache, via, observed, frames) -> path or (path, std)``.
 GENERATIONS = Registry("generation")
 GENERATIONS.add("blend", generate_blend)
 GENERATIONS.add("paper", generate_paper)

@@ -39,6 +39,7 @@ import numpy as np
 from .. import hmm
 from .._errors import ModelFormatError
 from .._fileformat import load_npz, save_npz
+from .._poses import pose_size_ok
 from ..codebook import Codebook, TimeBins
 from ..io import ColumnMapping
 from ..normalize import GroupScaler
@@ -92,6 +93,7 @@ class Loaded:
     n_clipped: int
     stats: FitStats | None = None
     v1: dict = field(default_factory=dict)
+    frames: tuple = ()
 
     def spec(self, groups: tuple) -> DemoSpec:
         """The demonstration spec of the file's model (its learned ``groups``)."""
@@ -102,6 +104,7 @@ class Loaded:
             scaler=self.scaler,
             codebook=self.codebook,
             time_bins=self.time_bins,
+            frames=self.frames,
         )
 
 
@@ -136,6 +139,9 @@ def save_model(est, path: str | os.PathLike) -> None:
     mapping = getattr(est, "input_mapping_", None)
     if mapping is not None:
         meta["input"] = input_to_json(mapping)
+    frames = getattr(est, "task_frames_", None)
+    if frames:
+        meta["frames"] = [[name, int(a.shape[1])] for name, a in frames.items()]
     if version == FORMAT_VERSION:
         meta["scaler_seen"] = {
             "group_min": scaler.group_min_,
@@ -284,7 +290,27 @@ def _common(arrays, meta, path, make, **older) -> Loaded:
         time_bins=TimeBins(est.n_time_bins),
         n_states_used=int(meta["n_states_used"]),
         n_clipped=int(meta["n_clipped"]),
+        frames=_frames_of(meta.get("frames", []), col_groups, path),
     )
+
+
+def _frames_of(obj, col_groups, path) -> tuple:
+    """The task frames' names and pose sizes of a model file, checked."""
+    dims = col_groups.count("position")
+    ok = isinstance(obj, list) and all(
+        isinstance(e, list)
+        and len(e) == 2
+        and isinstance(e[0], str)
+        and isinstance(e[1], int)
+        and pose_size_ok(e[1], dims)
+        for e in obj
+    )
+    if not ok or len({e[0] for e in obj}) != len(obj):
+        raise ModelFormatError(
+            f"{path}: malformed task frames {obj!r} (tampered file?); expected"
+            f" [[name, size], ...] with poses of {dims} or 7 values"
+        )
+    return tuple((name, size) for name, size in obj)
 
 
 def input_to_json(mapping: ColumnMapping) -> dict:

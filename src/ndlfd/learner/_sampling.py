@@ -41,6 +41,7 @@ from .. import hmm
 from .._validation import check_positive_int, check_random_state
 from ..demonstration import Demonstration
 from ._conditioning import check_condition
+from ._frames import check_new_frames
 from ._generation import (
     demo_log_weights,
     orient_conditions,
@@ -99,6 +100,7 @@ def sample_paths(
     cache,
     via=None,
     observed=None,
+    frames=None,
 ):
     """Paths drawn from a fitted model (see :meth:`KeypointHMM.sample`).
 
@@ -123,6 +125,8 @@ def sample_paths(
         The samples executed so far (:mod:`ndlfd.learner._via`): the routes
         weighted by them, every path them and then its continuation from the
         last one (every time stamp, as :meth:`KeypointHMM.generate`).
+    frames : mapping of str to array-like, optional
+        New poses of the model's task frames (:mod:`ndlfd.learner._frames`).
     cache : ModelCache
         The model's cache (:func:`~ndlfd.learner._generation.demo_log_weights`).
 
@@ -140,6 +144,7 @@ def sample_paths(
     all_t = times_of(times_or_demo)
     via = orient_via(est, check_via(via, all_t, cols, groups), cache)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
+    frames = check_new_frames(est, frames)
     logw, routes = demo_log_weights(est, start, goal, cache)
     logw = logw + via_log_weights(est, via, cache)
     if prefix is None:
@@ -164,6 +169,6 @@ def sample_paths(
             g = rng.dirichlet(alpha) if tw.size > 1 else np.ones(1)
             states = _seen_only(states, est.centroid_states_)
             plan = plan_from_states(est, states, np.nan, model, lw, g / g.max())
-            out[k] = render(est, plan, all_t, start, goal, dense=dense,
-                            cache=cache, via=via, prefix=prefix)[0]  # fmt: skip
+            out[k] = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
+                            via=via, prefix=prefix, frames=frames)[0]  # fmt: skip
     return out

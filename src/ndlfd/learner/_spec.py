@@ -39,6 +39,7 @@ __all__ = [
     "OTHER_LEVELS",
     "DemoSpec",
     "Reduced",
+    "frame_spec",
     "levels_by_group",
     "prepare",
     "resolve_groups",
@@ -281,6 +282,17 @@ class Reduced:
         return unit_time(self.times)
 
 
+def frame_spec(demo: Demonstration) -> tuple[tuple[str, int], ...]:
+    """A demonstration's task frames: each one's name and pose size."""
+    return tuple((name, int(p.size)) for name, p in demo.frames.items())
+
+
+def _frames_text(spec) -> str:
+    if not spec:
+        return "none"
+    return ", ".join(f"{name!r} ({size} values)" for name, size in spec)
+
+
 @dataclass(frozen=True)
 class DemoSpec:
     """What is learned of a demonstration and how it is encoded (fit and generate).
@@ -304,6 +316,9 @@ class DemoSpec:
     time_bins : TimeBins or None
     cli : bool
         Errors name the command line's flags.
+    frames : tuple of (str, int)
+        The task frames every demonstration carries: name and pose size
+        (:mod:`ndlfd._poses`), as the first one has them.
     """
 
     groups: tuple[str, ...] = ()
@@ -317,6 +332,7 @@ class DemoSpec:
     codebook: Codebook | None = None
     time_bins: TimeBins | None = None
     cli: bool = False
+    frames: tuple[tuple[str, int], ...] = ()
 
     @classmethod
     def fitted(cls, params: Mapping, ranges, groups, columns, col_groups, **kw):
@@ -372,6 +388,7 @@ class DemoSpec:
             scaler=est.scaler_,
             codebook=est.codebook_,
             time_bins=est.time_bins_,
+            frames=tuple((k, int(v.shape[1])) for k, v in est.task_frames_.items()),
         )
 
     def prepared(self, demo: Demonstration) -> Demonstration:
@@ -384,7 +401,20 @@ class DemoSpec:
                 "all demonstrations must have the same columns; the first has"
                 f" {self.columns} and this one has {d.columns}"
             )
+        have = frame_spec(d)
+        if have != self.frames:
+            raise ValidationError(
+                "all demonstrations must carry the same task frames (name and"
+                f" pose size); the first has {_frames_text(self.frames)} and this"
+                f" one has {_frames_text(have)}"
+            )
         return d
+
+    def frame_values(self, d: Demonstration) -> np.ndarray:
+        """A prepared demonstration's frame poses, one after another (F,)."""
+        if not self.frames:
+            return np.zeros(0)
+        return np.concatenate([d.frames[name] for name, _ in self.frames])
 
     @cached_property
     def column_weights(self) -> np.ndarray | None:

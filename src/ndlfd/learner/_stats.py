@@ -262,6 +262,11 @@ def merge_repairs(*groups) -> tuple:
 # ----------------------------------------------------------------- pass 2
 
 
+def _frame_row(r) -> np.ndarray:
+    """A demonstration's frame poses as one row (empty without frames)."""
+    return np.zeros(0) if r.frames is None else np.asarray(r.frames, np.float64)
+
+
 class DemoStats(NamedTuple):
     """One demonstration's part of the fit statistics (:meth:`FitStats.of_demos`).
 
@@ -279,6 +284,8 @@ class DemoStats(NamedTuple):
         Values the codebook clipped.
     template : bool
         Keep the full values and times (a blend template).
+    frames : ndarray of shape (n_frame_values,) or None
+        Its task frames' poses, one after another (none: empty).
     """
 
     index: int
@@ -289,6 +296,7 @@ class DemoStats(NamedTuple):
     key_bins: np.ndarray
     n_clipped: int = 0
     template: bool = False
+    frames: np.ndarray | None = None
 
 
 #: FitStats fields: name → (dtype, kind) where kind says what the first axis
@@ -302,6 +310,7 @@ _FIELDS = {
     "n_keys": (np.int64, "demo"),
     "first": (np.float64, "demo"),
     "last": (np.float64, "demo"),
+    "frames": (np.float64, "demo"),
     "keypoints": (np.int64, "key"),
     "key_states": (np.int64, "key"),
     "key_bins": (np.int64, "key"),
@@ -496,6 +505,7 @@ class FitStats:
             n_keys=[k.size for k in keys],
             first=cat([v[:1] for v in values]),
             last=cat([v[-1:] for v in values]),
+            frames=np.stack([_frame_row(r) for r in demos]),
             keypoints=cat(keys),
             key_states=states,
             key_bins=cat([r.key_bins for r in demos]),
@@ -597,6 +607,7 @@ class FitStats:
             n_keys=_take(n_keys, order),
             first=_take(cat([p.first for p in parts]), order),
             last=_take(cat([p.last for p in parts]), order),
+            frames=_take(cat([p.frames for p in parts]), order),
             keypoints=_ragged_take(cat([p.keypoints for p in parts]), n_keys, order),
             key_states=_ragged_take(cat([p.key_states for p in parts]), n_keys, order),
             key_bins=_ragged_take(cat([p.key_bins for p in parts]), n_keys, order),
@@ -635,7 +646,10 @@ class FitStats:
         -------
         arrays : dict of str to ndarray
         """
-        return {prefix + k: getattr(self, k).copy() for k in _FIELDS}
+        out = {prefix + k: getattr(self, k).copy() for k in _FIELDS}
+        if self.frames.shape[1] == 0:  # no task frames: the file as before them
+            del out[prefix + "frames"]
+        return out
 
     @classmethod
     def from_arrays(cls, arrays, prefix: str = "") -> FitStats:
@@ -658,6 +672,10 @@ class FitStats:
         """
         got = {}
         for k, (dtype, _) in _FIELDS.items():
+            if k == "frames" and prefix + k not in arrays:  # before task frames
+                n = np.asarray(arrays.get(prefix + "demo_index", ())).shape[0]
+                got[k] = np.zeros((n, 0))
+                continue
             if prefix + k not in arrays:
                 raise ModelFormatError(f"fit statistics lack the array {prefix + k!r}")
             a = np.asarray(arrays[prefix + k])
@@ -694,12 +712,14 @@ def _check_consistent(a: dict) -> None:
         shape = want[kind]
         if k in ("first", "last"):
             shape = (n, d)
+        elif k == "frames":
+            shape = (n, a[k].shape[1] if a[k].ndim == 2 else -1)
         elif k == "template_values":
             shape = (n_smp, d)
         if min(shape, default=0) < 0 or a[k].shape != shape:
             problems.append(f"{k} has shape {a[k].shape}, expected {shape}")
     if not problems:
-        floats = ("first", "last", "template_values", "template_tau")
+        floats = ("first", "last", "frames", "template_values", "template_tau")
         if not all(np.all(np.isfinite(a[k])) for k in floats):
             problems.append("non-finite values")
         if np.any(np.diff(a["demo_index"]) <= 0) or np.any(

@@ -1,0 +1,456 @@
+"""Task frames in generation: each part of the motion where the demonstrations agree.
+
+A demonstration may carry task frames (:class:`~ndlfd.Demonstration`'s
+``frames``: where the object and the place were). Given new poses of those
+frames (``generate(t, frames={"object": pose})``), every blended template is
+seen from each frame: the template as demonstrated (the *world* frame), and
+the template carried rigidly from its own pose of the frame to the new one
+(:func:`ndlfd._poses.frame_maps`; a frame with an orientation gives two
+views, moved and turned, and moved only). At every output time each view
+gives a
+Gaussian over the position, the templates' weighted mean and covariance there;
+the frames are combined as a product of Gaussians (as task-parameterized
+mixtures do, Calinon 2016), so where the demonstrations agree in the object's
+frame (near the grasp, the hand is rigid in it) the object's frame decides,
+and where they agree in the world (the start) the world does. No time is
+needed: the phase comes from the aligned templates. Then each combined
+template is moved along a ridge regression of the templates on their frames'
+origins (:func:`_regressed`): a part of the motion between two frames (the
+carry from the object to the place) moves with both, which no one view
+gives, and the regression finds how much.
+
+:func:`frame_mixer` returns the step :func:`~ndlfd.learner._blend.warped`
+applies to the time-warped templates: each template becomes the
+precision-weighted combination of its frame views, so the blend's mean is
+the product's mean and the conditioning on a start, goal or via point
+(:func:`~ndlfd.learner._blend.condition_offsets`) works on the combined
+templates' deviations. Velocity turns with the position; orientation is the
+frames' views averaged with weights inverse to their angular spread.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from .._errors import ValidationError
+from .._poses import check_frames, frame_maps
+from ._conditioning import group_columns
+
+__all__ = [
+    "FRAME_FLOOR",
+    "check_new_frames",
+    "clock_aligned",
+    "frame_mixer",
+    "quat_multiply",
+    "split_frames",
+]
+
+#: Variance floor of a frame's Gaussian, as a share of the position range
+#: (squared), and in radians squared for orientation: frames in which the
+#: templates coincide exactly still combine (no singular covariance).
+FRAME_FLOOR = 1e-3
+
+
+def split_frames(values: np.ndarray, spec) -> dict:
+    """The fit statistics' frame poses by name.
+
+    Parameters
+    ----------
+    values : ndarray of shape (n_demos, n_frame_values)
+        Every demonstration's frames, one after another.
+    spec : tuple of (str, int)
+        Their names and pose sizes.
+
+    Returns
+    -------
+    frames : dict of str to ndarray of shape (n_demos, size)
+        Read-only.
+    """
+    out, at = {}, 0
+    for name, size in spec:
+        a = np.array(values[:, at : at + size], dtype=np.float64)
+        a.flags.writeable = False
+        out[name] = a
+        at += size
+    return out
+
+
+def check_new_frames(est, frames) -> dict | None:
+    """New poses of the model's task frames, checked (``None``: none given).
+
+    Frames the model learned but not given are left out of the product (as if
+    the demonstrations had not had them).
+    """
+    if frames is None:
+        return None
+    learned = est.task_frames_
+    dims = est.column_groups_.count("position") or None
+    got = check_frames(frames, dims, what="frames")
+    if not got:
+        return None
+    if not learned:
+        raise ValidationError(
+            f"frames {list(got)} were given, but this model learned no task frames"
+            " (its demonstrations carried none: Demonstration.from_arrays(...,"
+            " frames=...) or --task-frame when fitting)"
+        )
+    unknown = [k for k in got if k not in learned]
+    if unknown:
+        raise ValidationError(
+            f"unknown task frame {unknown[0]!r}; this model learned"
+            f" {', '.join(repr(k) for k in learned)}"
+        )
+    for name, pose in got.items():
+        size = learned[name].shape[1]
+        if pose.size != size:
+            kind = (
+                "position and unit quaternion (w, x, y, z)"
+                if size == 7
+                else ("position")
+            )
+            raise ValidationError(
+                f"frames[{name!r}] must hold {size} values ({kind}), as the"
+                f" demonstrations' did; got {pose.size}"
+            )
+    return dict(got)
+
+
+def clock_aligned(taus, knots) -> list:
+    """Each template's samples at the skeleton's knots on its own clock.
+
+    With task frames the templates are matched to the skeleton by time, not
+    by place: the skeleton is decoded where the demonstrations were (the
+    world), and matching a template whose object lay elsewhere by place
+    pulls its phase toward the skeleton's. Measured on ``synth.pick_place``
+    leave-one-out (``benchmarks/probe_task_frames.py``): DTW/range 0.0016
+    and 0.0024 (translated, turned by up to 60 deg) matched by place, 0.0011
+    and 0.0021 by time (ProMP given the start, the grasp and the goal:
+    0.0013). Demonstrations of different pace are then blended as the plain
+    time-normalized mean blends them.
+
+    Parameters
+    ----------
+    taus : list of ndarray of shape (n_j,)
+        The templates' normalized times (0 to 1).
+    knots : ndarray of shape (n_keys,)
+        Normalized skeleton times (0 to 1).
+
+    Returns
+    -------
+    index : list of ndarray of shape (n_keys,), dtype int64
+        Non-decreasing, the first 0 and the last ``n_j - 1``.
+
+    Examples
+    --------
+    >>> clock_aligned([np.linspace(0.0, 1.0, 5)], np.array([0.0, 0.6, 1.0]))
+    [array([0, 2, 4])]
+    """
+    out = []
+    for tau in taus:
+        i = np.clip(np.searchsorted(tau, knots), 1, tau.size - 1)
+        i = np.where(knots - tau[i - 1] <= tau[i] - knots, i - 1, i)
+        i[0], i[-1] = 0, tau.size - 1
+        out.append(np.maximum.accumulate(i).astype(np.int64))
+    return out
+
+
+def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of quaternions ``(w, x, y, z)`` (broadcast).
+
+    Examples
+    --------
+    >>> i = np.array([0.0, 1.0, 0.0, 0.0])
+    >>> quat_multiply(i, i)
+    array([-1.,  0.,  0.,  0.])
+    """
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def _gauss(C: np.ndarray, w: np.ndarray, floor: float):
+    """Weighted mean and covariance over templates at every row, and the precision."""
+    mu = np.tensordot(w, C, axes=1)  # (n_out, k)
+    D = C - mu[None]
+    S = np.einsum("j,jta,jtb->tab", w, D, D)
+    S += floor * np.eye(C.shape[2])[None]
+    return np.linalg.inv(S)
+
+
+def _angular_precision(Q: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
+    """Inverse weighted mean squared angle of the quaternions to their mean."""
+    m = np.tensordot(w, Q, axes=1)
+    m /= np.maximum(np.linalg.norm(m, axis=-1, keepdims=True), 1e-300)
+    dots = np.clip(np.abs(np.einsum("jtc,tc->jt", Q, m)), 0.0, 1.0)
+    ang2 = (2.0 * np.arccos(dots)) ** 2
+    return 1.0 / (np.tensordot(w, ang2, axes=1) + floor)
+
+
+#: Ridge of the regression on the frames' origins, as a share of their
+#: standardized variance. Leave-one-out on ``synth.pick_place`` (12
+#: demonstrations, ``benchmarks/probe_task_frames.py``): 0.1 shrank every
+#: template's correction by a tenth (DTW/range 0.0016 translated, 0.0040
+#: turned); 1e-3 and 1e-4 gave 0.0016 and 0.0024.
+FRAME_RIDGE = 1e-3
+
+#: With fewer templates than this many per feature (plus two), the
+#: regression is shrunk hard (ridge 1): it would otherwise fit their noise.
+_FEW = 2
+
+
+def _features(est, demos, frames, k):
+    """The templates' frame origins as regression features, and the new ones.
+
+    Each frame's origin only: on ``synth.pick_place`` turned by up to 60 deg
+    the frames' turns as features (rotation vectors) raised DTW/range from
+    0.0024 to 0.0030 (where positions do not depend on them, they fit noise);
+    a turn's effect near its frame is the turned view's (:func:`frame_mixer`).
+    """
+    F = np.hstack([est.task_frames_[name][demos][:, :k] for name in frames])
+    return F, np.concatenate([pose[:k] for pose in frames.values()])
+
+
+def _regressed(Y, w, F, f_new):
+    """Each template moved along its regression on the frame features to the new ones.
+
+    ``Y`` (n_templates, n_out, c); the weighted ridge regression of every
+    value on the standardized features (one slope per row and column),
+    evaluated at the new features: what the templates' values would be had
+    their frames been the new ones, as far as they vary linearly with them
+    (a part of the motion between two frames moves with both, which no
+    single frame's view gives).
+    """
+    mf = w @ F
+    Fc = F - mf
+    sd = np.sqrt(w @ (Fc * Fc))
+    keep = sd > 1e-9 * max(float(sd.max(initial=0.0)), 1e-300)
+    n_t = Y.shape[0]
+    if not keep.any() or n_t < 3:
+        return Y
+    Z = Fc[:, keep] / sd[keep]
+    z_new = (f_new[keep] - mf[keep]) / sd[keep]
+    G = (Z.T * w) @ Z
+    ridge = FRAME_RIDGE if n_t >= _FEW * Z.shape[1] + 2 else 1.0
+    G += ridge * np.eye(G.shape[0])
+    flat = Y.reshape(n_t, -1)
+    D = flat - w @ flat
+    B = np.linalg.solve(G, (Z.T * w) @ D)  # (p, n_out * c)
+    return (flat - (Z - z_new) @ B).reshape(Y.shape)
+
+
+def _views(est, demos, frames, k) -> list:
+    """The maps of each frame's views of the templates: a list of ``(A, b, dq)``.
+
+    A frame with a position only: its move. A frame with an orientation: its
+    move and turn (what is rigid in the frame, near it), and its move alone
+    (a part of the motion that moves with the frame without turning with
+    it); the orientation turns with the frame in both.
+    """
+    out = []
+    for name, pose in frames.items():
+        old = est.task_frames_[name][demos]
+        A, b, dq = frame_maps(old, pose, k)
+        views = [(A, b, dq)]
+        if pose.size == 7:
+            views.append((*frame_maps(old[:, :k], pose[:k], k)[:2], dq))
+        out.append(views)
+    return out
+
+
+def _spread(C: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """Weighted total variance of the templates at every row (n_out,)."""
+    mu = np.tensordot(w, C, axes=1)
+    return np.tensordot(w, np.sum((C - mu[None]) ** 2, axis=-1), axes=1)
+
+
+#: How sharply a frame's tighter view wins (:func:`_one_view`). Measured on
+#: ``synth.pick_place`` turned by up to 60 deg, where the hand's position
+#: does not turn with the object (``benchmarks/probe_task_frames.py``,
+#: DTW/range): both views multiplied as if independent 0.0021; weighed by
+#: inverse variance to the power 1, 2, 4, 16: 0.0018, 0.0014, 0.0011, 0.0011
+#: (the moved view alone: 0.0011).
+_SHARPNESS = 4
+
+
+def _pick_weight(views, w, floor) -> np.ndarray:
+    """The weight of a frame's first view (turned) against its second (moved).
+
+    The two are views of the same frame, not independent evidence, so they
+    are not multiplied: each row weighs them by their inverse total variance
+    to the power :data:`_SHARPNESS` (one view only: weight 1).
+
+    Returns
+    -------
+    a : ndarray of shape (n_out,)
+    """
+    if len(views) == 1:
+        return np.ones(views[0][0].shape[1])
+    p1 = (1.0 / (_spread(views[0][0], w) + floor)) ** _SHARPNESS
+    p2 = (1.0 / (_spread(views[1][0], w) + floor)) ** _SHARPNESS
+    return p1 / (p1 + p2)
+
+
+def _merged(views, a):
+    """A frame's views as one: ``a`` times the first plus the rest the second."""
+    if len(views) == 1:
+        return views[0]
+    (P1, V1, Q1), (P2, V2, _) = views
+    V = None if V1 is None else a * V1 + (1 - a) * V2
+    return a * P1 + (1 - a) * P2, V, Q1
+
+
+#: The phase grid the frames' weights are computed on (:func:`frame_mixer`),
+#: and the half-width of the moving average that smooths them along it (a
+#: share of the motion). Weights computed row by row switch between views
+#: as fast as the templates' spreads cross: on ``synth.pick_place`` turned
+#: by up to 60 deg the path's largest acceleration was 3.8 times the held-out
+#: demonstration's (smoothed); smoothed over 0.02 of the motion, XXX.
+_GRID = 201
+FRAME_SMOOTH = 0.02
+
+
+def _smooth(A: np.ndarray, half: int) -> np.ndarray:
+    """Moving average along the first axis (``2 * half + 1`` rows, ends repeated)."""
+    if half < 1:
+        return A
+    pad = np.concatenate([np.repeat(A[:1], half, 0), A, np.repeat(A[-1:], half, 0)])
+    c = np.cumsum(pad, axis=0)
+    c = np.concatenate([np.zeros_like(c[:1]), c])
+    return (c[2 * half + 1 :] - c[: -2 * half - 1]) / (2 * half + 1)
+
+
+def _frame_views(X, maps, pos, vel, quat):
+    """Every frame's views of templates in physical units: lists of (P, V, Q)."""
+    P = X[:, :, pos]
+    out = []
+    for frame in maps:
+        seen = []
+        for A, b, dq in frame:
+            Pf = np.einsum("jab,jtb->jta", A, P) + b[:, None, :]
+            Vf = np.einsum("jab,jtb->jta", A, X[:, :, vel]) if vel else None
+            Qf = None
+            if quat:
+                Qf = X[:, :, quat]
+                if dq is not None:
+                    Qf = quat_multiply(dq[:, None, :], Qf)
+                flip = np.sum(Qf * X[:, :, quat], -1, keepdims=True) < 0
+                Qf = np.where(flip, -Qf, Qf)
+            seen.append((Pf, Vf, Qf))
+        out.append(seen)
+    return out
+
+
+def _interp(tq, grid, A) -> np.ndarray:
+    """``A`` (on ``grid`` along axis 0) at ``tq``, every other entry linearly."""
+    flat = A.reshape(A.shape[0], -1)
+    cols = [np.interp(tq, grid, flat[:, c]) for c in range(flat.shape[1])]
+    return np.stack(cols, axis=-1).reshape((tq.size, *A.shape[1:]))
+
+
+def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
+    """The step that combines the templates' frame views (see the module).
+
+    The weights of the views (which of a frame's two views, and each view's
+    share of the product) are computed on a fixed phase grid of
+    :data:`_GRID` points and smoothed along it (:data:`FRAME_SMOOTH`), so
+    they change gently with the phase and the same at any set of rows.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted, with task frames.
+    templates : ndarray of int
+        The blended templates (indices into ``est.template_indices_``), in
+        the blend's order.
+    frames : mapping of str to ndarray
+        Checked new poses (:func:`check_new_frames`).
+    warp : callable
+        ``warp(tq) -> (W, w)``: the templates time-warped to phases ``tq``
+        and their weights (:func:`~ndlfd.learner._blend.warped`).
+
+    Returns
+    -------
+    mix : callable
+        ``mix(W, w, tq) -> W``: time-warped templates of shape
+        ``(n_templates, n_out, n_dims)`` (normalized, unweighted) at phases
+        ``tq``, and their weights, to the combined templates.
+    """
+    groups = est.column_groups_
+    pos = group_columns(groups, "position")
+    vel = group_columns(groups, "velocity")
+    vel = vel if len(vel) == len(pos) else []
+    quat = group_columns(groups, "orientation")
+    k = len(pos)
+    demos = est.template_indices_[np.asarray(templates, dtype=np.int64)]
+    maps = _views(est, demos, frames, k)
+    scaler = est.scaler_
+    span = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
+    floor = (FRAME_FLOOR * max(span, 1e-12)) ** 2
+    F, f_new = _features(est, demos, frames, k)
+    moved = pos + vel + quat
+
+    def physical(W):
+        n_t, n_out, d = W.shape
+        X = scaler.inverse_transform(W.reshape(-1, d), weighted=False)
+        return X.reshape(n_t, n_out, d)
+
+    # the weights, on the grid, smoothed
+    grid = np.linspace(0.0, 1.0, _GRID)
+    half = round(FRAME_SMOOTH * (_GRID - 1))
+    Wg, wg = warp(grid)
+    Xg = physical(Wg)
+    seen_g = _frame_views(Xg, maps, pos, vel, quat)
+    picks = [_smooth(_pick_weight(seen, wg, floor), half) for seen in seen_g]
+    views_g = [(Xg[:, :, pos], None, Xg[:, :, quat] if quat else None)]
+    views_g += [
+        _merged(seen, a[None, :, None]) for seen, a in zip(seen_g, picks, strict=True)
+    ]
+    prec = np.array([_smooth(_gauss(v[0], wg, floor), half) for v in views_g])
+    mixes_g = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
+    shares_g = None
+    if quat:
+        a = np.array([_angular_precision(v[2], wg, FRAME_FLOOR**2) for v in views_g])
+        shares_g = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
+
+    def mix(W: np.ndarray, w: np.ndarray, tq: np.ndarray) -> np.ndarray:
+        tq = np.asarray(tq, dtype=np.float64)
+        X = physical(W)
+        seen = _frame_views(X, maps, pos, vel, quat)
+        views = [(X[:, :, pos], X[:, :, vel] if vel else None,
+                  X[:, :, quat] if quat else None)]  # fmt: skip
+        views += [
+            _merged(v, np.interp(tq, grid, a)[None, :, None])
+            for v, a in zip(seen, picks, strict=True)
+        ]
+        out = X.copy()
+        M = [_interp(tq, grid, m) for m in mixes_g]  # (n_out, k, k) each
+        out[:, :, pos] = sum(
+            np.einsum("tab,jtb->jta", m, v[0]) for m, v in zip(M, views, strict=True)
+        )
+        if vel:
+            out[:, :, vel] = sum(
+                np.einsum("tab,jtb->jta", m, v[1])
+                for m, v in zip(M, views, strict=True)
+            )
+        if quat:
+            a = _interp(tq, grid, shares_g).T  # (n_views, n_out)
+            Q = np.einsum("ft,fjtc->jtc", a, np.array([v[2] for v in views]))
+            out[:, :, quat] = Q
+        out[:, :, moved] = _regressed(out[:, :, moved], w, F, f_new)
+        if quat:
+            Q = out[:, :, quat]
+            Q /= np.maximum(np.linalg.norm(Q, axis=-1, keepdims=True), 1e-300)
+        U = scaler.transform(out.reshape(-1, out.shape[2]), weighted=False)
+        return U.reshape(out.shape)
+
+    return mix
