@@ -225,3 +225,27 @@ def test_a_start_or_goal_off_a_robot_at_rest_is_absorbed_without_a_jump(offset):
         # the offset's fade over the whole motion allows, never a jump
         assert steps[: int(FPS)].max() < 0.1 * offset + 0.1
         assert steps[-int(FPS) :].max() < 0.1 * offset + 0.1
+
+
+def test_a_prefix_of_the_position_only_is_completed_from_the_plan():
+    """A robot that reports its position only: the gripper and orientation
+    of its prefix come from the path generated for the timing."""
+    from ndlfd import synth
+
+    demos, _ = synth.pick_place(8, n_samples=200, random_state=3)
+    model = KeypointHMM(random_state=0).fit(demos[1:])
+    test = demos[0]
+    n = 60
+    full = Demonstration(test.t[:n], test.X[:n], test.columns, test.groups)
+    only = full.select("position")
+    a = model.generate(test.t, dense=True, observed=full)
+    b = model.generate(test.t, dense=True, observed=only)
+    # the observed positions are kept exactly, the rest is the plan's
+    np.testing.assert_array_equal(b.get("position")[:n], only.get("position"))
+    plan = model.generate(test.t, dense=True,
+                          start={"position": only.get("position")[0]})  # fmt: skip
+    np.testing.assert_allclose(b.get("gripper")[:n], plan.get("gripper")[:n])
+    # and the continuation is the full prefix's, within a millimetre
+    assert np.abs(b.get("position")[n:] - a.get("position")[n:]).max() < 1e-3
+    s = model.sample(test.t, 2, observed=only, random_state=0)
+    assert all(np.array_equal(p.get("position")[:n], only.get("position")) for p in s)

@@ -321,7 +321,8 @@ class KeypointHMM(ParamsMixin):
             (:func:`~ndlfd.learner._blend.spread`).
         via, observed : list of (time, mapping) / Demonstration, optional
             Via points ``[(time, {group: values})]`` the path passes through;
-            the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`).
+            the samples executed so far, continued (blend: :mod:`~ndlfd.learner._via`;
+            learned groups it lacks are the plan's, ``_via.complete_prefix``).
         limits : mapping, optional
             ``{group or column: {"velocity": v, "acceleration": a, "jerk": j}}``:
             the dense path slowed where it would exceed them (:mod:`ndlfd.limits`).

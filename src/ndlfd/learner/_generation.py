@@ -57,6 +57,7 @@ from ._via import (
     blend_observations,
     check_observed,
     check_via,
+    complete_prefix,
     continue_from,
     observed_log_weights,
     orient_via,
@@ -77,6 +78,7 @@ __all__ = [
     "observations",
     "orient_conditions",
     "plan_from_states",
+    "prefix_completer",
     "prefix_route",
     "render",
     "route_model",
@@ -719,7 +721,9 @@ def generate_blend(
     cols, groups = est.column_groups_, est.groups_
     start, goal = orient_conditions(est, start, goal)
     via = orient_via(est, check_via(via, all_t, cols, groups), cache)
-    prefix = check_observed(est, observed, all_t, start=start, via=via)
+    fill = prefix_completer(est, all_t, goal, frames, cache)
+    prefix = check_observed(est, complete_prefix(est, observed, all_t, fill), all_t,
+                            start=start, via=via)  # fmt: skip
     extra = route = None
     if via is not None:
         extra = via_log_weights(est, via, cache)
@@ -732,6 +736,18 @@ def generate_blend(
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames)  # fmt: skip
     return (path, std) if return_std else path
+
+
+def prefix_completer(est, all_t, goal, frames, cache):
+    """``plan_path(start)``: the dense path for the timing from a start (checked)."""
+
+    def plan_path(start):
+        start_, goal_ = orient_conditions(est, start, goal)
+        plan = make_plan(est, all_t, start_, goal_, cache)
+        return render(est, plan, all_t, start_, goal_, dense=True, cache=cache,
+                      frames=frames)[0]  # fmt: skip
+
+    return plan_path
 
 
 def generate_paper(

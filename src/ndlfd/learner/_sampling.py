@@ -46,6 +46,7 @@ from ._generation import (
     demo_log_weights,
     orient_conditions,
     plan_from_states,
+    prefix_completer,
     render,
     route_model,
     route_prior,
@@ -56,6 +57,7 @@ from ._routes import route_probabilities
 from ._via import (
     check_observed,
     check_via,
+    complete_prefix,
     observed_log_weights,
     orient_via,
     via_log_weights,
@@ -143,8 +145,10 @@ def sample_paths(
     rng = check_random_state(random_state)
     all_t = times_of(times_or_demo)
     via = orient_via(est, check_via(via, all_t, cols, groups), cache)
-    prefix = check_observed(est, observed, all_t, start=start, via=via)
     frames = check_new_frames(est, frames)
+    fill = prefix_completer(est, all_t, goal, frames, cache)
+    observed = complete_prefix(est, observed, all_t, fill)
+    prefix = check_observed(est, observed, all_t, start=start, via=via)
     logw, routes = demo_log_weights(est, start, goal, cache)
     logw = logw + via_log_weights(est, via, cache)
     if prefix is None:

@@ -93,6 +93,7 @@ __all__ = [
     "blend_observations",
     "check_observed",
     "check_via",
+    "complete_prefix",
     "continue_from",
     "demo_values_at",
     "observed_log_weights",
@@ -387,6 +388,46 @@ def check_observed(
             f" expected at most {tol[bad]:.3g} s)"
         )
     return d
+
+
+def complete_prefix(est, observed, all_t: np.ndarray, plan_path):
+    """An executed prefix with the learned groups it lacks filled in.
+
+    A robot may report only some channels (its position, not its gripper):
+    the groups a prefix lacks (besides a velocity derived from its
+    positions) are taken from the path generated for the timing from the
+    prefix's first sample, at the prefix's time stamps. A prefix with every
+    learned group, or anything else, is returned as it is
+    (:func:`check_observed` checks it).
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    observed : Demonstration or None
+    all_t : ndarray of shape (n_samples,)
+    plan_path : callable
+        ``plan_path(start) -> Demonstration``, the dense generated path from
+        ``start`` (``_generation.prefix_completer``).
+
+    Returns
+    -------
+    observed : Demonstration or None
+    """
+    if not isinstance(observed, Demonstration):
+        return observed
+    derived = {"velocity"} if est.derive_velocity else set()
+    have = set(observed.group_names)
+    missing = [g for g in est.groups_ if g not in have and g not in derived]
+    n = observed.n_samples
+    if not missing or not have & set(est.groups_) or n >= all_t.size:
+        return observed  # complete, or nothing to go on: check_observed says
+    path = plan_path({g: observed.get(g)[0] for g in est.groups_ if g in have})
+    out = observed
+    for g in missing:
+        names = tuple(path.columns[j] for j in path.columns_of(g))
+        out = out.with_group(g, path.get(g)[:n], names)
+    return out
 
 
 def stamp_tolerance(t: np.ndarray, span: float) -> np.ndarray:
