@@ -212,34 +212,47 @@ FRAME_RIDGE = 1e-3
 _FEW = 2
 
 
-def _features(est, demos, frames, k):
-    """The templates' frame origins as regression features, and the new ones.
+def _features(est, demos, frames, k) -> list:
+    """Candidate regression features of the templates' frames, and the new values.
 
-    Each frame's origin only: on ``synth.pick_place`` turned by up to 60 deg
-    the frames' turns as features (rotation vectors) raised DTW/range from
-    0.0024 to 0.0030 (where positions do not depend on them, they fit noise);
-    a turn's effect near its frame is the turned view's (:func:`frame_mixer`).
-    """
-    F = np.hstack([est.task_frames_[name][demos][:, :k] for name in frames])
-    return F, np.concatenate([pose[:k] for pose in frames.values()])
-
-
-def _slopes(Y, w, F, f_new):
-    """How the templates' values move with their frames' origins, and each one's move.
-
-    The weighted ridge regression of every value of ``Y`` (n_templates,
-    n_out, c) on the standardized features, one slope per row and column.
-    Moving template ``j`` by ``-(z_j - z_new) B`` gives what its values would
-    be had its frames been the new ones, as far as they vary linearly with
-    them (a part of the motion between two frames moves with both, which no
-    single frame's view gives).
+    The frames' origins; and, when a frame has an orientation, the origins
+    and each such frame's turn from its new pose (a rotation vector). Which
+    one the slopes use is chosen by leave-one-out (:func:`_slopes`): turns
+    that do not move the hand fit noise (on ``synth.pick_place`` with a
+    vertical approach, turned by up to 60 deg: DTW/range 0.0011 with the
+    origins, 0.0020 with the turns too), turns that do are needed (the
+    approach turned with the object: 0.0030 and 0.0025).
 
     Returns
     -------
-    dz : ndarray of shape (n_templates, p) or None
-        Each template's standardized features minus the new ones (``None``:
-        no feature varies, or fewer than 3 templates).
-    B : ndarray of shape (p, n_out, c) or None
+    candidates : list of (ndarray of shape (n_templates, p), ndarray of shape (p,))
+    """
+    from scipy.spatial.transform import Rotation
+
+    F = np.hstack([est.task_frames_[name][demos][:, :k] for name in frames])
+    f = np.concatenate([pose[:k] for pose in frames.values()])
+    out = [(F, f)]
+    turns = []
+    for name, pose in frames.items():
+        if pose.size == 7:
+            old = est.task_frames_[name][demos]
+            ref = Rotation.from_quat(pose[[4, 5, 6, 3]])
+            turns.append(
+                (ref.inv() * Rotation.from_quat(old[:, [4, 5, 6, 3]])).as_rotvec()
+            )
+    if turns:
+        out.append(
+            (np.hstack([F, *turns]), np.concatenate([f, np.zeros(3 * len(turns))]))
+        )
+    return out
+
+
+def _fit_slopes(Y, w, F, f_new, scored):
+    """One candidate's regression (:func:`_slopes`) and its leave-one-out error.
+
+    The error is over the columns ``scored`` of ``Y`` only (one unit: the
+    position), each template's residual divided by ``1 - h_jj`` (the exact
+    leave-one-out residual of a linear smoother), weighted by ``w``.
     """
     mf = w @ F
     Fc = F - mf
@@ -247,7 +260,7 @@ def _slopes(Y, w, F, f_new):
     keep = sd > 1e-9 * max(float(sd.max(initial=0.0)), 1e-300)
     n_t = Y.shape[0]
     if not keep.any() or n_t < 3:
-        return None, None
+        return None, None, np.inf
     Z = Fc[:, keep] / sd[keep]
     z_new = (f_new[keep] - mf[keep]) / sd[keep]
     G = (Z.T * w) @ Z
@@ -256,7 +269,37 @@ def _slopes(Y, w, F, f_new):
     flat = Y.reshape(n_t, -1)
     D = flat - w @ flat
     B = np.linalg.solve(G, (Z.T * w) @ D)  # (p, n_out * c)
-    return Z - z_new, B.reshape(-1, *Y.shape[1:])
+    h = w * np.einsum("jp,pq,jq->j", Z, np.linalg.inv(G), Z)
+    E = (D - Z @ B).reshape(Y.shape)[:, :, scored]
+    loo = E / np.maximum(1.0 - h, 1e-6)[:, None, None]
+    return (
+        Z - z_new,
+        B.reshape(-1, *Y.shape[1:]),
+        float(w @ np.sum(loo**2, axis=(1, 2))),
+    )
+
+
+def _slopes(Y, w, candidates, scored):
+    """How the templates' values move with their frames, and each one's move.
+
+    The weighted ridge regression of every value of ``Y`` (n_templates,
+    n_out, c) on standardized features, one slope per row and column, with
+    the candidate features (:func:`_features`) of least leave-one-out error
+    on the columns ``scored``. Moving template ``j`` by ``-(z_j - z_new) B``
+    gives what its values would be had its frames been the new ones, as far
+    as they vary linearly with them (a part of the motion between two frames
+    moves with both, which no single frame's view gives).
+
+    Returns
+    -------
+    dz : ndarray of shape (n_templates, p) or None
+        Each template's standardized features minus the new ones (``None``:
+        no feature varies, or fewer than 3 templates).
+    B : ndarray of shape (p, n_out, c) or None
+    """
+    fits = [_fit_slopes(Y, w, F, f, scored) for F, f in candidates]
+    dz, B, _ = min(fits, key=lambda fit: fit[2])
+    return dz, B
 
 
 def _views(est, demos, frames, k) -> list:
@@ -413,7 +456,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     scaler = est.scaler_
     span = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
     floor = (FRAME_FLOOR * max(span, 1e-12)) ** 2
-    F, f_new = _features(est, demos, frames, k)
+    candidates = _features(est, demos, frames, k)
     moved = pos + vel + quat
 
     def physical(W):
@@ -467,7 +510,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
 
     # the slopes on the origins, on the grid, smoothed: per row they carry the
     # templates' noise, amplified where the new origins lie far out
-    dz, B = _slopes(combined(Xg, grid)[:, :, moved], wg, F, f_new)
+    dz, B = _slopes(combined(Xg, grid)[:, :, moved], wg, candidates, list(range(k)))
     if B is not None:
         B = np.moveaxis(_smooth(np.moveaxis(B, 1, 0), half), 0, 1)
 
