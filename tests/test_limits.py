@@ -146,6 +146,23 @@ def test_generate_with_limits_on_joint_and_cartesian_data():
         model.generate(t, limits=lim)
 
 
+def test_sample_time_scales_each_drawn_path():
+    demos = synth.obstacle(7, 5)
+    model = KeypointHMM().fit(demos)
+    t = np.linspace(0.0, 5.0, 400)
+    free = model.sample(t, 3, random_state=1)
+    top = max(path_peaks(p)["velocity"][p.columns_of("position")].max() for p in free)
+    lim = {"position": {"velocity": 0.5 * top}}
+    drawn = model.sample(t, 3, random_state=1, limits=lim)
+    for a, b in zip(free, drawn, strict=True):
+        assert _within(b, lim) and b.duration > a.duration
+        # the same draw, slowed: the same route from the same start to the end
+        pos = a.columns_of("position")
+        assert np.array_equal(b.X[[0, -1]][:, pos], a.X[[0, -1]][:, pos])
+    with pytest.raises(ValidationError, match="dense=True"):
+        model.sample(t, 2, dense=False, limits=lim)
+
+
 def test_orientation_and_a_gripper_are_carried_along():
     t = np.linspace(0.0, 2.0, 201)
     ang = np.pi / 2 * t / 2

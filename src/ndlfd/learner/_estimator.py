@@ -15,7 +15,6 @@ import os
 
 import numpy as np
 
-from .._errors import NotFittedError
 from .._parallel import keep_workers
 from ..limits import limited
 from ._blend import MATCH_WINDOW
@@ -23,7 +22,7 @@ from ._cache import ModelCache
 from ._conditioning import check_condition
 from ._frames import split_frames
 from ._generation import GENERATIONS, decode_key_points, observations
-from ._params import ParamsMixin, check_params
+from ._params import ParamsMixin, check_fitted, check_params
 from ._passes import collect_statistics, scan_ranges
 from ._persist import load_model, model_file_errors, save_model
 from ._routes import model_routes
@@ -195,12 +194,6 @@ class KeypointHMM(ParamsMixin):
         self.route_groups = route_groups
         self.random_state = random_state
 
-    def _check_fitted(self) -> None:
-        if not hasattr(self, "model_"):
-            raise NotFittedError(
-                "this KeypointHMM is not fitted yet; call fit(demos) first"
-            )
-
     # --------------------------------------------------------------------- fit
     def fit(
         self, demos, y=None, *, client=None, progress=None, after_scan=None
@@ -273,7 +266,7 @@ class KeypointHMM(ParamsMixin):
         all_times : ndarray of shape (n_samples,)
             Every time stamp of the new execution (for dense generation).
         """
-        self._check_fitted()
+        check_fitted(self)
         return observations(self, times_or_demo)
 
     def decode(self, times_or_demo) -> tuple[np.ndarray, np.ndarray, float]:
@@ -293,7 +286,7 @@ class KeypointHMM(ParamsMixin):
         states : ndarray of shape (n_keys,), dtype int64
         log_probability : float
         """
-        self._check_fitted()
+        check_fitted(self)
         return decode_key_points(self, times_or_demo, self._cache)
 
     def generate(self, times_or_demo, *, dense: bool = False, start=None, goal=None,
@@ -352,7 +345,7 @@ class KeypointHMM(ParamsMixin):
         >>> bool(np.all(path.t == test.t))
         True
         """
-        self._check_fitted()
+        check_fitted(self)
         start = check_condition(start, "start", self.column_groups_, self.groups_)
         goal = check_condition(goal, "goal", self.column_groups_, self.groups_)
         how = GENERATIONS.get(self.generation)
@@ -362,8 +355,8 @@ class KeypointHMM(ParamsMixin):
         return out if limits is None else limited(out, limits, dense, return_std)
 
     def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None, goal=None,
-               via=None, observed=None, random_state=None,
-               frames=None) -> list:  # fmt: skip
+               via=None, observed=None, random_state=None, frames=None,
+               limits=None) -> list:  # fmt: skip
         """Paths drawn from the model, each on one route (always blended).
 
         Routes in proportion to their weight, varying within a route about as
@@ -371,8 +364,9 @@ class KeypointHMM(ParamsMixin):
 
         Parameters
         ----------
-        times_or_demo, dense, start, goal, via, observed, frames
-            As in :meth:`generate` (``dense`` true by default).
+        times_or_demo, dense, start, goal, via, observed, frames, limits
+            As in :meth:`generate` (``dense`` true by default; each path
+            time-scaled to ``limits`` on its own).
         n_samples : int, default=1
         random_state : None, int or Generator, default=None
             The same seed and input give the same paths.
@@ -390,11 +384,14 @@ class KeypointHMM(ParamsMixin):
         >>> len(paths), bool(np.all(paths[0].t == test.t))
         (3, True)
         """
-        self._check_fitted()
-        return sample_paths(self, times_or_demo, n_samples, dense=dense,
+        check_fitted(self)
+        paths = sample_paths(self, times_or_demo, n_samples, dense=dense,
                             start=start, goal=goal, via=via, observed=observed,
                             random_state=random_state, cache=self._cache,
                             frames=frames)  # fmt: skip
+        if limits is None:
+            return paths
+        return [limited(p, limits, dense, False) for p in paths]
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:
@@ -407,7 +404,7 @@ class KeypointHMM(ParamsMixin):
         ----------
         path : str or path-like, conventionally ``*.ndlfd``
         """
-        self._check_fitted()
+        check_fitted(self)
         save_model(self, path)
 
     @classmethod

@@ -6,7 +6,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .._errors import ValidationError
+from .._errors import NotFittedError, ValidationError
 from .._simplify import DISTANCES
 from .._validation import (
     check_n_time_bins,
@@ -18,7 +18,14 @@ from ._generation import GENERATIONS
 from ._spec import NORMALIZATIONS
 from ._templates import seed_word
 
-__all__ = ["PARAM_NAMES", "ParamsMixin", "check_params", "jsonable", "same"]
+__all__ = [
+    "PARAM_NAMES",
+    "ParamsMixin",
+    "check_fitted",
+    "check_params",
+    "jsonable",
+    "same",
+]
 
 #: The constructor parameters, in order.
 PARAM_NAMES = (
@@ -130,6 +137,14 @@ def jsonable(params: dict) -> dict:
             v = None  # a Generator is not stored; generation is deterministic
         out[k] = v
     return out
+
+
+def check_fitted(est) -> None:
+    """Raise :class:`~ndlfd.NotFittedError` unless ``est`` was fitted."""
+    if not hasattr(est, "model_"):
+        raise NotFittedError(
+            f"this {type(est).__name__} is not fitted yet; call fit(demos) first"
+        )
 
 
 class ParamsMixin:
