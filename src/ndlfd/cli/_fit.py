@@ -530,6 +530,10 @@ def add_fit(sub) -> None:
         " quaternion w,x,y,z (7 columns); they are not learned as data, and"
         " 'ndlfd generate --task-frame NAME=...' gives the frame a new pose;"
         " repeatable, one frame each, e.g. --task-frame"
-        " object=obj_x,obj_y,obj_z",
+        " object=obj_x,obj_y,obj_z; of a ROS 2 bag, a topic (PoseStamped, Pose,"
+        " TransformStamped, PointStamped: object=/object_pose) or a tf frame"
+        " (object=tf:object_frame, in the demonstrations' base frame); of a"
+        " LeRobot dataset, a feature (object=observation.object_pose); it must"
+        " stay within 5 mm and 3 degrees over each demonstration",
     )
     p.set_defaults(func=_cmd_fit)

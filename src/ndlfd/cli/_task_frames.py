@@ -14,6 +14,12 @@ of the demonstration afterwards (:func:`read_framed`). The files of a fit are
 read on the workers: :class:`FramedDemoFiles` gives them
 :class:`FramedDemoFile` items that read so. Every error names the file and
 ``--task-frame``.
+
+A ROS 2 bag or a LeRobot episode names its frames by where they are recorded
+instead of by columns: ``--task-frame object=/object_pose`` (a topic) or
+``object=tf:object_frame`` (a tf frame) of a bag, ``object=observation.
+object_pose`` (a feature) of a dataset; their readers take them as ``frames``
+(:func:`~ndlfd.io.read_bag`, :func:`~ndlfd.io.read_lerobot`).
 """
 
 from __future__ import annotations
@@ -34,6 +40,7 @@ from ..io import (
     read_file,
     read_or_skip,
 )
+from ..io._bag import BAG_SUFFIXES, is_bag_folder
 from ..io._files import RateMapping
 from ..io._lerobot import LeRobotEpisode
 from ._conditions import flag_named
@@ -162,6 +169,12 @@ def read_framed(p: Path | LeRobotEpisode, how, frames: dict, **mapping) -> list:
     pairs : list of (Demonstration, FramedMapping)
         Each demonstration with its frames, without their columns.
     """
+    if (
+        isinstance(p, LeRobotEpisode)
+        or is_bag_folder(p)
+        or (p.suffix.lower() in BAG_SUFFIXES)
+    ):
+        return _read_recorded(p, how, frames, mapping)
     groups = dict(mapping.get("groups") or {})
     for name, cols in frames.items():
         groups[_hidden(name)] = list(cols)
@@ -172,6 +185,34 @@ def read_framed(p: Path | LeRobotEpisode, how, frames: dict, **mapping) -> list:
             raise _renamed(exc, frames) from None
         raise
     return [_taken_out(demo, m, frames) for demo, m in pairs]
+
+
+def _read_recorded(p, how, frames: dict, mapping: dict) -> list:
+    """A bag's or an episode's demonstrations with the frames their reader took."""
+    episode = isinstance(p, LeRobotEpisode)
+    example = "observation.object_pose" if episode else "/object_pose"
+    sources = {}
+    for name, cols in frames.items():
+        if len(cols) != 1:
+            what = (
+                "a feature (such as observation.object_pose)"
+                if episode
+                else "a topic (such as /object_pose) or a tf frame (such as"
+                " tf:object_frame)"
+            )
+            raise ValidationError(
+                f"--task-frame {name} names {len(cols)} columns"
+                f" ({','.join(cols)}); {p} is a"
+                f" {'LeRobot episode' if episode else 'ROS 2 bag'}, whose frame is"
+                f" {what}: --task-frame {name}={example}"
+            )
+        sources[name] = cols[0]
+    out = []
+    for demo, m in read_file(p, how, **{**mapping, "frames": sources}):
+        own = {f.name: getattr(m, f.name) for f in fields(m)}
+        own["frames"] = tuple((n, (s,)) for n, s in sources.items())
+        out.append((demo, FramedMapping(**own)))
+    return out
 
 
 def _taken_out(demo, m: ColumnMapping, frames: dict):

@@ -30,7 +30,9 @@ so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
 :class:`ColumnMapping`, Euler angles), ``_csv`` (delimited text), ``_npz``,
-``_hdf5``, ``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra),
+``_hdf5``, ``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra;
+``_tf`` their tf trees, ``_bag_frames`` their task frames), ``_frame_poses``
+(a task frame's samples checked still and averaged),
 ``_lerobot`` (LeRobot dataset folders: one :class:`LeRobotEpisode` item per
 episode) and ``_files`` (folders, glob patterns, :class:`DemoFile`,
 :class:`DemoFiles` and the dispatch by suffix).

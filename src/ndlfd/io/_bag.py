@@ -60,6 +60,7 @@ import numpy as np
 from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
 from .._repairs import repaired
 from ..demonstration import Demonstration
+from ._bag_frames import bag_frame_poses, check_bag_frames, read_bag_frames
 from ._mapping import LIBRARY_HINTS, ColumnMapping, map_arrays
 from ._motion import REST_SHARE, rest_pieces
 from ._tf import tf_edges, tf_pose_rows
@@ -85,6 +86,7 @@ BAG_OPTIONS = {
     "base_frame": None,
     "split_gap": None,
     "split_still": None,
+    "frames": None,
 }
 #: More pieces than this from one bag with ``split_still`` give a warning.
 MANY_PIECES = 50
@@ -562,6 +564,7 @@ def read_bag_mapped(
     base_frame=None,
     split_gap=None,
     split_still=None,
+    frames=None,
     groups=None,
     drop=(),
     quaternion_order="wxyz",
@@ -573,12 +576,14 @@ def read_bag_mapped(
 
     ``time_column`` is not used (the time is the stamps); ``groups``, ``drop``
     and ``euler`` map the bag's array names (``x``, ``qw``, ``joints.NAME``,
-    ``gripper.gripper``) like CSV columns.
+    ``gripper.gripper``) like CSV columns; ``frames`` gives each
+    demonstration task frames (:mod:`ndlfd.io._bag_frames`).
     """
     topics = _check_options(
         topic, frame, base_frame, {"split_gap": split_gap, "split_still": split_still}
     )
     flags = _flags(how)
+    sources = check_bag_frames(frames, how)
     rosbag2, _ = rosbags_modules()
     if not p.exists():
         raise DataFileError(f"{p}: no such file or bag folder")
@@ -591,6 +596,7 @@ def read_bag_mapped(
                 (t, *_read_topic(p, reader, store, t, frame, flags, base_frame))
                 for t in topics
             ]
+            held = read_bag_frames(p, reader, store, sources, how) if sources else []
     except DataFileError:
         raise
     except (
@@ -614,8 +620,9 @@ def read_bag_mapped(
         for c, v in _resample(tp, at).items():
             arrays[keys[c]] = v
     what = f"{tps[0].label} stamps"
-    frames = [f for _, kind, _, f in read if kind == "pose" and f]
-    layout = f"{BAG_LAYOUT}, frame {frames[0]}" if frames else BAG_LAYOUT
+    in_frames = [f for _, kind, _, f in read if kind == "pose" and f]
+    layout = f"{BAG_LAYOUT}, frame {in_frames[0]}" if in_frames else BAG_LAYOUT
+    base = in_frames[0] if in_frames else base_frame  # the frames' base
     out = []
     segs = _segments(at, split_gap)
     if split_still is not None:
@@ -636,6 +643,10 @@ def read_bag_mapped(
             source=source,
             bad_rows=bad_rows,
         )
+        if held:  # the task frames over this demonstration
+            dims = demo.groups.count("position")
+            poses = bag_frame_poses(source, held, at[seg], dims, base, how)
+            demo = demo.with_frames(poses)
         span = None
         if len(segs) > 1:  # where the piece lies in the recording
             first, last = (at[seg][[0, -1]] - at[0]) / 1e9
@@ -652,6 +663,7 @@ def read_bag(
     base_frame: str | None = None,
     split_gap: float | None = None,
     split_still: float | None = None,
+    frames: Mapping[str, str] | None = None,
     groups: Mapping[str, Sequence[str] | str] | None = None,
     drop: Sequence[str] = (),
     bad_rows: str = "error",
@@ -694,6 +706,18 @@ def read_bag(
         of the recording's typical moving speed (the 90th percentile of the
         speeds); see :mod:`ndlfd.io._motion`. One :class:`~ndlfd.NdlfdWarning`
         when no rest is found, or more than 50 pieces.
+    frames : mapping of str to str, optional
+        Task frames (:attr:`~ndlfd.Demonstration.frames`: where the object or
+        the place was), each named after where it is read: a topic
+        (``{"object": "/object_pose"}``: ``PoseStamped``, ``Pose``,
+        ``PoseWithCovarianceStamped``, ``TransformStamped``, ``PointStamped``
+        or ``Point``; its messages during the demonstration, else the last
+        before it) or a tf frame (``{"object": "tf:object_frame"}``: composed
+        along ``/tf`` and ``/tf_static`` to ``base_frame``, else to the frame
+        the demonstrations' poses are in). The pose must stay within 5 mm and
+        3 degrees of its first sample over each demonstration, and becomes
+        ``x, y, z`` or ``x, y, z, qw, qx, qy, qz`` (scalar first); see
+        :mod:`ndlfd.io._bag_frames`.
     groups, drop
         As in :func:`~ndlfd.io.read_csv`, on the arrays' names (``x``, ``qw``,
         ``joints.NAME``, ``gripper.gripper``).
@@ -713,7 +737,11 @@ def read_bag(
     DataFileError
         An unreadable bag, a missing topic (the message lists the bag's topics),
         a topic with no messages or of a type not read, or values that do not
-        make a demonstration (NaN in a pose).
+        make a demonstration (NaN in a pose); a frame's topic without
+        messages, in another frame than the demonstrations, or a frame that
+        moved during a demonstration (the message says how far).
+    ValidationError
+        ``frames`` not a mapping of names to topics or ``tf:`` frames.
     MissingExtraError
         rosbags is not installed.
     """
@@ -726,6 +754,7 @@ def read_bag(
             base_frame=base_frame,
             split_gap=split_gap,
             split_still=split_still,
+            frames=frames,
             groups=groups,
             drop=drop,
             bad_rows=bad_rows,

@@ -150,10 +150,12 @@ READERS = {
 }
 
 #: The options that only some readers take (a bag's ``topic``, ``frame`` and
-#: ``split_gap``), with their defaults, by reader. :class:`DemoFiles` and
-#: :func:`read_demos` accept them besides the column mapping and give each
-#: reader those it takes (a CSV file in the same folder as a bag ignores them).
-READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS}
+#: ``split_gap``; the ``frames`` of a bag or a LeRobot episode: topics or
+#: features, see :func:`~ndlfd.io.read_bag`), with their defaults, by reader.
+#: :class:`DemoFiles` and :func:`read_demos` accept them besides the column
+#: mapping and give each reader those it takes (a CSV file in the same folder
+#: as a bag ignores them).
+READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS, read_episode_mapped: {"frames": None}}
 
 
 #: What ``bad_files`` may be: ``"error"`` (a file that cannot be read stops
@@ -327,15 +329,16 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     return_mappings : bool, default=False
         Also return the :class:`ColumnMapping` of each demonstration.
     **kwargs
-        ``time_column``, ``groups``, ``quaternion_order``, ``drop``,
-        ``euler``: see :func:`read_csv`; for bags also ``topic``, ``frame``,
-        ``base_frame``, ``split_gap``, ``split_still`` (see
-        :func:`~ndlfd.io.read_bag`); ``feature``, ``episodes``: see
-        :func:`read_lerobot`; ``rate``: the sample rate in Hz of files without
-        time stamps (fixed-rate logs: CSV, ``.npz`` or HDF5 without a time
-        column), row ``k`` at ``k / rate`` seconds; an error for a file with
-        a time column or its own stamps (a bag, a LeRobot episode), and with
-        ``bad_rows="drop"`` (a dropped row would shift the later rows' times).
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``, ``euler``:
+        see :func:`read_csv`; for bags also ``topic``, ``frame``,
+        ``base_frame``, ``split_gap``, ``split_still``, ``frames`` (see
+        :func:`~ndlfd.io.read_bag`); ``feature``, ``episodes``, and ``frames``
+        of a dataset: see :func:`read_lerobot`; ``rate``: the sample rate in Hz
+        of files without time stamps (fixed-rate logs: CSV, ``.npz`` or HDF5
+        without a time column), row ``k`` at ``k / rate`` seconds; an error for
+        a file with a time column or its own stamps (a bag, a LeRobot episode),
+        and with ``bad_rows="drop"`` (a dropped row would shift the later rows'
+        times).
 
     Returns
     -------

@@ -55,6 +55,7 @@ import numpy as np
 
 from .._errors import DataFileError, MissingExtraError, ValidationError
 from ..demonstration import Demonstration
+from ._frame_poses import check_frame_sources, feature_frame_poses, frame_flag
 from ._mapping import LIBRARY_HINTS, TIME_NAMES, ColumnMapping, map_arrays
 
 __all__ = [
@@ -527,15 +528,29 @@ def _read_rows(item: LeRobotEpisode, columns: list[str]):
 
 
 def read_episode_mapped(
-    item: LeRobotEpisode, how, **mapping
+    item: LeRobotEpisode, how, frames=None, **mapping
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """The demonstration of one episode with the mapping used.
 
     The reader of :data:`~ndlfd.io._files.READERS` for episodes: ``how`` is
     ``LIBRARY_HINTS`` or ``CLI_HINTS``, ``mapping`` the column mapping options
-    (``time_column`` at its default means ``timestamp``).
+    (``time_column`` at its default means ``timestamp``), ``frames`` the task
+    frames' features (see :func:`read_lerobot`).
     """
-    table = _read_rows(item, [_TIME, item.feature])
+    cli = how.get("groups", "").startswith("--")
+    example = "{'object': 'observation.object_pose'}"
+    sources = check_frame_sources(frames, "--task-frame" if cli else "frames", example)
+    extra = [f for f in dict.fromkeys((sources or {}).values()) if f != item.feature]
+    try:
+        table = _read_rows(item, [_TIME, item.feature, *extra])
+    except DataFileError as exc:  # a frame's feature missing: name the frame
+        text = str(exc)
+        for name, feature in (sources or {}).items():
+            text = text.replace(
+                f"has no column {feature!r}",
+                f"has no column {feature!r} ({frame_flag(how, name)})",
+            )
+        raise DataFileError(text) from None
     if table.num_rows == 0:
         raise DataFileError(f"{item}: the episode has no rows in {item.path}")
     values = feature_values(table.column(item.feature), item.feature, item.names, item)
@@ -546,9 +561,13 @@ def read_episode_mapped(
     if tc is not None and not isinstance(tc, str) and tuple(tc) == TIME_NAMES:
         mapping["time_column"] = _TIME  # the default names: LeRobot's column
     layout = lerobot_layout(item.version, item.feature)
-    return [
-        map_arrays(item, arrays, how=how, layout=layout, source=str(item), **mapping)
-    ]
+    demo, m = map_arrays(
+        item, arrays, how=how, layout=layout, source=str(item), **mapping
+    )
+    if sources:  # each constant over the episode
+        dims = demo.groups.count("position")
+        demo = demo.with_frames(feature_frame_poses(item, table, sources, dims, how))
+    return [(demo, m)]
 
 
 def read_lerobot(
@@ -562,6 +581,7 @@ def read_lerobot(
     drop: Sequence[str] = (),
     euler: str = "xyz",
     bad_rows: str = "error",
+    frames: Mapping[str, str] | None = None,
 ) -> list[Demonstration]:
     """Read the episodes of a LeRobot dataset (layout 2.x or 3.0).
 
@@ -590,6 +610,13 @@ def read_lerobot(
         with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
         at least 2 rows must remain in
         each episode.
+    frames : mapping of str to str, optional
+        Task frames (:attr:`~ndlfd.Demonstration.frames`: where the object or
+        the place was), each named after the feature that holds it, e.g.
+        ``{"object": "observation.object_pose"}``: a vector of the position
+        group's dimension (in 3-D optionally followed by a unit quaternion
+        w, x, y, z) that stays within 0.005 (and 3 degrees) of its first row
+        over each episode; the frame is its mean.
 
     Returns
     -------
@@ -599,7 +626,9 @@ def read_lerobot(
     ------
     DataFileError
         Not a LeRobot dataset, a missing feature (the message lists the
-        features there), unknown episodes, an episode that cannot be mapped.
+        features there), unknown episodes, an episode that cannot be mapped,
+        a frame's feature that is missing, of the wrong size or not constant
+        over an episode (the message says how far it moved).
     MissingExtraError
         pyarrow is not installed.
     """
@@ -610,6 +639,7 @@ def read_lerobot(
         "drop": drop,
         "euler": euler,
         "bad_rows": bad_rows,
+        "frames": frames,
     }
     return [
         demo

@@ -36,7 +36,7 @@ import numpy as np
 
 from .._errors import DataFileError
 
-__all__ = ["TfEdge", "tf_edges", "tf_pose_rows"]
+__all__ = ["TfEdge", "tf_edges", "tf_pose_at", "tf_pose_rows"]
 
 
 @dataclass(frozen=True)
@@ -171,6 +171,77 @@ def _identity(n: int) -> np.ndarray:
     return out
 
 
+def _path(where, edges, frame, base_frame, topics):
+    """The base frame and the edges up from ``frame`` and from the base."""
+    found = sorted({*edges, *(e.parent for e in edges.values())})
+    listed = ", ".join(found) or "none"
+    for name, what in ((frame, "frame"), (base_frame, "base frame")):
+        if name is not None and name not in found:
+            raise DataFileError(
+                f"{where}: no {what} {name!r} in the tf tree of {topics}; the"
+                f" frames found are {listed}"
+            )
+    up = _up(where, edges, frame)
+    chain = [frame, *(e.parent for e in up)]
+    base = chain[-1] if base_frame is None else base_frame
+    down = _up(where, edges, base)
+    above_base = [base, *(e.parent for e in down)]
+    common = next((f for f in chain if f in above_base), None)
+    if common is None:
+        raise DataFileError(
+            f"{where}: frame {frame!r} is not connected to the base frame"
+            f" {base!r} in the tf tree of {topics} ({frame!r} goes up to"
+            f" {chain[-1]!r}, {base!r} to {above_base[-1]!r}); the frames found"
+            f" are {listed}"
+        )
+    up = up[: chain.index(common)]
+    down = down[: above_base.index(common)]
+    path = " -> ".join([*chain[: len(up) + 1], *reversed(above_base[: len(down)])])
+    return base, up, down, path
+
+
+def _composed(up, down, ns: np.ndarray) -> np.ndarray:
+    pose = _identity(ns.size)
+    for e in up:  # common -> ... -> frame: left to right from the top
+        pose = _compose(e.at(ns), pose)
+    for e in reversed(down):  # common -> ... -> base, inverted, on the left
+        pose = _compose(_inverse(e.at(ns)), pose)
+    return pose
+
+
+def tf_pose_at(
+    where: str,
+    edges: dict[str, TfEdge],
+    frame: str,
+    base_frame: str | None,
+    ns: np.ndarray,
+    *,
+    topics: str,
+) -> tuple[str, np.ndarray]:
+    """The pose of ``frame`` in the base frame at the times ``ns``.
+
+    As :func:`tf_pose_rows`, but at given times (each moving transform
+    interpolated there, held at its ends), and a path of static transforms
+    only is allowed (a constant pose: a task frame's, say).
+
+    Parameters
+    ----------
+    where, edges, frame, base_frame, topics
+        As for :func:`tf_pose_rows`.
+    ns : ndarray of int64, shape (n,)
+        The times, nanoseconds.
+
+    Returns
+    -------
+    base : str
+        The base frame.
+    values : ndarray of shape (n, 7)
+        ``x, y, z, qw, qx, qy, qz`` of ``frame`` in ``base``.
+    """
+    base, up, down, _ = _path(where, edges, frame, base_frame, topics)
+    return base, _composed(up, down, np.asarray(ns, dtype=np.int64))
+
+
 def tf_pose_rows(
     where: str,
     edges: dict[str, TfEdge],
@@ -203,41 +274,13 @@ def tf_pose_rows(
     values : ndarray of shape (n, 7)
         ``x, y, z, qw, qx, qy, qz`` of ``frame`` in ``base``.
     """
-    found = sorted({*edges, *(e.parent for e in edges.values())})
-    listed = ", ".join(found) or "none"
-    for name, what in ((frame, "frame"), (base_frame, "base frame")):
-        if name is not None and name not in found:
-            raise DataFileError(
-                f"{where}: no {what} {name!r} in the tf tree of {topics}; the"
-                f" frames found are {listed}"
-            )
-    up = _up(where, edges, frame)
-    chain = [frame, *(e.parent for e in up)]
-    base = chain[-1] if base_frame is None else base_frame
-    down = _up(where, edges, base)
-    above_base = [base, *(e.parent for e in down)]
-    common = next((f for f in chain if f in above_base), None)
-    if common is None:
-        raise DataFileError(
-            f"{where}: frame {frame!r} is not connected to the base frame"
-            f" {base!r} in the tf tree of {topics} ({frame!r} goes up to"
-            f" {chain[-1]!r}, {base!r} to {above_base[-1]!r}); the frames found"
-            f" are {listed}"
-        )
-    up = up[: chain.index(common)]
-    down = down[: above_base.index(common)]
+    base, up, down, path = _path(where, edges, frame, base_frame, topics)
     moving = [e for e in (*up, *down) if not e.static]
     if not moving:
-        path = " -> ".join([*chain[: len(up) + 1], *reversed(above_base[: len(down)])])
         raise DataFileError(
             f"{where}: the pose of {frame!r} in {base!r} is constant (only"
             f" static transforms: {path}), not a demonstration; read a frame that"
             " moves, from /tf"
         )
     ns = moving[0].stamps
-    pose = _identity(ns.size)
-    for e in up:  # common -> ... -> frame: left to right from the top
-        pose = _compose(e.at(ns), pose)
-    for e in reversed(down):  # common -> ... -> base, inverted, on the left
-        pose = _compose(_inverse(e.at(ns)), pose)
-    return base, ns, pose
+    return base, ns, _composed(up, down, ns)
