@@ -261,7 +261,7 @@ def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:
 
 
 def make_plan(
-    est, all_t, start, goal, cache: ModelCache, extra=None, route=None
+    est, all_t, start, goal, cache: ModelCache, extra=None, route=None, even=None
 ) -> Plan:
     """Decode the skeleton and align the templates to it.
 
@@ -286,21 +286,23 @@ def make_plan(
         by default the one of largest weight
         (:func:`~ndlfd.learner._routes.choose_route`), decoded from the
         demonstrations that weigh.
+    even : object, optional
+        Not None (frames): every demonstration on the route weighs the same.
 
     Returns
     -------
     plan : Plan
     """
-    # the demonstrations that carry weight for the start and goal, then the
-    # route the skeleton decoded from them follows (ndlfd.learner._routes)
+    # the demonstrations' weights for the conditions, then the route to follow
     logw, routes = demo_log_weights(est, start, goal, cache)
     if extra is not None:
         logw = logw + extra
-    if route is None:
-        logw = np.where(routes == choose_route(routes, logw), logw, -np.inf)
+    fixed = route is not None  # a prefix's: the whole route's skeleton
+    route = choose_route(routes, logw) if route is None else route
+    logw = np.where(routes == route, logw if even is None else 0.0, -np.inf)
+    if not fixed:
         model, states, logp = decode_route(est, logw, cache)
-    else:  # the whole route's skeleton: one per route while a prefix grows
-        logw = np.where(routes == route, logw, -np.inf)
+    else:  # one skeleton per route while a prefix grows
         whole = np.where(routes == route, 0.0, -np.inf)
         model, states, logp = decode_route(est, whole, cache)
     return plan_from_states(est, states, logp, model, logw, cache=cache)
@@ -731,7 +733,7 @@ def generate_blend(
         tq = est.time_bins_.normalize(all_t)
         extra = observed_log_weights(est, prefix, tq, cache)
         route = prefix_route(est, prefix, all_t.size, goal, cache)
-    plan = make_plan(est, all_t, start, goal, cache, extra, route)
+    plan = make_plan(est, all_t, start, goal, cache, extra, route, even=frames)
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames)  # fmt: skip

@@ -162,7 +162,7 @@ def sample_paths(
     out: list[Demonstration | None] = [None] * n_samples
     for route in np.unique(drawn):
         who = np.flatnonzero(drawn == route)
-        lw = np.where(routes == route, logw, -np.inf)
+        lw = np.where(routes == route, logw if frames is None else 0.0, -np.inf)
         model = route_model(est, lw, cache)
         skeletons = hmm.sample_paths(
             model, bins, who.size, start=est.start, random_state=rng
