@@ -6,8 +6,9 @@ tests and the command line. Install the extra with ``pip install "ndlfd[plot]"``
 
 Conventions: demonstrations in one light colour, key points as dots, the start
 as ``×`` and the goal as ``*``, the generated path in red over them, the test
-demonstration dashed, sampled paths as thin red lines, and orientation triads
-with the x, y and z axes in red, green and blue (as RViz draws frames).
+demonstration dashed, sampled paths as thin red lines, orientation triads
+with the x, y and z axes in red, green and blue (as RViz draws frames), and
+task frames as markers in their demonstration's colour (:func:`plot_frames`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import numpy as np
 from ._band import band_polygons
 from ._errors import MissingExtraError, ValidationError
 from ._fileformat import atomic_path
+from ._frame_plot import plot_frames
 
 __all__ = [
     "new_figure",
@@ -30,6 +32,7 @@ __all__ = [
     "plot_channels",
     "plot_comparison",
     "plot_demos",
+    "plot_frames",
     "plot_keypoint_counts",
     "plot_path",
     "plot_samples",

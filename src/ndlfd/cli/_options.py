@@ -490,8 +490,13 @@ def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:
     return f"{head}: " + " | ".join(f"{k} as {t}" for t, k in texts.items())
 
 
-def read_sources(args, sources, *, flag: str, progress: bool = False):
-    """Read demonstrations with the column options; report the mapping."""
+def read_sources(args, sources, *, flag: str, progress: bool = False, read=None):
+    """Read demonstrations with the column options; report the mapping.
+
+    ``read`` reads one file as :func:`~ndlfd.io.read_or_skip` does (its
+    default), e.g. with task frames (``ndlfd plot --task-frame``).
+    """
+    read = read_or_skip if read is None else read
     options = column_options(args)
     paths = demo_files(sources, **dataset_options(args))
     check_datasets(args, paths)
@@ -502,7 +507,7 @@ def read_sources(args, sources, *, flag: str, progress: bool = False):
     pairs, news = [], []
     for p in paths_iter:
         with noting(p, news):
-            pairs.extend(read_or_skip(p, CLI_HINTS, **options))
+            pairs.extend(read(p, CLI_HINTS, **options))
     tell(news)
     if not pairs:
         skipped = options["bad_files"] == "skip"

@@ -3,17 +3,20 @@
 from __future__ import annotations
 
 import argparse
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from .. import plot
 from .._errors import DataFileError, ValidationError
+from .._poses import check_frames
 from .._simplify import simplify_many
 from ..demonstration import unit_time
 from ..io import CLI_HINTS, MAPPING_DEFAULTS, csv_header, parse_table, read_file
 from ..learner import NORMALIZATIONS, KeypointHMM, demo_routes, resolve_groups
 from ..normalize import GroupScaler
+from ._conditions import flag_named, parse_task_frames
 from ._options import (
     add_column_options,
     add_route_options,
@@ -26,6 +29,7 @@ from ._options import (
     say,
     split_names,
 )
+from ._task_frames import parse_frame_columns, read_framed_or_skip
 
 __all__ = ["add_plot"]
 
@@ -105,6 +109,52 @@ def _draw_triads(ax, args, group: str, k: int, path, demos, maps) -> str:
     return f", {idx.size} orientation triads on {where}"
 
 
+def _path_frames(args: argparse.Namespace, dims: int | None = None) -> dict | None:
+    """``--path-frame NAME=X,Y,Z[,QW,QX,QY,QZ]``: the poses the path was made for.
+
+    Parsed (``dims`` None), else also checked against the position's ``dims``.
+    """
+    if not args.path_frame:
+        return None
+    if args.path is None:
+        raise ValidationError(
+            "--path-frame marks the task frames of --path FILE.csv; pass --path"
+        )
+    try:  # as 'ndlfd generate --task-frame' reads them
+        frames = parse_task_frames(args.path_frame)
+        if dims is None:
+            return frames
+        return dict(check_frames(frames, dims, what="--task-frame"))
+    except ValidationError as exc:
+        text = flag_named(exc).replace("--task-frame", "--path-frame")
+        raise ValidationError(text) from None
+
+
+def _draw_frames(ax, demos, routes, path_frames) -> str:
+    """Each demonstration's task frames in its line's colour, the path's in black.
+
+    One marker style per frame name (the path's alike); returns the summary's
+    words.
+    """
+    names = list(dict.fromkeys(n for d in demos for n in d.frames))
+    own = [n for n in path_frames or () if n not in names]
+    words = ""
+    if names:
+        several = np.unique(routes).size > 1
+        route = [plot.ROUTE_COLORS[int(r) % len(plot.ROUTE_COLORS)] for r in routes]
+        colors = route if several else plot.DEMO_COLOR
+        plot.plot_frames(
+            ax, [d.frames for d in demos], colors=colors, names=names + own
+        )
+        words = f", each demonstration's task frames ({', '.join(names)})"
+    if path_frames:
+        plot.plot_frames(
+            ax, [path_frames], names=names + own, label="{name} of the path"
+        )
+        words += f", the path's ({', '.join(path_frames)})"
+    return words
+
+
 def _cmd_plot(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     fig0, _ = plot.new_figure(1)  # matplotlib is there (or a one-line error)
@@ -125,8 +175,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         check_range(args.n_points, "--n-points", low=2)
     check_range(args.triads, "--triads", low=0, high=1000)
     sample_files = _sample_files(args)
-
-    demos, maps = read_sources(args, args.demos, flag="demos")
+    frames = parse_frame_columns(args.task_frame)  # read as 'ndlfd fit' reads them
+    _path_frames(args)  # its words, before the files are read
+    read = partial(read_framed_or_skip, frames=frames)
+    demos, maps = read_sources(args, args.demos, flag="demos", read=read)
     fewest, fewest_src, _, _ = _sample_bounds(demos, maps)
     if args.n_points is not None and args.n_points > fewest:
         raise ValidationError(
@@ -155,6 +207,11 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     position = demos[0].has_group("position")
     if not position or demos[0].columns_of("position").size == 1:
         # joints, a gripper, a position of one column: each channel over time
+        if args.path_frame:
+            raise ValidationError(
+                "--path-frame marks frames on a position's axes; the"
+                " demonstrations have no position of 2 or 3 columns"
+            )
         return _plot_over_time(args, out, prepared, keypoints, routes, sample_files,
                                demos[0].columns)  # fmt: skip
     group = "position"
@@ -174,6 +231,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
                 f" {', '.join(path.columns)}"
             )
     samples = _read_samples(args, sample_files, group, k)
+    path_frames = _path_frames(args, k)
     S_all = None
     if args.std is not None:
         S_all = _std_of(args, path, path_map)
@@ -218,7 +276,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             ax, path.get(group), color=plot.GEN_COLOR, lw=2.0, label="generated"
         )
     triads = _draw_triads(ax, args, group, k, path, demos, maps)
-    if path is not None or samples or triads:
+    marks = _draw_frames(ax, demos, routes, path_frames)
+    if path is not None or samples or triads or marks:
         ax.legend(loc="best", fontsize="small")
     if beside:
         plot.plot_channels(prepared, columns=beside, keypoints=keypoints,
@@ -233,7 +292,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     )
     drawn = f", the generated path{band}" if path is not None else ""
     drawn += f", {len(samples)} sample(s)" if samples else ""
-    drawn += triads
+    drawn += triads + marks
     n_routes = int(routes.max()) + 1
     if n_routes > 1:
         sizes = ", ".join(str(int(c)) for c in np.bincount(routes))
@@ -330,7 +389,9 @@ def add_plot(sub) -> None:
             " them) with their key points as 'ndlfd fit' finds them, and"
             " optionally a generated path (--path, e.g. from 'ndlfd generate') with"
             " its band (--std), sampled paths (--samples DIR, from 'ndlfd"
-            " sample') and orientation triads along a 3-D path. Positions are"
+            " sample'), orientation triads along a 3-D path and each"
+            " demonstration's task frames (--task-frame, read as 'ndlfd fit'"
+            " reads them; --path-frame for the path's). Positions are"
             " drawn in 2-D or 3-D by their number of columns (more than three: the"
             " first three), and the other learned groups (joints, a gripper, a"
             " force; not a velocity or an orientation) beside, over time."
@@ -388,6 +449,23 @@ def add_plot(sub) -> None:
         help="orientation triads (x red, y green, z blue) drawn at equal steps of"
         " arc length along the generated path, else the first demonstration, when"
         " the position is 3-D with an orientation (default 8; 0: none)",
+    )
+    p.add_argument(
+        "--task-frame",
+        action="append",
+        metavar="NAME=COLUMN,COLUMN,...",
+        help="the columns (of a ROS 2 bag, a topic or tf:FRAME; of a LeRobot"
+        " dataset, a feature) that are each demonstration's task frame NAME,"
+        " read as 'ndlfd fit --task-frame' reads them, not as data; drawn at"
+        " its position in the demonstration's colour, one marker per frame,"
+        " with an arrow along its x axis when it has an orientation; repeatable",
+    )
+    p.add_argument(
+        "--path-frame",
+        action="append",
+        metavar="NAME=X,Y,Z[,QW,QX,QY,QZ]",
+        help="where the task frame NAME of --path was (the values given to"
+        " 'ndlfd generate --task-frame'), drawn in black; repeatable",
     )
     p.add_argument("--title", help="title of the figure")
     add_route_options(p)
