@@ -26,7 +26,7 @@ from .._poses import check_frames
 from ..demonstration import Demonstration
 from ..io._lerobot import is_lerobot_dataset
 from ..learner import KeypointHMM
-from ._options import GROUP_NAME, parse_floats, read_one
+from ._options import GROUP_NAME, parse_floats, parse_named, read_one
 
 __all__ = [
     "add_condition_options",
@@ -171,25 +171,7 @@ def parse_task_frames(texts: list[str] | None) -> dict | None:
     """
     if not texts:
         return None
-    out: dict[str, list[float]] = {}
-    for text in texts:
-        name, eq, values = text.partition("=")
-        name = name.strip()
-        if not eq or not values.strip():
-            raise ValidationError(
-                f"--task-frame must look like {_FRAME_EXAMPLE}; got {text!r}"
-            )
-        if not GROUP_NAME.match(name):
-            raise ValidationError(
-                "--task-frame NAME must be a name of letters, digits, '_' and '-'"
-                f" (starting with a letter or '_'); got {name!r} in {text!r}"
-            )
-        if name in out:
-            raise ValidationError(
-                f"--task-frame gives {name} twice ({text!r}); give each frame once"
-            )
-        out[name] = parse_floats(values, f"--task-frame {name}")
-    return out
+    return parse_named(texts, "--task-frame", _FRAME_EXAMPLE, parse_floats)
 
 
 def model_frames(model, frames: dict | None) -> dict | None:

@@ -44,7 +44,7 @@ from ..io._bag import BAG_SUFFIXES, is_bag_folder
 from ..io._files import RateMapping
 from ..io._lerobot import LeRobotEpisode
 from ._conditions import flag_named
-from ._options import GROUP_NAME, split_names
+from ._options import parse_named, split_names
 
 __all__ = [
     "FRAME_GROUP",
@@ -76,25 +76,7 @@ def parse_frame_columns(texts: list[str] | None) -> dict | None:
     """
     if not texts:
         return None
-    out: dict[str, list[str]] = {}
-    for text in texts:
-        name, eq, cols = text.partition("=")
-        name = name.strip()
-        if not eq:
-            raise ValidationError(
-                f"--task-frame must look like {_EXAMPLE}; got {text!r}"
-            )
-        if not GROUP_NAME.match(name):
-            raise ValidationError(
-                "--task-frame NAME must be a name of letters, digits, '_' and '-'"
-                f" (starting with a letter or '_'); got {name!r} in {text!r}"
-            )
-        if name in out:
-            raise ValidationError(
-                f"--task-frame gives {name} twice ({text!r}); give each frame once"
-            )
-        out[name] = split_names(cols, f"--task-frame {name}")
-    return out
+    return parse_named(texts, "--task-frame", _EXAMPLE, split_names)
 
 
 def _framed_text(text: str, frames) -> str:

@@ -63,9 +63,10 @@ __all__ = [
 # as a via point; 0.0221 and 0.0206 with even weights (the frames alone:
 # 0.0233); DTW/range given a start unchanged (0.0011, 0.0024).
 
-#: Variance floor of a frame's Gaussian, as a share of the position range
-#: (squared), and in radians squared for orientation: frames in which the
-#: templates coincide exactly still combine (no singular covariance).
+#: Floor of a view's spread: its square times the position range squared is
+#: added to every covariance, its square (radians squared) to the angular
+#: spread of orientation, so views in which the templates coincide exactly
+#: still combine (no singular covariance).
 FRAME_FLOOR = 1e-3
 
 
@@ -122,9 +123,7 @@ def check_new_frames(est, frames) -> dict | None:
         size = learned[name].shape[1]
         if pose.size != size:
             kind = (
-                "position and unit quaternion (w, x, y, z)"
-                if size == 7
-                else ("position")
+                "position and unit quaternion (w, x, y, z)" if size == 7 else "position"
             )
             raise ValidationError(
                 f"frames[{name!r}] must hold {size} values ({kind}), as the"
@@ -195,7 +194,10 @@ def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _gauss(C: np.ndarray, w: np.ndarray, floor: float):
-    """Weighted mean and covariance over templates at every row, and the precision."""
+    """The precision of the templates ``C`` (n_templates, n_out, k) at every row.
+
+    The inverse of their weighted covariance plus ``floor`` on the diagonal.
+    """
     mu = np.tensordot(w, C, axes=1)  # (n_out, k)
     D = C - mu[None]
     S = np.einsum("j,jta,jtb->tab", w, D, D)
@@ -423,10 +425,23 @@ def _frame_views(X, maps, pos, vel, quat):
 
 
 def _interp(tq, grid, A) -> np.ndarray:
-    """``A`` (on ``grid`` along axis 0) at ``tq``, every other entry linearly."""
-    flat = A.reshape(A.shape[0], -1)
-    cols = [np.interp(tq, grid, flat[:, c]) for c in range(flat.shape[1])]
-    return np.stack(cols, axis=-1).reshape((tq.size, *A.shape[1:]))
+    """``A`` (on ``grid`` along axis 0) at ``tq``, every other entry linearly.
+
+    As ``np.interp`` of each entry (ends held outside the grid), all at once.
+
+    Examples
+    --------
+    >>> A = np.array([[0.0, 10.0], [1.0, 20.0]])
+    >>> _interp(np.array([-1.0, 0.25, 2.0]), np.array([0.0, 1.0]), A)
+    array([[ 0. , 10. ],
+           [ 0.25, 12.5 ],
+           [ 1. , 20. ]])
+    """
+    x = np.clip(tq, grid[0], grid[-1])
+    i = np.clip(np.searchsorted(grid, x, side="right") - 1, 0, grid.size - 2)
+    f = (x - grid[i]) / (grid[i + 1] - grid[i])
+    f = f.reshape((-1,) + (1,) * (A.ndim - 1))
+    return A[i] * (1.0 - f) + A[i + 1] * f
 
 
 def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
