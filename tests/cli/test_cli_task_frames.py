@@ -71,7 +71,12 @@ def test_fit_takes_frames_from_constant_columns(capsys, tmp_path, framed):
     assert "task frame object=" + ",".join(OBJECT) in err[0], err
     assert "task frame place=" + ",".join(PLACE) in err[0], err
     line = next(e for e in err if e.startswith("task frames"))
-    assert "object (7 values" in line and "place (3 values)" in line
+    places = np.array([f["place"][:3] for f in frames])
+    apart = max(np.linalg.norm(a - b) for a in places for b in places)
+    assert (
+        "object (7 values" in line
+        and f"place (3 values; moved over {apart:.3g})" in line
+    )
     assert "--task-frame place=X,Y,Z" in line
     assert not any(e.startswith("not learned") for e in err), err
 

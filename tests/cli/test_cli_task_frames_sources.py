@@ -87,7 +87,12 @@ def test_fit_takes_frames_from_bag_topics(capsys, tmp_path, bag_model):
     assert rc == 0, err
     assert "task frame object=/object_pose; task frame place=/place" in err[0], err
     line = next(e for e in err if e.startswith("task frames"))
-    assert "object (7 values" in line and "place (3 values)" in line
+    places = np.array([f["place"][:3] for f in frames])
+    apart = max(np.linalg.norm(a - b) for a in places for b in places)
+    assert (
+        "object (7 values" in line
+        and f"place (3 values; moved over {apart:.3g})" in line
+    )
 
 
 def test_generate_with_new_poses_after_a_bag_fit(capsys, tmp_path, bag_model):

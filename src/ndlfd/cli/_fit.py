@@ -259,22 +259,43 @@ def describe_frames(frames: dict) -> str:
 
     Examples
     --------
-    >>> print(describe_frames({"object": np.zeros((6, 3))}))
-    task frames of the 6 demonstrations: object (3 values); new poses:
-    ndlfd generate --task-frame object=X,Y,Z
+    >>> poses = np.zeros((6, 3))
+    >>> poses[1, 0] = 0.1
+    >>> print(describe_frames({"object": poses}))
+    task frames of the 6 demonstrations: object (3 values; moved over 0.1); new
+    poses: ndlfd generate --task-frame object=X,Y,Z
     """
     values = {2: "X,Y", 3: "X,Y,Z", 7: "X,Y,Z,QW,QX,QY,QZ"}
     each, example = [], []
     for name, poses in frames.items():
         size = poses.shape[1]
         quat = ", position and unit quaternion w,x,y,z" if size == 7 else ""
-        each.append(f"{name} ({size} values{quat})")
+        each.append(f"{name} ({size} values{quat}; {_frame_spread(poses)})")
         example.append(f"--task-frame {name}={values.get(size, 'V1,...')}")
     n_demos = next(iter(frames.values())).shape[0]
     return (
         f"task frames of the {n_demos} demonstrations: {', '.join(each)}; new"
         f" poses: ndlfd generate {' '.join(example)}"
     )
+
+
+def _frame_spread(poses: np.ndarray) -> str:
+    """How far a frame moved (and turned) over the demonstrations.
+
+    The largest distance between two of its origins, and for a pose with a
+    quaternion the largest angle between two of its orientations: how far a
+    new pose is inside what was demonstrated.
+    """
+    from scipy.spatial.distance import pdist
+
+    size = poses.shape[1]
+    k = 3 if size == 7 else size
+    moved = float(pdist(poses[:, :k]).max(initial=0.0)) if len(poses) > 1 else 0.0
+    text = f"moved over {moved:.3g}"
+    if size == 7 and len(poses) > 1:
+        dots = np.clip(np.abs(poses[:, 3:] @ poses[:, 3:].T), 0.0, 1.0)
+        text += f", turned over {np.degrees(2 * np.arccos(dots.min())):.3g} deg"
+    return text
 
 
 #: The pieces of a split recording listed by :func:`describe_pieces`.
