@@ -26,7 +26,7 @@ from .._poses import check_frames
 from ..demonstration import Demonstration
 from ..io._lerobot import is_lerobot_dataset
 from ..learner import KeypointHMM
-from ._options import GROUP_NAME, parse_floats, parse_named, read_one
+from ._options import GROUP_NAME, parse_floats, read_one
 
 __all__ = [
     "add_condition_options",
@@ -38,6 +38,7 @@ __all__ = [
     "observed_timing",
     "output_mapping",
     "parse_condition",
+    "parse_named",
     "parse_task_frames",
     "parse_via",
     "read_observed",
@@ -154,6 +155,36 @@ def parse_via(texts: list[str] | None) -> list | None:
         if not math.isfinite(t):
             raise ValidationError(f"--via: the time must be finite; got {text!r}")
         out.append((t, {group.strip(): parse_floats(values, f"--via {text}")}))
+    return out
+
+
+def parse_named(texts, flag: str, example: str, parse) -> dict:
+    """Repeated ``NAME=VALUES`` flags as ``{name: parse(values, label)}``.
+
+    A missing ``=`` or value, a bad name or a name given twice is an error
+    naming ``flag`` and showing ``example``.
+
+    Examples
+    --------
+    >>> parse_named(["a=1,2", "b=3"], "--f", "NAME=V,...", parse_floats)
+    {'a': [1.0, 2.0], 'b': [3.0]}
+    """
+    out: dict = {}
+    for text in texts:
+        name, eq, values = text.partition("=")
+        name = name.strip()
+        if not eq or not values.strip():
+            raise ValidationError(f"{flag} must look like {example}; got {text!r}")
+        if not GROUP_NAME.match(name):
+            raise ValidationError(
+                f"{flag} NAME must be a name of letters, digits, '_' and '-'"
+                f" (starting with a letter or '_'); got {name!r} in {text!r}"
+            )
+        if name in out:
+            raise ValidationError(
+                f"{flag} gives {name} twice ({text!r}); give each frame once"
+            )
+        out[name] = parse(values, f"{flag} {name}")
     return out
 
 

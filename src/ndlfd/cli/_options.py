@@ -136,36 +136,6 @@ def parse_floats(text: str | None, flag: str) -> list[float] | None:
     return values
 
 
-def parse_named(texts, flag: str, example: str, parse) -> dict:
-    """Repeated ``NAME=VALUES`` flags as ``{name: parse(values, label)}``.
-
-    A missing ``=`` or value, a bad name or a name given twice is an error
-    naming ``flag`` and showing ``example``.
-
-    Examples
-    --------
-    >>> parse_named(["a=1,2", "b=3"], "--f", "NAME=V,...", parse_floats)
-    {'a': [1.0, 2.0], 'b': [3.0]}
-    """
-    out: dict = {}
-    for text in texts:
-        name, eq, values = text.partition("=")
-        name = name.strip()
-        if not eq or not values.strip():
-            raise ValidationError(f"{flag} must look like {example}; got {text!r}")
-        if not GROUP_NAME.match(name):
-            raise ValidationError(
-                f"{flag} NAME must be a name of letters, digits, '_' and '-'"
-                f" (starting with a letter or '_'); got {name!r} in {text!r}"
-            )
-        if name in out:
-            raise ValidationError(
-                f"{flag} gives {name} twice ({text!r}); give each frame once"
-            )
-        out[name] = parse(values, f"{flag} {name}")
-    return out
-
-
 def parse_pairs(text: str, flag: str, cast, example: str) -> dict:
     """``name=value,name=value`` strictly (no empty entry, no repeated name)."""
     out: dict = {}

@@ -43,8 +43,8 @@ from ..io import (
 from ..io._bag import BAG_SUFFIXES, is_bag_folder
 from ..io._files import RateMapping
 from ..io._lerobot import LeRobotEpisode
-from ._conditions import flag_named
-from ._options import parse_named, split_names
+from ._conditions import flag_named, parse_named
+from ._options import split_names
 
 __all__ = [
     "FRAME_GROUP",
