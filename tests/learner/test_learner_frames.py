@@ -163,6 +163,25 @@ def test_a_tampered_frames_entry_is_a_format_error(rigid_model, tmp_path, bad):
         KeypointHMM.load(tmp_path / "bad.ndlfd")
 
 
+@pytest.mark.parametrize("width", [5, 0])
+def test_frame_values_that_do_not_match_the_frames_are_a_format_error(
+    rigid_model, tmp_path, width
+):
+    from ndlfd._fileformat import load_npz, save_npz
+
+    rigid_model.save(tmp_path / "m.ndlfd")
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=4)
+    if width:
+        arrays["stats_frames"] = arrays["stats_frames"][:, :width]
+    else:  # the values dropped, the names kept
+        del arrays["stats_frames"]
+    extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
+    save_npz(tmp_path / "bad.ndlfd", arrays, kind="KeypointHMM", version=4,
+             metadata=extra)  # fmt: skip
+    with pytest.raises(ModelFormatError, match="task-frame values"):
+        KeypointHMM.load(tmp_path / "bad.ndlfd")
+
+
 def test_a_model_without_frames_loads_and_refuses_them(tmp_path):
     demos, _ = synth.make_dataset("square", n_demos=6, random_state=0)
     m = KeypointHMM(epsilon=0.1, n_time_bins=20).fit(demos)

@@ -394,6 +394,13 @@ def _with_stats(out: Loaded, arrays, path) -> Loaded:
             f"{path}: the fit statistics have {stats.n_dims} columns,"
             f" the model {len(out.columns)} (tampered file?)"
         )
+    want = sum(size for _, size in out.frames)
+    if stats.frames.shape[1] != want:
+        raise ModelFormatError(
+            f"{path}: the fit statistics hold {stats.frames.shape[1]} task-frame"
+            f" values per demonstration, the task frames {list(out.frames)} need"
+            f" {want} (tampered file?)"
+        )
     out.stats = stats
     return out
 
