@@ -273,3 +273,36 @@ def test_samples_with_frames_follow_them_without_a_jump(turned_fold, seed):
                               random_state=seed):  # fmt: skip
             assert np.linalg.norm(p.get("position") - P, axis=1).max() < 0.05
             assert _largest_step(p) < 1.1 * _largest_step(test)
+
+
+def _scaled_reaches(scale):
+    rng = np.random.default_rng(0)
+    s = np.linspace(0.0, 1.0, 50)
+    out = []
+    for _ in range(5):
+        o = rng.uniform(-1, 1, 2)
+        P = (np.column_stack([s, s**2]) + o) * scale
+        out.append(Demonstration.from_arrays(s, position=P, frames={"obj": o * scale}))
+    return out, s
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-6, 1.0, 1e100, 1e200])
+def test_frames_work_at_any_magnitude(scale):
+    # the views' squares are taken in units of the positions' range: at 1e-200
+    # they underflowed (the path 5 % of the range off), at 1e200 overflowed
+    demos, s = _scaled_reaches(scale)
+    new = np.array([0.2, 0.3])
+    path = KeypointHMM().fit(demos).generate(s, dense=True, frames={"obj": new * scale})
+    want = np.column_stack([s, s**2]) + new  # the shape, rigid in the frame
+    err = np.abs(path.get("position") / scale - want).max()
+    # of a range of about 3 (measured 2e-6; 0.008 at 1e-6 and 1e100, where the
+    # rounding of the normalized values decodes another key point)
+    assert err < 0.01, err
+
+
+def test_a_frame_a_million_ranges_away_is_an_error(rigid_model):
+    far = [1e9, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0]
+    with pytest.raises(ValidationError, match=r"lies 1e\+09 from .*same units"):
+        rigid_model.generate([0.0, 1.0], frames={"object": far})
+    with pytest.raises(ValidationError, match="same units"):
+        rigid_model.generate([0.0, 1.0], frames={"object": [1e300, 0, 0, 1, 0, 0, 0]})

@@ -63,10 +63,10 @@ __all__ = [
 # as a via point; 0.0221 and 0.0206 with even weights (the frames alone:
 # 0.0233); DTW/range given a start unchanged (0.0011, 0.0024).
 
-#: Floor of a view's spread: its square times the position range squared is
-#: added to every covariance, its square (radians squared) to the angular
-#: spread of orientation, so views in which the templates coincide exactly
-#: still combine (no singular covariance).
+#: Floor of a view's spread: its square (in units of the positions' range,
+#: squared) is added to every covariance, and (radians squared) to the
+#: angular spread of orientation, so views in which the templates coincide
+#: exactly still combine (no singular covariance).
 FRAME_FLOOR = 1e-3
 
 
@@ -94,6 +94,12 @@ def split_frames(values: np.ndarray, spec) -> dict:
     return out
 
 
+#: How far a new frame may lie from the demonstrations' frames, in ranges of
+#: the positions: farther, the views' squares leave float64 (a frame at 1e150
+#: m overflowed); a pose that far is a unit or typing mistake.
+_FAR = 1e6
+
+
 def check_new_frames(est, frames) -> dict | None:
     """New poses of the model's task frames, checked (``None``: none given).
 
@@ -119,8 +125,22 @@ def check_new_frames(est, frames) -> dict | None:
             f"unknown task frame {unknown[0]!r}; this model learned"
             f" {', '.join(repr(k) for k in learned)}"
         )
+    scaler = est.scaler_
+    pos = group_columns(est.column_groups_, "position")
+    span = max(float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos])), 1e-300)
     for name, pose in got.items():
         size = learned[name].shape[1]
+        origins = learned[name][:, : len(pos)]
+        gap = pose[: len(pos)] - origins.mean(axis=0)
+        top = float(np.max(np.abs(gap), initial=0.0))  # no overflow in squares
+        far = top * float(np.linalg.norm(gap / top)) if top > 0 else 0.0
+        if not far <= _FAR * span:
+            raise ValidationError(
+                f"frames[{name!r}] at {pose[: len(pos)].tolist()} lies {far:.3g}"
+                f" from where the demonstrations' {name!r} frames were (their"
+                f" mean {origins.mean(axis=0).round(6).tolist()}); expected within"
+                f" {_FAR:g} times the positions' range ({span:.3g}): same units?"
+            )
         if pose.size != size:
             kind = (
                 "position and unit quaternion (w, x, y, z)" if size == 7 else "position"
@@ -226,7 +246,7 @@ FRAME_RIDGE = 1e-3
 _FEW = 2
 
 
-def _features(est, demos, frames, k) -> list:
+def _features(est, demos, frames, k, unit: float) -> list:
     """Candidate regression features of the templates' frames, and the new values.
 
     The frames' origins; and, when a frame has an orientation, the origins
@@ -243,8 +263,8 @@ def _features(est, demos, frames, k) -> list:
     """
     from scipy.spatial.transform import Rotation
 
-    F = np.hstack([est.task_frames_[name][demos][:, :k] for name in frames])
-    f = np.concatenate([pose[:k] for pose in frames.values()])
+    F = np.hstack([est.task_frames_[name][demos][:, :k] / unit for name in frames])
+    f = np.concatenate([pose[:k] / unit for pose in frames.values()])
     out = [(F, f)]
     turns = []
     for name, pose in frames.items():
@@ -316,17 +336,19 @@ def _slopes(Y, w, candidates, scored):
     return dz, B
 
 
-def _views(est, demos, frames, k) -> list:
+def _views(est, demos, frames, k, unit: float) -> list:
     """The maps of each frame's views of the templates: a list of ``(A, b, dq)``.
 
     A frame with a position only: its move. A frame with an orientation: its
     move and turn (what is rigid in the frame, near it), and its move alone
     (a part of the motion that moves with the frame without turning with
-    it); the orientation turns with the frame in both.
+    it); the orientation turns with the frame in both. Positions in ``unit``.
     """
     out = []
     for name, pose in frames.items():
-        old = est.task_frames_[name][demos]
+        old = np.array(est.task_frames_[name][demos], dtype=np.float64)
+        old[:, :k] /= unit
+        pose = np.concatenate([pose[:k] / unit, pose[k:]])
         A, b, dq = frame_maps(old, pose, k)
         views = [(A, b, dq)]
         if pose.size == 7:
@@ -479,17 +501,22 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     quat = group_columns(groups, "orientation")
     k = len(pos)
     demos = est.template_indices_[np.asarray(templates, dtype=np.int64)]
-    maps = _views(est, demos, frames, k)
     scaler = est.scaler_
-    span = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
-    floor = (FRAME_FLOOR * max(span, 1e-12)) ** 2
-    candidates = _features(est, demos, frames, k)
+    # positions in units of their range: the views' squares stay in float64
+    # whatever the data's magnitude (1e-200 underflowed, 1e200 overflowed)
+    unit = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
+    unit = unit if np.isfinite(unit) and unit > 0 else 1.0
+    maps = _views(est, demos, frames, k, unit)
+    floor = FRAME_FLOOR**2
+    candidates = _features(est, demos, frames, k, unit)
     moved = pos + vel + quat
 
     def physical(W):
         n_t, n_out, d = W.shape
         X = scaler.inverse_transform(W.reshape(-1, d), weighted=False)
-        return X.reshape(n_t, n_out, d)
+        X = X.reshape(n_t, n_out, d)
+        X[:, :, pos] /= unit
+        return X
 
     # the weights, on the grid, smoothed
     grid = np.linspace(0.0, 1.0, _GRID)
@@ -553,6 +580,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
         if quat:
             Q = out[:, :, quat]
             Q /= np.maximum(np.linalg.norm(Q, axis=-1, keepdims=True), 1e-300)
+        out[:, :, pos] *= unit
         U = scaler.transform(out.reshape(-1, out.shape[2]), weighted=False)
         return U.reshape(out.shape)
 
