@@ -306,3 +306,12 @@ def test_a_frame_a_million_ranges_away_is_an_error(rigid_model):
         rigid_model.generate([0.0, 1.0], frames={"object": far})
     with pytest.raises(ValidationError, match="same units"):
         rigid_model.generate([0.0, 1.0], frames={"object": [1e300, 0, 0, 1, 0, 0, 0]})
+
+
+def test_frames_in_other_units_than_the_positions_warn_at_fit():
+    from ndlfd import NdlfdWarning
+
+    demos, _, _ = _linear(6)
+    in_mm = [d.with_frames({"obj": d.frames["obj"] * 1000.0}) for d in demos]
+    with pytest.warns(NdlfdWarning, match="'obj'.*same units"):
+        KeypointHMM().fit(in_mm)

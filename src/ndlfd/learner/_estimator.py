@@ -20,7 +20,7 @@ from ..limits import limited
 from ._blend import MATCH_WINDOW
 from ._cache import ModelCache
 from ._conditioning import check_condition
-from ._frames import split_frames
+from ._frames import check_learned_frames, split_frames
 from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_fitted, check_params
 from ._passes import collect_statistics, scan_ranges
@@ -453,5 +453,6 @@ def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
         )
         est.routes_ = model_routes(est, est._cache)
         est.task_frames_ = split_frames(stats.frames, spec.frames)
+        check_learned_frames(est)
     else:
         est.task_frames_ = {}

@@ -34,16 +34,18 @@ followed only in part (the product's mean).
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
 
-from .._errors import ValidationError
+from .._errors import NdlfdWarning, ValidationError
 from .._poses import check_frames, frame_maps
 from ._conditioning import group_columns
 
 __all__ = [
     "FRAME_FLOOR",
+    "check_learned_frames",
     "check_new_frames",
     "clock_aligned",
     "frame_mixer",
@@ -98,6 +100,40 @@ def split_frames(values: np.ndarray, spec) -> dict:
 #: the positions: farther, the views' squares leave float64 (a frame at 1e150
 #: m overflowed); a pose that far is a unit or typing mistake.
 _FAR = 1e6
+
+
+#: How far the demonstrations' frames may lie from their positions (in
+#: ranges of the positions) before a fit warns: an object 10 workspaces away
+#: is most likely in other units (millimetres against metres).
+_WORKSPACES = 10.0
+
+
+def check_learned_frames(est) -> None:
+    """Warn when a learned frame's origins lie far outside the positions.
+
+    One :class:`~ndlfd.NdlfdWarning` per such frame, saying how far (in
+    ranges of the positions) and asking for the units.
+    """
+    frames = getattr(est, "task_frames_", None)
+    if not frames:
+        return
+    scaler = est.scaler_
+    pos = group_columns(est.column_groups_, "position")
+    lo, hi = scaler.data_min_[pos], scaler.data_max_[pos]
+    span = float(np.max(hi - lo))
+    if not span > 0:
+        return
+    for name, poses in frames.items():
+        outside = np.maximum(lo - poses[:, : len(pos)], poses[:, : len(pos)] - hi)
+        far = float(np.max(outside, initial=0.0)) / span
+        if far > _WORKSPACES:
+            warnings.warn(
+                f"task frame {name!r}: its origins lie up to {far:.3g} times the"
+                f" positions' range ({span:.3g}) outside the positions; are they"
+                " in the same units (and frame) as the positions?",
+                NdlfdWarning,
+                stacklevel=3,
+            )
 
 
 def check_new_frames(est, frames) -> dict | None:
