@@ -315,3 +315,22 @@ def test_frames_in_other_units_than_the_positions_warn_at_fit():
     in_mm = [d.with_frames({"obj": d.frames["obj"] * 1000.0}) for d in demos]
     with pytest.warns(NdlfdWarning, match="'obj'.*same units"):
         KeypointHMM().fit(in_mm)
+
+
+def test_the_frames_step_is_kept_per_plan_and_frames(rigid_model):
+    s = np.linspace(0.0, 2.0, 80)
+    a = {"object": [0.1, 0.2, 0.0, 1.0, 0.0, 0.0, 0.0]}
+    b = {"object": [0.3, -0.2, 0.0, 0.0, 0.0, 0.0, 1.0]}
+    first = rigid_model.generate(s, dense=True, frames=a)
+    kept = [k for k in rigid_model._cache.memos if k[0] == "frames"]
+    other = rigid_model.generate(s, dense=True, frames=b)
+    again = rigid_model.generate(s, dense=True, frames=a)
+    assert again == first and other != first
+    now = [k for k in rigid_model._cache.memos if k[0] == "frames"]
+    assert len(now) == len(kept) + 1  # b's, and a's reused
+    # a fresh model (nothing kept) gives the same path
+    demos = _rigid()
+    assert (
+        KeypointHMM(random_state=0).fit(demos).generate(s, dense=True, frames=a)
+        == first
+    )

@@ -41,6 +41,7 @@ import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
 from .._poses import check_frames, frame_maps
+from ._blend import warped
 from ._conditioning import group_columns
 
 __all__ = [
@@ -49,6 +50,7 @@ __all__ = [
     "check_new_frames",
     "clock_aligned",
     "frame_mixer",
+    "frame_parts",
     "quat_multiply",
     "split_frames",
 ]
@@ -621,3 +623,35 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
         return U.reshape(out.shape)
 
     return mix
+
+
+def frame_parts(est, plan, frames, quat_cols, cache):
+    """The templates' alignment and the frames' step of a plan's blend.
+
+    Without frames, the plan's own alignment and no step. With frames, the
+    templates on their own clocks (:func:`clock_aligned`) and
+    :func:`frame_mixer`'s step, kept in the model's cache for a decoded plan
+    (a replanning robot with the same frames pays it once per route; a
+    sample's drawn plan, of log-probability NaN, is not kept).
+
+    Returns
+    -------
+    index : list of ndarray
+    mix : callable or None
+    """
+    if frames is None:
+        return plan.index, None
+    index = clock_aligned(plan.taus, plan.knots)
+    templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
+
+    def warp(p):
+        return warped(*templates, p, quat_cols=quat_cols)
+
+    def make():
+        return frame_mixer(est, plan.templates, frames, warp)
+
+    if not np.isfinite(plan.logp) or not hasattr(cache, "memo"):
+        return index, make()
+    key = ("frames", plan.knots.tobytes(), np.asarray(plan.templates).tobytes(),
+           tuple((k, v.tobytes()) for k, v in frames.items()))  # fmt: skip
+    return index, cache.memo(key, make)

@@ -33,19 +33,12 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import (
-    CONDITION_RIDGE,
-    align_many,
-    blend,
-    skeleton_times,
-    spread,
-    warped,
-)
+from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times, spread
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_two_valued, two_valued_columns
-from ._frames import check_new_frames, clock_aligned, frame_mixer
+from ._frames import check_new_frames, frame_parts
 from ._phase import warp_for
 from ._prefix_route import allowed_routes, prefix_stride
 from ._routes import choose_route, route_probabilities
@@ -657,13 +650,8 @@ def render(
                                            prefix=prefix, goal=goal)  # fmt: skip
     n_at = at.size  # the observations' rows come after, dropped after the blend
     qc = _quat_cols(groups)
-    index, mix = plan.index, None
-    if frames is not None:  # on their own clocks (ndlfd.learner._frames)
-        index = clock_aligned(plan.taus, plan.knots)
+    index, mix = frame_parts(est, plan, frames, qc, cache)  # (plan.index, None)
     templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
-    if frames is not None:
-        mix = frame_mixer(est, plan.templates, frames,
-                          lambda p: warped(*templates, p, quat_cols=qc))  # fmt: skip
     phase_at, phase_obs = at, obs_tau
     if observed:  # the clock warped to meet them (ndlfd.learner._phase)
 
