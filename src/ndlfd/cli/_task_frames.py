@@ -25,13 +25,13 @@ object_pose`` (a feature) of a dataset; their readers take them as ``frames``
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
 from .._poses import check_frames, pose_size_ok
-from .._repairs import repaired
 from ..io import (
     CLI_HINTS,
     ColumnMapping,
@@ -265,19 +265,7 @@ def read_framed_or_skip(p, how, frames: dict | None, **mapping) -> list:
     """
     if not frames:
         return read_or_skip(p, how, **mapping)
-    if mapping.get("bad_files", "error") != "skip":
-        return read_framed(p, how, frames, **mapping)
-    try:
-        pairs = read_framed(p, how, frames, **mapping)
-    except (DataFileError, ValidationError, OSError, ValueError) as exc:
-        why = str(exc)
-        text = why if why.startswith(str(p)) else f"{p}: {why}"
-        repaired("files", 1, f"skipped {text}", detail=text, stacklevel=3)
-        return []
-    if not pairs:
-        text = f"{p}: holds no demonstration"
-        repaired("files", 1, f"skipped {text}", detail=text, stacklevel=3)
-    return pairs
+    return read_or_skip(p, how, read=partial(read_framed, frames=frames), **mapping)
 
 
 @dataclass(frozen=True)

@@ -251,17 +251,19 @@ def _at_rate(p, how, reader, options: dict, rate) -> list:
 
 
 def read_or_skip(
-    p: Path | LeRobotEpisode, how=LIBRARY_HINTS, **mapping
+    p: Path | LeRobotEpisode, how=LIBRARY_HINTS, *, read=None, **mapping
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """:func:`read_file`, or nothing for a bad file with ``bad_files="skip"``.
 
     A skipped file is reported as a repair (:mod:`ndlfd._repairs`): which file
-    and why.
+    and why. ``read`` (``read(p, how, **mapping)``) reads instead of
+    :func:`read_file` (the CLI's task-frame columns).
     """
+    read = read_file if read is None else read
     if mapping.get("bad_files", "error") != "skip":
-        return read_file(p, how, **mapping)
+        return read(p, how, **mapping)
     try:
-        pairs = read_file(p, how, **mapping)
+        pairs = read(p, how, **mapping)
     except (DataFileError, ValidationError, OSError, ValueError) as exc:
         why = str(exc)
         text = why if why.startswith(str(p)) else f"{p}: {why}"
