@@ -733,7 +733,7 @@ def prefix_completer(est, all_t, goal, frames, cache):
 
     def plan_path(start):
         start_, goal_ = orient_conditions(est, start, goal)
-        plan = make_plan(est, all_t, start_, goal_, cache)
+        plan = make_plan(est, all_t, start_, goal_, cache, even=frames)
         return render(est, plan, all_t, start_, goal_, dense=True, cache=cache,
                       frames=frames)[0]  # fmt: skip
 
