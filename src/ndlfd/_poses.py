@@ -22,7 +22,14 @@ import numpy as np
 from ._errors import ValidationError
 from ._validation import as_float_array
 
-__all__ = ["NO_FRAMES", "Frames", "check_frames", "frame_maps", "pose_size_ok"]
+__all__ = [
+    "NO_FRAMES",
+    "Frames",
+    "check_frame_name",
+    "check_frames",
+    "frame_maps",
+    "pose_size_ok",
+]
 
 
 class Frames(Mapping):
@@ -62,6 +69,22 @@ def _frames_of(items) -> Frames:
 NO_FRAMES: Mapping = Frames({})
 
 _FRAME_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
+
+
+def check_frame_name(name, what: str) -> str:
+    """A frame's name, checked: letters, digits, ``_`` and ``-``, not a digit first.
+
+    Examples
+    --------
+    >>> check_frame_name("object", "frames")
+    'object'
+    """
+    if not isinstance(name, str) or not _FRAME_NAME.match(name):
+        raise ValidationError(
+            f"{what}: a frame's name must be made of letters, digits, '_' and"
+            f" '-' (starting with a letter or '_'); got {name!r}"
+        )
+    return name
 
 
 def pose_size_ok(size: int, position_dims: int) -> bool:
@@ -123,11 +146,7 @@ def check_frames(frames, position_dims, *, what: str = "frames") -> Mapping:
         )
     out = {}
     for name, pose in frames.items():
-        if not isinstance(name, str) or not _FRAME_NAME.match(name):
-            raise ValidationError(
-                f"{what}: a frame's name must be made of letters, digits, '_' and"
-                f" '-' (starting with a letter or '_'); got {name!r}"
-            )
+        check_frame_name(name, what)
         p = np.array(as_float_array(pose, f"{what}[{name!r}]"), dtype=np.float64)
         if p.ndim != 1 or not pose_size_ok(p.size, position_dims):
             raise ValidationError(

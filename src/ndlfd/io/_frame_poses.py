@@ -16,12 +16,12 @@ quaternion scalar first, as :class:`~ndlfd.Demonstration` takes them.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
 
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
+from .._poses import check_frame_name
 
 __all__ = [
     "FRAME_ANGLE_TOLERANCE",
@@ -38,8 +38,6 @@ __all__ = [
 FRAME_TOLERANCE = 0.005
 #: How far its orientation may turn over a demonstration, in degrees.
 FRAME_ANGLE_TOLERANCE = 3.0
-
-_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
 
 
 def frame_flag(how: Mapping[str, str], name: str) -> str:
@@ -87,11 +85,7 @@ def check_frame_sources(frames, what: str, example: str) -> dict[str, str] | Non
         )
     out = {}
     for name, source in frames.items():
-        if not isinstance(name, str) or not _NAME.match(name):
-            raise ValidationError(
-                f"{what}: a frame's name must be made of letters, digits, '_' and"
-                f" '-' (starting with a letter or '_'); got {name!r}"
-            )
+        check_frame_name(name, what)
         if not isinstance(source, str) or not source.strip():
             raise ValidationError(
                 f"{what}[{name!r}] must name where the frame is read from, e.g."
