@@ -114,6 +114,7 @@ def test_blend_with_one_weight_copies_that_demonstration():
     U = [np.cumsum(rng.normal(size=(50, 2)), axis=0) for _ in range(3)]
     index = [np.array([0, 20, 49])] * 3
     out, _ = _blend(U, [tau] * 3, index, np.array([0.0, 1.0, 0.0]), tau)
+    # read at its own times: no window (window_half), the samples themselves
     np.testing.assert_allclose(out, U[1], atol=1e-12)
 
 
@@ -273,3 +274,80 @@ def test_alignment_of_values_near_the_float_limit_matches_the_scaled_one():
     got = align_to_skeleton(U * 1e300, C * 1e300)
     np.testing.assert_array_equal(got, want)
     assert got[0] == 0 and got[-1] == 39
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(1, 30), st.integers(0, 2**31), st.floats(0.0, 0.3))
+def test_window_rows_is_the_windowed_mean_of_the_interpolant(n, seed, half):
+    from ndlfd.learner._blend import _window_rows
+
+    rng = np.random.default_rng(seed)
+    tau = np.unique(rng.uniform(0, 1, n)) if n > 1 else np.zeros(1)
+    U = rng.normal(size=(tau.size, 3))
+    at = np.concatenate([np.sort(rng.uniform(-0.1, 1.1, 20)), rng.uniform(0, 1, 5)])
+    got = _window_rows(U, tau, at, half)
+    # the reference: the trapezoid rule over the window's ends and every
+    # sample inside it (exact for a piecewise-linear function), on the
+    # interpolant continued past its ends by point reflection
+    lo, hi = tau[0], tau[-1]
+    h = min(half, hi - lo)
+
+    def ext(s, c):
+        inner = np.interp(np.clip(s, lo, hi), tau, c)
+        below = 2 * c[0] - np.interp(2 * lo - s, tau, c)
+        above = 2 * c[-1] - np.interp(2 * hi - s, tau, c)
+        return np.where(s < lo, below, np.where(s > hi, above, inner))
+
+    for x, g in zip(at, got, strict=True):
+        x = min(max(x, lo), hi)
+        if h <= 1e-9 * (hi - lo):  # too narrow: read linearly
+            np.testing.assert_allclose(g, [np.interp(x, tau, c) for c in U.T])
+            continue
+        knots = np.concatenate([tau, 2 * lo - tau, 2 * hi - tau])
+        inside = np.sort(knots[(knots > x - h) & (knots < x + h)])
+        xs = np.concatenate([[x - h], inside, [x + h]])
+        # the mean as the value at x plus the mean difference to it (the
+        # window's ends x -+ h are rounded: a mean of the values themselves
+        # would carry that rounding over a window as narrow as 1e-9)
+        base = np.array([np.interp(x, tau, c) for c in U.T])
+        want = [
+            b + np.trapezoid(ext(xs, c) - b, xs) / (2 * h)
+            for b, c in zip(base, U.T, strict=True)
+        ]
+        # summed over the few segments in the window, against a sum over
+        # the same pieces in another order
+        tol = 1e-12 * (1.0 + np.abs(U).max())
+        np.testing.assert_allclose(g, want, rtol=0, atol=tol)
+    # the ends are read as the end samples; a constant column as itself
+    ends = _window_rows(U, tau, np.array([lo, hi]), half)
+    tol = 1e-12 * (1.0 + np.abs(U).max())
+    np.testing.assert_allclose(ends, U[[0, -1]], rtol=0, atol=tol)
+    flat = np.full((tau.size, 1), 40.0)
+    assert np.all(_window_rows(flat, tau, at, half) == 40.0)
+
+
+def test_window_keeps_a_noisy_template_s_acceleration_at_any_sampling():
+    # a zigzag of 50 samples read at steps from its own to 40 times finer:
+    # linear reading gives second differences that grow with the sampling (a
+    # kink per sample); through the window they stay within the template's
+    # own at its spacing (TEMPLATE_WINDOW)
+    from ndlfd.learner._blend import _interp_rows, _window_rows, window_half
+
+    tau = np.linspace(0.0, 1.0, 50)
+    U = (np.arange(50) % 2).astype(float)[:, None] * 0.01
+    own = np.abs(np.diff(U[:, 0], 2)).max() / np.diff(tau)[0] ** 2
+
+    def acceleration(read, at):
+        return np.abs(np.diff(read[:, 0], 2)).max() / np.diff(at)[0] ** 2
+
+    for fine in (*range(50, 130), 150, 500, 2000):
+        at = np.linspace(0.0, 1.0, fine)
+        half = window_half(tau, np.diff(at)[0])
+        win = acceleration(_window_rows(U, tau, at, half), at)
+        assert win <= own * (1 + 1e-9), fine
+        if fine >= 500:  # linear reading amplifies the zigzag
+            assert acceleration(_interp_rows(U, tau, at), at) > 4.0 * own
+    # at its own sampling it is read as it is
+    np.testing.assert_array_equal(
+        _window_rows(U, tau, tau, window_half(tau, np.diff(tau)[0])), U
+    )

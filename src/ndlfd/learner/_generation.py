@@ -33,7 +33,14 @@ from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
-from ._blend import CONDITION_RIDGE, align_many, blend, skeleton_times, spread
+from ._blend import (
+    CONDITION_RIDGE,
+    align_many,
+    blend,
+    output_step,
+    skeleton_times,
+    spread,
+)
 from ._cache import ModelCache
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
@@ -652,11 +659,12 @@ def render(
     qc = _quat_cols(groups)
     index, mix = frame_parts(est, plan, frames, qc, cache)  # (plan.index, None)
     templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
+    step = output_step(tq)  # every read of the templates is for this path
     phase_at, phase_obs = at, obs_tau
     if observed:  # the clock warped to meet them (ndlfd.learner._phase)
 
         def mean(p):
-            return blend(*templates, p, quat_cols=qc, mix=mix)
+            return blend(*templates, p, quat_cols=qc, mix=mix, step=step)
 
         phase_at, phase_obs = warp_for(mean, at, obs_tau, observed,
                                        prefix=prefix is not None)  # fmt: skip
@@ -665,11 +673,12 @@ def render(
         rows = (
             phase_at[: tq.size] if dense or prefix is not None else phase_at[tq.size :]
         )
-        std = est.scaler_.inverse_scale(spread(*templates, rows, quat_cols=qc, mix=mix))
+        std = spread(*templates, rows, quat_cols=qc, mix=mix, step=step)
+        std = est.scaler_.inverse_scale(std)
     observed = [(n_at + k, c, v) for k, c, v in observed] or None
     ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
-              observed=observed, ridge=ridge, mix=mix)[:n_at]  # fmt: skip
+              observed=observed, ridge=ridge, mix=mix, step=step)[:n_at]  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
