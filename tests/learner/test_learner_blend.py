@@ -351,3 +351,55 @@ def test_window_keeps_a_noisy_template_s_acceleration_at_any_sampling():
     np.testing.assert_array_equal(
         _window_rows(U, tau, tau, window_half(tau, np.diff(tau)[0])), U
     )
+
+
+def _conditioned_and_reference(U, tau, rows, observed):
+    """The conditioned blend, and the unsmoothed shift on the same rows."""
+    from ndlfd.learner._blend import condition_offsets, warped
+
+    index = [np.array([0, tau.size - 1])] * len(U)
+    w = np.ones(len(U))
+    knots = skeleton_times([tau] * len(U), index, w / w.sum())
+    got = blend(U, [tau] * len(U), index, w, knots, rows, observed=observed)
+    W, wn = warped(U, [tau] * len(U), index, w, knots, rows)
+    mean = np.tensordot(wn, W, axes=1)
+    return got - mean, condition_offsets(W, wn, mean, observed)
+
+
+def test_conditioned_shift_of_straight_deviations_is_not_changed_by_its_window():
+    # deviations linear in the phase: their average over any window, the
+    # ends continued by point reflection, is themselves
+    tau = np.linspace(0.0, 1.0, 101)
+    U = [np.column_stack([np.sin(3 * tau) + a * (0.5 + tau), tau]) for a in
+         (-0.2, 0.0, 0.1, 0.3)]  # fmt: skip
+    rows = np.linspace(0.0, 1.0, 301)
+    observed = [(120, [0], np.array([1.2]))]
+    got, ref = _conditioned_and_reference(U, tau, rows, observed)
+    assert np.abs(ref).max() > 0.05  # a real shift
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-12)
+
+
+def test_conditioned_shift_of_a_fast_turn_is_averaged_over_its_window():
+    # templates that differ by a step blurred over 1 % of the motion (a
+    # template that turns earlier than the others): the unsmoothed shift
+    # turns as fast, the blend's over CONDITION_SMOOTH
+    from ndlfd.learner._blend import CONDITION_SMOOTH
+
+    tau = np.linspace(0.0, 1.0, 1001)
+    step = np.clip((tau - 0.5) / 0.01 + 0.5, 0.0, 1.0)
+    U = [np.column_stack([tau + a * step]) for a in (-0.1, 0.0, 0.05, 0.2)]
+    rows = np.linspace(0.0, 1.0, 1001)
+    got, ref = _conditioned_and_reference(U, tau, rows, [(900, [0], np.array([1.1]))])
+
+    def turn(x):  # the largest second difference
+        return np.abs(np.diff(x[:, 0], 2)).max()
+
+    # a ramp over 2 h: the second difference of the window's mean of a
+    # step of size s is at most s * dt^2 / (2 h * 0.01)
+    size = np.ptp(ref[:, 0])
+    assert size > 0.01
+    dt = rows[1] - rows[0]
+    assert turn(got) <= 1.05 * size * dt**2 / (2 * CONDITION_SMOOTH * 0.01)
+    assert turn(ref) > 10 * turn(got)
+    # and the shift is the same size where the motion is steady
+    np.testing.assert_allclose(got[[100, 800]], ref[[100, 800]], atol=1e-12)
