@@ -479,6 +479,7 @@ def blend(
     ridge: float = CONDITION_RIDGE,
     mix=None,
     step=None,
+    reach: float = CONDITION_REACH,
 ):
     """Weighted average of demonstrations time-warped onto a common skeleton.
 
@@ -511,6 +512,8 @@ def blend(
     mix : callable, optional
         ``mix(W, w, tq) -> W``, applied to the time-warped demonstrations
         before they are averaged (task frames: :mod:`ndlfd.learner._frames`).
+    reach : float, default=:data:`CONDITION_REACH`
+        How far an observation is followed (:func:`condition_offsets`).
     step : float, optional
         The step, in normalized time, of the path the templates are read for
         (:func:`window_half`); by default that of ``tq``
@@ -539,7 +542,7 @@ def blend(
     )
     mean = np.tensordot(w, W, axes=1)
     if observed is not None:  # the shift, on a grid, averaged over a window
-        coef = condition_coefficients(W, w, mean, observed, ridge)
+        coef = condition_coefficients(W, w, mean, observed, ridge, reach)
         grid = np.linspace(0.0, 1.0, CONDITION_GRID)
         Wg, _ = warped(
             U_list, tau_list, index_list, weights, knots, grid, quat_cols, mix, step
@@ -706,7 +709,9 @@ def spread(
     return np.sqrt(np.tensordot(w, D * D, axes=1))
 
 
-def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
+def condition_offsets(
+    W, w, mean, observed, ridge: float = CONDITION_RIDGE, reach: float = CONDITION_REACH
+):
     """The blend's shift given observed values: Gaussian conditioning on the templates.
 
     The time-warped templates' deviations from their weighted mean are a
@@ -732,6 +737,8 @@ def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
     observed : sequence of (int, list of int, ndarray)
         Observations: a row of the output, its observed columns, their values.
     ridge : float, default=:data:`CONDITION_RIDGE`
+    reach : float, default=:data:`CONDITION_REACH`
+        The largest Mahalanobis distance followed (``inf``: all of it).
 
     Returns
     -------
@@ -750,16 +757,18 @@ def condition_offsets(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
     array([[0.5],
            [0.5]])
     """
-    coef = condition_coefficients(W, w, mean, observed, ridge)
+    coef = condition_coefficients(W, w, mean, observed, ridge, reach)
     return np.tensordot(coef, W - mean[None], axes=1)
 
 
-def condition_coefficients(W, w, mean, observed, ridge: float = CONDITION_RIDGE):
+def condition_coefficients(
+    W, w, mean, observed, ridge: float = CONDITION_RIDGE, reach: float = CONDITION_REACH
+):
     """How much of each template's deviation :func:`condition_offsets` adds.
 
     Parameters
     ----------
-    W, w, mean, observed, ridge
+    W, w, mean, observed, ridge, reach
         As :func:`condition_offsets`'s.
 
     Returns
@@ -781,7 +790,7 @@ def condition_coefficients(W, w, mean, observed, ridge: float = CONDITION_RIDGE)
     S = (A.T * w) @ A  # (n_obs, n_obs)
     noise = ridge * max(float(np.trace(S)) / S.shape[0], 1e-12)
     alpha = np.linalg.solve(S + noise * np.eye(S.shape[0]), resid)
-    reach = float(np.sqrt(max(float(resid @ alpha), 0.0)))
-    if reach > CONDITION_REACH:
-        alpha *= CONDITION_REACH / reach
+    far = float(np.sqrt(max(float(resid @ alpha), 0.0)))
+    if far > reach:
+        alpha *= reach / far
     return w * (A @ alpha)

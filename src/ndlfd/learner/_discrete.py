@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["DISCRETE_GROUPS", "snap_two_valued", "two_valued_columns"]
+__all__ = ["DISCRETE_GROUPS", "snap_physical", "snap_two_valued", "two_valued_columns"]
 
 #: The groups whose columns stay on their recorded values when they hold two.
 DISCRETE_GROUPS = ("gripper",)
@@ -78,3 +78,32 @@ def snap_two_valued(U: np.ndarray, levels: dict) -> np.ndarray:
     for c, (lo, hi) in levels.items():
         U[:, c] = np.where(U[:, c] >= 0.5 * (lo + hi), hi, lo)
     return U
+
+
+def snap_physical(scaler, X: np.ndarray, levels: dict) -> np.ndarray:
+    """Two-valued columns (a gripper) back on their values after the offsets.
+
+    A requested start, goal, via point or prefix shifts every column by an
+    offset faded over the path; a gripper column must stay open or closed,
+    so it is snapped again (it takes the requested value until the fade is
+    half done).
+
+    Parameters
+    ----------
+    scaler : ndlfd.normalize.GroupScaler
+        The model's (``scaler_``): the levels are normalized values.
+    X : ndarray of shape (n_rows, n_columns)
+        The path, physical units (changed in place).
+    levels : dict of int to (float, float)
+        :func:`two_valued_columns` of the model's templates.
+
+    Returns
+    -------
+    X : ndarray of shape (n_rows, n_columns)
+    """
+    if not levels:
+        return X
+    cols = list(levels)
+    U = snap_two_valued(scaler.transform(X, weighted=False), levels)
+    X[:, cols] = scaler.inverse_transform(U, weighted=False)[:, cols]
+    return X

@@ -34,6 +34,7 @@ from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
 from ..orientation import normalize_quaternions
 from ._blend import (
+    CONDITION_REACH,
     CONDITION_RIDGE,
     align_many,
     blend,
@@ -42,10 +43,11 @@ from ._blend import (
     spread,
 )
 from ._cache import ModelCache
+from ._choice import CLOCK_RIDGE, via_plan
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
-from ._discrete import snap_two_valued, two_valued_columns
-from ._frames import check_new_frames, frame_parts
+from ._discrete import snap_physical, snap_two_valued, two_valued_columns
+from ._frames import check_new_frames, clock_aligned, frame_parts
 from ._phase import warp_for
 from ._prefix_route import allowed_routes, prefix_stride
 from ._routes import choose_route, route_probabilities
@@ -583,22 +585,6 @@ def _derive_velocity(X, tq, key_tau, all_t, column_groups) -> np.ndarray:
     return X
 
 
-def _snap_physical(est, X: np.ndarray, levels: dict) -> np.ndarray:
-    """Two-valued columns (a gripper) back on their values after the offsets.
-
-    A requested start, goal, via point or prefix shifts every column by an
-    offset faded over the path; a gripper column must stay open or closed,
-    so it is snapped again (it takes the requested value until the fade is
-    half done).
-    """
-    if not levels:
-        return X
-    cols = list(levels)
-    U = snap_two_valued(est.scaler_.transform(X, weighted=False), levels)
-    X[:, cols] = est.scaler_.inverse_transform(U, weighted=False)[:, cols]
-    return X
-
-
 def render(
     est,
     plan: Plan,
@@ -612,6 +598,7 @@ def render(
     prefix=None,
     with_std: bool = False,
     frames=None,
+    clock: bool = False,
 ):
     """The path of a plan: blended, in physical units, pinned, with velocity.
 
@@ -641,6 +628,9 @@ def render(
     frames : dict of str to ndarray, optional
         Checked new poses of the model's task frames: the templates are
         combined from their views in each (:mod:`ndlfd.learner._frames`).
+    clock : bool, default=False
+        Via points read on the templates' own clocks
+        (:func:`~ndlfd.learner._choice.via_plan`).
 
     Returns
     -------
@@ -660,8 +650,11 @@ def render(
     index, mix = frame_parts(est, plan, frames, qc, cache)  # (plan.index, None)
     templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
     step = output_step(tq)  # every read of the templates is for this path
+    if clock:  # a via point's templates on their own clocks (._choice)
+        index = clock_aligned(plan.taus, plan.knots)
+        templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
     phase_at, phase_obs = at, obs_tau
-    if observed:  # the clock warped to meet them (ndlfd.learner._phase)
+    if observed and not clock:  # the clock warped to meet them (._phase)
 
         def mean(p):
             return blend(*templates, p, quat_cols=qc, mix=mix, step=step)
@@ -677,8 +670,10 @@ def render(
         std = est.scaler_.inverse_scale(std)
     observed = [(n_at + k, c, v) for k, c, v in observed] or None
     ridge = CONDITION_RIDGE if prefix is None else PREFIX_RIDGE
+    ridge, reach = (CLOCK_RIDGE, np.inf) if clock else (ridge, CONDITION_REACH)
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
-              observed=observed, ridge=ridge, mix=mix, step=step)[:n_at]  # fmt: skip
+              observed=observed, ridge=ridge, mix=mix, step=step,
+              reach=reach)[:n_at]  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
@@ -689,7 +684,7 @@ def render(
     if prefix is not None:
         X = X[: tq.size]
         X = _renormalize(continue_from(X, tq, prefix, groups), groups)
-    X = _snap_physical(est, X, cache["two-valued"])  # the offsets moved them
+    X = snap_physical(est.scaler_, X, cache["two-valued"])  # the offsets moved them
     key_tau = plan.key_tau if prefix is None else plan.key_tau[:0]  # no key rows
     X = _derive_velocity(X, tq, key_tau, all_t, groups)
     if prefix is not None:
@@ -731,9 +726,14 @@ def generate_blend(
         extra = observed_log_weights(est, prefix, tq, cache)
         route = prefix_route(est, prefix, all_t.size, goal, cache)
     plan = make_plan(est, all_t, start, goal, cache, extra, route, even=frames)
+    clock = False
+    if via is not None and frames is None:  # by place or by clock (._choice)
+        tq, qc = est.time_bins_.normalize(all_t), _quat_cols(est.column_groups_)
+        even = lambda: make_plan(est, all_t, start, goal, cache, extra, even=True)  # noqa: E731
+        plan, clock = via_plan(est, plan, even, tq, start, goal, via, qc)
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
-                          frames=frames)  # fmt: skip
+                          frames=frames, clock=clock)  # fmt: skip
     return (path, std) if return_std else path
 
 
