@@ -74,3 +74,21 @@ def test_a_via_point_of_a_linear_task_recovers_the_held_out_path():
     plain = model.generate(t, dense=True).get("position")
     shifted = plain + (P[100] - plain[100])
     assert np.linalg.norm(shifted - P, axis=1).max() > 0.05 * np.ptp(P, axis=0).max()
+
+
+def test_samples_through_the_via_point_of_a_linear_task_are_read_as_generate_reads():
+    rng = np.random.default_rng(1)
+    t = 4.0 * TAU
+    demos = [
+        Demonstration.from_arrays(t, position=_linear_task(*rng.uniform(-0.3, 0.3, 2)))
+        for _ in range(10)
+    ]
+    model = KeypointHMM(groups=("position",)).fit(demos)
+    P = _linear_task(0.25, -0.2)
+    kw = {"via": [(t[100], {"position": P[100]})], "goal": {"position": P[-1]}}
+    paths = model.sample(t, 20, dense=True, random_state=0, **kw)
+    errs = [np.linalg.norm(p.get("position") - P, axis=1).max() for p in paths]
+    # every draw follows the points as the task does (the place reading's
+    # samples, weighted by their distance to the via point, missed by up to
+    # 13 % of the range)
+    assert max(errs) < 0.015 * np.ptp(P, axis=0).max(), max(errs)

@@ -17,7 +17,9 @@ takes the most probable choice:
   most probable one; a key point where the state changes;
 * **the blend weights** of the route's templates, drawn from a Dirichlet
   distribution of total concentration :data:`CONCENTRATION` whose mean is
-  the generation's weights. The skeleton alone moves the key points'
+  the generation's weights (even, with task frames or when ``generate``
+  would read the via points by clock, :mod:`ndlfd.learner._choice`, and
+  every sample is then read so too). The skeleton alone moves the key points'
   timing and the matches, but the blend still averages every template, so
   all samples lie close to the mean path (on the two-route obstacle of the
   tests their spread was 0.24 of the demonstrations'). A
@@ -40,10 +42,12 @@ import numpy as np
 from .. import hmm
 from .._validation import check_positive_int, check_random_state
 from ..demonstration import Demonstration
-from ._conditioning import check_condition
+from ._choice import via_plan
+from ._conditioning import check_condition, group_columns
 from ._frames import check_new_frames
 from ._generation import (
     demo_log_weights,
+    make_plan,
     orient_conditions,
     plan_from_states,
     prefix_completer,
@@ -151,6 +155,8 @@ def sample_paths(
     prefix = check_observed(est, observed, all_t, start=start, via=via)
     logw, routes = demo_log_weights(est, start, goal, cache)
     logw = logw + via_log_weights(est, via, cache)
+    clock = via is not None and frames is None and _via_clock(est, all_t, start, goal,
+                                                              via, cache)  # fmt: skip
     if prefix is None:
         p = route_probabilities(routes, logw)
     else:  # the routes the prefix has not ruled out, the blend as generate's
@@ -162,7 +168,8 @@ def sample_paths(
     out: list[Demonstration | None] = [None] * n_samples
     for route in np.unique(drawn):
         who = np.flatnonzero(drawn == route)
-        lw = np.where(routes == route, logw if frames is None else 0.0, -np.inf)
+        even = frames is not None or clock  # every template alike (._choice)
+        lw = np.where(routes == route, 0.0 if even else logw, -np.inf)
         model = route_model(est, lw, cache)
         skeletons = hmm.sample_paths(
             model, bins, who.size, start=est.start, random_state=rng
@@ -174,5 +181,20 @@ def sample_paths(
             states = _seen_only(states, est.centroid_states_)
             plan = plan_from_states(est, states, np.nan, model, lw, g / g.max())
             out[k] = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
-                            via=via, prefix=prefix, frames=frames)[0]  # fmt: skip
+                            via=via, prefix=prefix, frames=frames,
+                            clock=clock)[0]  # fmt: skip
     return out
+
+
+def _via_clock(est, all_t, start, goal, via, cache) -> bool:
+    """Whether ``generate`` reads these via points by clock (:mod:`._choice`)."""
+    extra = via_log_weights(est, via, cache)
+    tq = est.time_bins_.normalize(all_t)
+    qc = group_columns(est.column_groups_, "orientation")
+    qc = qc if len(qc) == 4 else None
+    plan = make_plan(est, all_t, start, goal, cache, extra)
+
+    def even():
+        return make_plan(est, all_t, start, goal, cache, extra, even=True)
+
+    return via_plan(est, plan, even, tq, start, goal, via, qc)[1]
