@@ -1,6 +1,7 @@
 """A via point's reading of the templates, chosen by leaving each out (_choice)."""
 
 import numpy as np
+import pytest
 
 from ndlfd import Demonstration, KeypointHMM
 from ndlfd.learner._choice import CLOCK_MARGIN, prefers_clock
@@ -28,6 +29,18 @@ def _observe(path, taus):
     return np.array(taus), obs
 
 
+@pytest.fixture(scope="module")
+def linear_model():
+    """A model of 10 demonstrations of the linear task, and their timing."""
+    rng = np.random.default_rng(1)
+    t = 4.0 * TAU
+    demos = [
+        Demonstration.from_arrays(t, position=_linear_task(*rng.uniform(-0.3, 0.3, 2)))
+        for _ in range(10)
+    ]
+    return KeypointHMM(groups=("position",)).fit(demos), t
+
+
 def test_a_task_parameter_is_read_on_the_clock_and_random_variation_by_place():
     rng = np.random.default_rng(0)
     linear = [_linear_task(*rng.uniform(-0.3, 0.3, 2)) for _ in range(8)]
@@ -53,17 +66,11 @@ def test_fewer_than_three_templates_leave_nothing_to_choose_by():
     assert 0.0 < CLOCK_MARGIN < 1.0
 
 
-def test_a_via_point_of_a_linear_task_recovers_the_held_out_path():
+def test_a_via_point_of_a_linear_task_recovers_the_held_out_path(linear_model):
     # the demonstrations differ only by (a, b), which the via point and the
     # goal show: the path through them is the held-out one (as ProMP's
     # conditional gives it), not a shifted average
-    rng = np.random.default_rng(1)
-    t = 4.0 * TAU
-    demos = [
-        Demonstration.from_arrays(t, position=_linear_task(*rng.uniform(-0.3, 0.3, 2)))
-        for _ in range(10)
-    ]
-    model = KeypointHMM(groups=("position",)).fit(demos)
+    model, t = linear_model
     for a, b in ((0.25, -0.2), (-0.1, 0.28)):
         P = _linear_task(a, b)
         via = [(t[100], {"position": P[100]})]
@@ -76,14 +83,10 @@ def test_a_via_point_of_a_linear_task_recovers_the_held_out_path():
     assert np.linalg.norm(shifted - P, axis=1).max() > 0.05 * np.ptp(P, axis=0).max()
 
 
-def test_samples_through_the_via_point_of_a_linear_task_are_read_as_generate_reads():
-    rng = np.random.default_rng(1)
-    t = 4.0 * TAU
-    demos = [
-        Demonstration.from_arrays(t, position=_linear_task(*rng.uniform(-0.3, 0.3, 2)))
-        for _ in range(10)
-    ]
-    model = KeypointHMM(groups=("position",)).fit(demos)
+def test_samples_through_the_via_point_of_a_linear_task_are_read_as_generate_reads(
+    linear_model,
+):
+    model, t = linear_model
     P = _linear_task(0.25, -0.2)
     kw = {"via": [(t[100], {"position": P[100]})], "goal": {"position": P[-1]}}
     paths = model.sample(t, 20, dense=True, random_state=0, **kw)

@@ -36,6 +36,7 @@ from ._blend import (
     output_step,
     warped,
 )
+from ._conditioning import group_columns
 from ._frames import clock_aligned
 from ._via import blend_observations
 
@@ -152,25 +153,30 @@ def prefers_clock(
     return bool(err_clock < CLOCK_MARGIN * err_place)
 
 
-def via_plan(est, plan, even_plan, tq, start, goal, via, quat_cols):
+def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
     """The plan a via point's conditioning reads, and whether by clock.
 
     Parameters
     ----------
     est : KeypointHMM
         Fitted.
-    plan : Plan
-        The via point's plan: its templates weighted by their distance to the
-        conditions (:mod:`ndlfd.learner._generation`).
-    even_plan : callable
-        ``even_plan() -> Plan``: the same route's, every template weighing
-        the same (made only when the conditions observe a position).
-    tq : ndarray of shape (n_samples,)
-        The path's normalized times.
+    make_plan : callable
+        :func:`~ndlfd.learner._generation.make_plan`: the via point's plan
+        (its templates weighted by their distance to the conditions) and the
+        same route's with every template weighing the same (``even=True``;
+        made only when the conditions observe a position).
+    all_t : ndarray of shape (n_samples,)
+        The timing.
     start, goal : dict or None
     via : list of (float, dict)
         Checked conditions.
-    quat_cols : list of int or None
+    extra : ndarray of shape (n_demos,)
+        The via points' log weights
+        (:func:`~ndlfd.learner._via.via_log_weights`).
+    cache : ModelCache
+        The model's cache.
+    plan : Plan, optional
+        The via point's plan, when it is made already.
 
     Returns
     -------
@@ -180,11 +186,16 @@ def via_plan(est, plan, even_plan, tq, start, goal, via, quat_cols):
         (:func:`~ndlfd.learner._frames.clock_aligned`), without a clock
         warp, conditioned with :data:`CLOCK_RIDGE` and no reach limit.
     """
+    if plan is None:
+        plan = make_plan(est, all_t, start, goal, cache, extra)
+    tq = est.time_bins_.normalize(all_t)
     obs_tau, observed = blend_observations(est, tq, start=start, via=via, goal=goal)
-    pos = [c for c, g in enumerate(est.column_groups_) if g == "position"]
     if not observed:
         return plan, False
-    other = even_plan()
+    pos = group_columns(est.column_groups_, "position")
+    quat_cols = group_columns(est.column_groups_, "orientation")
+    quat_cols = quat_cols if len(quat_cols) == 4 else None  # as the blend's
+    other = make_plan(est, all_t, start, goal, cache, extra, even=True)
     place = (plan.values, plan.taus, plan.index, plan.weights, plan.knots)
     truth = clock_aligned(plan.taus, plan.knots)
     index = clock_aligned(other.taus, other.knots)

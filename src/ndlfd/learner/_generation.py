@@ -728,9 +728,8 @@ def generate_blend(
     plan = make_plan(est, all_t, start, goal, cache, extra, route, even=frames)
     clock = False
     if via is not None and frames is None:  # by place or by clock (._choice)
-        tq, qc = est.time_bins_.normalize(all_t), _quat_cols(est.column_groups_)
-        even = lambda: make_plan(est, all_t, start, goal, cache, extra, even=True)  # noqa: E731
-        plan, clock = via_plan(est, plan, even, tq, start, goal, via, qc)
+        plan, clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache,
+                               plan)  # fmt: skip
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames, clock=clock)  # fmt: skip

@@ -43,7 +43,7 @@ from .. import hmm
 from .._validation import check_positive_int, check_random_state
 from ..demonstration import Demonstration
 from ._choice import via_plan
-from ._conditioning import check_condition, group_columns
+from ._conditioning import check_condition
 from ._frames import check_new_frames
 from ._generation import (
     demo_log_weights,
@@ -154,9 +154,11 @@ def sample_paths(
     observed = complete_prefix(est, observed, all_t, fill)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
     logw, routes = demo_log_weights(est, start, goal, cache)
-    logw = logw + via_log_weights(est, via, cache)
-    clock = via is not None and frames is None and _via_clock(est, all_t, start, goal,
-                                                              via, cache)  # fmt: skip
+    extra = via_log_weights(est, via, cache)
+    logw = logw + extra
+    clock = False  # generate's reading of the via points (._choice)
+    if via is not None and frames is None:
+        clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache)[1]
     if prefix is None:
         p = route_probabilities(routes, logw)
     else:  # the routes the prefix has not ruled out, the blend as generate's
@@ -184,17 +186,3 @@ def sample_paths(
                             via=via, prefix=prefix, frames=frames,
                             clock=clock)[0]  # fmt: skip
     return out
-
-
-def _via_clock(est, all_t, start, goal, via, cache) -> bool:
-    """Whether ``generate`` reads these via points by clock (:mod:`._choice`)."""
-    extra = via_log_weights(est, via, cache)
-    tq = est.time_bins_.normalize(all_t)
-    qc = group_columns(est.column_groups_, "orientation")
-    qc = qc if len(qc) == 4 else None
-    plan = make_plan(est, all_t, start, goal, cache, extra)
-
-    def even():
-        return make_plan(est, all_t, start, goal, cache, extra, even=True)
-
-    return via_plan(est, plan, even, tq, start, goal, via, qc)[1]
