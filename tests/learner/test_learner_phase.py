@@ -6,6 +6,7 @@ from hypothesis import strategies as st
 
 from ndlfd.learner._blend import condition_offsets
 from ndlfd.learner._phase import (
+    MAX_BEND,
     MIN_RATE,
     RATES,
     SLACK,
@@ -29,7 +30,9 @@ def _arc(p):
 )
 def test_the_via_clock_meets_the_closest_pass_and_stays_monotone(tau, shift):
     # the via point on the arc at phase tau + shift: the clock reaches that
-    # phase at tau (less the slack), or goes as far as the monotone bound
+    # phase at tau (less the slack), or goes as far as the monotone and the
+    # curvature bounds let it (10 / sqrt(3): a minimum-jerk ramp's largest
+    # curvature)
     p = float(np.clip(tau + shift, 0.0, 1.0))
     taus, deltas = via_clock(_arc, [tau], [([0, 1], _arc([p])[0])])
     at = np.linspace(0.0, 1.0, 2001)
@@ -37,15 +40,21 @@ def test_the_via_clock_meets_the_closest_pass_and_stays_monotone(tau, shift):
     assert phase[0] == 0.0 and phase[-1] == 1.0
     slope = np.diff(phase) / np.diff(at)
     assert slope.min() >= MIN_RATE - 1e-6
+    curvature = np.diff(phase, 2) / (at[1] - at[0]) ** 2
+    assert np.abs(curvature).max() <= MAX_BEND * 1.01
     reach = (1.0 - MIN_RATE) / 1.875
-    want = float(np.clip(p - tau, -reach * tau, reach * (1.0 - tau)))
+    bend = MAX_BEND * np.sqrt(3.0) / 10.0
+    # each piece's curvature bounds the shift both ways
+    lo = -min(reach * tau, bend * tau**2, bend * (1.0 - tau) ** 2)
+    hi = min(reach * (1.0 - tau), bend * tau**2, bend * (1.0 - tau) ** 2)
+    want = float(np.clip(p - tau, lo, hi))
     want = np.sign(want) * max(abs(want) - SLACK, 0.0)
     assert abs(deltas[1] - want) <= 1.0 / 400 + 1e-9
     # brute force: no phase the clock may reach passes closer than the chosen
     reached = tau + deltas[1] + np.sign(deltas[1]) * SLACK
     d = np.linalg.norm(_arc([reached])[0] - _arc([p])[0])
     fine = np.linspace(0.0, 1.0, 20001)
-    ok = (fine - tau >= -reach * tau) & (fine - tau <= reach * (1.0 - tau))
+    ok = (fine - tau >= lo) & (fine - tau <= hi)
     best = np.linalg.norm(_arc(fine[ok]) - _arc([p])[0], axis=1).min()
     assert d <= best + 0.01
 

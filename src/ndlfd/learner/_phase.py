@@ -14,7 +14,7 @@ warped:
   zero at the ends and between via points by minimum-jerk pieces
   (:func:`~ndlfd.learner._conditioning.fade_pieces`), so the clock is smooth,
   starts at 0 and ends at 1. Its slope is kept at least
-  :data:`MIN_RATE`;
+  :data:`MIN_RATE` and its curvature within :data:`MAX_BEND`;
 * *a prefix* (:func:`prefix_clock`): the blend's rate ``s`` (phase per unit of
   time) that best matches the observed samples' shape (least squares, the
   mean offset taken out, over up to
@@ -30,6 +30,7 @@ import numpy as np
 from ._conditioning import fade_pieces
 
 __all__ = [
+    "MAX_BEND",
     "MIN_RATE",
     "RATES",
     "SLACK",
@@ -43,6 +44,20 @@ __all__ = [
 #: The warped clock's least slope (phase per unit of time) between via points.
 MIN_RATE = 0.5
 
+#: The warped clock's largest curvature (phase per unit of time squared): a
+#: via point's phase shift is at most this times the squared width of each of
+#: its two pieces over a minimum-jerk ramp's largest curvature. The shift
+#: speeds the path up and slows it down as its second derivative, so a short
+#: piece (a via point early or late in the motion) may shift the clock little.
+#: 1,000 via points within 3 spreads (``benchmarks/bench_envelope.py``),
+#: largest acceleration over the envelope, unbounded -> 2 (speed in brackets):
+#: LASA Angle 2.34 -> 2.13 (1.71 -> 1.53), Sshape 1.59 -> 1.14, Worm 2.08 ->
+#: 1.80 (1.87 -> 1.58), the arcs of tests/learner/test_learner_envelope.py 3.33
+#: -> 2.50. Held-out LASA, protocol via, ndlfd's median DTW per shape: the
+#: same on every shape but JShape_2 (1.084 times); with 3, on every shape
+#: (arcs 3.11); with 1, 1.03 times in geometric mean (arcs 2.37).
+MAX_BEND = 2.0
+
 #: A via point's phase shift is shrunk by this much (soft threshold): a shift
 #: within the closest-pass search's noise leaves the clock alone.
 SLACK = 0.01
@@ -55,6 +70,9 @@ _GRID = 401
 
 #: A minimum-jerk ramp's largest slope (at its middle), for the monotone bound.
 _MJ_SLOPE = 1.875
+
+#: A minimum-jerk ramp's largest curvature (at ``1/2 -+ sqrt(3)/6``).
+_MJ_CURVATURE = 10.0 / np.sqrt(3.0)
 
 
 def warp_clock(at: np.ndarray, taus, deltas) -> np.ndarray:
@@ -104,12 +122,20 @@ def via_clock(mean, via_taus, targets) -> tuple[np.ndarray, np.ndarray]:
 
     Examples
     --------
-    A blend that runs along a line reaches 0.4 at phase 0.4; a via point at 0.4
-    at time 0.5 warps the clock back by 0.1, less :data:`SLACK`:
+    A blend that runs along a line reaches 0.45 at phase 0.45; a via point at
+    0.45 at time 0.5 warps the clock back by 0.05, less :data:`SLACK`:
 
-    >>> taus, deltas = via_clock(lambda p: p[:, None], [0.5], [([0], np.array([0.4]))])
+    >>> taus, deltas = via_clock(lambda p: p[:, None], [0.5], [([0], np.array([0.45]))])
     >>> taus, np.round(deltas, 3)
-    (array([0. , 0.5, 1. ]), array([ 0.  , -0.09,  0.  ]))
+    (array([0. , 0.5, 1. ]), array([ 0.  , -0.04,  0.  ]))
+
+    At time 0.2 the clock may move back by at most ``MAX_BEND * 0.2**2 /
+    (10 / sqrt(3))``, 0.0139 (0.0125 on the search's grid of 1/400), less
+    :data:`SLACK`:
+
+    >>> taus, deltas = via_clock(lambda p: p[:, None], [0.2], [([0], np.array([0.1]))])
+    >>> np.round(deltas, 4)
+    array([ 0.    , -0.0025,  0.    ])
     """
     grid = np.linspace(0.0, 1.0, _GRID)
     U = mean(grid)
@@ -117,22 +143,31 @@ def via_clock(mean, via_taus, targets) -> tuple[np.ndarray, np.ndarray]:
     for tau, (cols, target) in zip(via_taus, targets, strict=True):
         if not 0.0 < tau < 1.0 or tau - taus[-1] <= 0.0:
             continue
-        # monotone: a piece's slope 1 + (change of delta) * ramp slope / width
-        reach = (1.0 - MIN_RATE) / _MJ_SLOPE
-        lo = deltas[-1] - reach * (tau - taus[-1])
-        hi = reach * (1.0 - tau)  # back to 0 at the end
+        # monotone: a piece's slope is 1 + (change of delta) * ramp slope /
+        # width; its curvature (change of delta) * ramp curvature / width^2
+        before, after = tau - taus[-1], 1.0 - tau
+        slope, bend = (1.0 - MIN_RATE) / _MJ_SLOPE, MAX_BEND / _MJ_CURVATURE
+        lo = deltas[-1] - min(slope * before, bend * before**2)
+        hi = deltas[-1] + bend * before**2
+        lo = max(lo, -bend * after**2)  # and back to 0 at the end
+        hi = min(hi, slope * after, bend * after**2)
+        # where they cross (an earlier shift too large for the pieces left)
+        # the curvature gives way, never the slope
+        lo = min(lo, hi)
         d = np.sum((U[:, cols] - target) ** 2, axis=1)
         ok = (grid - tau >= lo) & (grid - tau <= hi)
-        # the closest pass; ties to the phase nearest the via time
         cand = np.flatnonzero(ok)
-        best = cand[np.lexsort((np.abs(grid[cand] - tau), d[cand]))[0]]
-        p = grid[best]
-        if 0 < best < _GRID - 1 and ok[best - 1] and ok[best + 1]:
-            # between grid points: the vertex of the parabola through three
-            a, b, c = d[best - 1], d[best], d[best + 1]
-            curv = a - 2.0 * b + c
-            if curv > 0.0:
-                p += 0.5 * (a - c) / curv * (grid[1] - grid[0])
+        if cand.size == 0:  # a window narrower than the grid: its nearest
+            p = tau + min(max(0.0, lo), hi)
+        else:  # the closest pass; ties to the phase nearest the via time
+            best = cand[np.lexsort((np.abs(grid[cand] - tau), d[cand]))[0]]
+            p = grid[best]
+            if 0 < best < _GRID - 1 and ok[best - 1] and ok[best + 1]:
+                # between grid points: the vertex of the parabola through three
+                a, b, c = d[best - 1], d[best], d[best + 1]
+                curv = a - 2.0 * b + c
+                if curv > 0.0:
+                    p += 0.5 * (a - c) / curv * (grid[1] - grid[0])
         taus.append(float(tau))
         # soft-thresholded: a phase within the search's noise is left alone
         deltas.append(float(np.sign(p - tau) * max(abs(p - tau) - SLACK, 0.0)))
