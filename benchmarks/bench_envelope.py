@@ -5,7 +5,11 @@ point at a random time between 10 % and 90 % of the motion), each within 3
 times the demonstrations' spread there (starts: around the mean start, by the
 starts' standard deviation per column; goals likewise; via points: around
 the mean of one route's demonstrations at that phase, by their standard
-deviation, so a via point is never between two routes). Each path is
+deviation, so a via point is never between two routes); and as many observed
+prefixes as each of those (``prefix_draw`` of
+tests/learner/test_learner_envelope.py: a demonstration run up to 15 % late
+or early, as far off, cut between 10 % and 90 %; counted from its last
+observed sample on, ``envelope_ratios(..., since=)``). Each path is
 generated on 1,000 samples over the demonstrations' median duration and its
 largest speed and acceleration are divided by the demonstrations' envelope
 at that phase (:func:`ndlfd.metrics.phase_envelope`: the 95th percentile of
@@ -36,7 +40,14 @@ from ndlfd.metrics import envelope_ratios, phase_envelope
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "learner"))
 
-KINDS = ("start", "goal", "via")
+KINDS = ("start", "goal", "via", "prefix")
+
+
+def prefix_draw(*args):
+    """The test's draw of a prefix (``tests/learner/test_learner_envelope.py``)."""
+    from test_learner_envelope import prefix_draw as draw
+
+    return draw(*args)
 
 
 def so101_resting():
@@ -65,6 +76,11 @@ def draw_conditions(demos, group, routes, n, rng):
     for kind in KINDS:
         for _ in range(n):
             u = rng.uniform(-1.0, 1.0, span.size)
+            if kind == "prefix":
+                cut = rng.uniform(0.1, 0.9)
+                draw = prefix_draw(demos, group, routes, cut, span, u, rng)
+                out.append((kind, cut, draw))
+                continue
             if kind == "via":
                 phase = rng.uniform(0.1, 0.9)
                 r = rng.choice(np.unique(routes))
@@ -78,6 +94,8 @@ def draw_conditions(demos, group, routes, n, rng):
 
 
 def ndlfd_path(model, t, group, kind, phase, point):
+    if kind == "prefix":
+        return model.generate(t, dense=True, observed=point(t))
     if kind == "via":
         k = round(phase * (t.size - 1))
         return model.generate(t, dense=True, via=[(t[k], {group: point})])
@@ -85,7 +103,9 @@ def ndlfd_path(model, t, group, kind, phase, point):
 
 
 def promp_path(promp, t, kind, phase, point):
-    if kind == "start":
+    if kind == "prefix":
+        P = promp.generate(t, observed=point(t).get("position"))
+    elif kind == "start":
         P = promp.generate(t, start=point)
     else:
         k = t.size - 1 if kind == "goal" else round(phase * (t.size - 1))
@@ -101,11 +121,15 @@ def run(name, demos, model, group, draws, peer, rng):
     rows = {}
     base = envelope_ratios(model.generate(t, dense=True), env, group)
     for kind, phase, point in conds:
-        r = envelope_ratios(ndlfd_path(model, t, group, kind, phase, point), env, group)
+        # a prefix's continuation: from its last observed sample on
+        since = round(phase * (t.size - 1)) if kind == "prefix" else 0
+        path = ndlfd_path(model, t, group, kind, phase, point)
+        r = envelope_ratios(path, env, group, since=since)
         rows.setdefault((kind, "ndlfd"), []).append(r)
         if promp is not None:
             p = promp_path(promp, t, kind, phase, point)
-            rows.setdefault((kind, "promp"), []).append(envelope_ratios(p, env))
+            r = envelope_ratios(p, env, since=since)
+            rows.setdefault((kind, "promp"), []).append(r)
     print(f"\n{name} ({len(demos)} demonstrations, {group}); unconditioned ndlfd:"
           f" speed {base[0]:.2f}, acceleration {base[1]:.2f}")  # fmt: skip
     print("| kind | generator | speed: median | p99 | max | acceleration: median"

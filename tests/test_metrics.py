@@ -248,3 +248,33 @@ def test_a_path_twice_as_fast_midway_has_twice_the_envelope_speed():
     path = Demonstration.from_arrays(t, position=np.column_stack([s, 0 * t]))
     speed, _ = envelope_ratios(path, phase_envelope([demo], n_bins=20))
     assert speed == pytest.approx(1.5, rel=1e-9)  # 0.3 in 0.2 of the time
+
+
+def test_envelope_ratios_since_counts_only_the_rest_and_its_first_step():
+    from ndlfd.metrics import envelope_ratios, phase_envelope
+
+    t = np.linspace(0.0, 1.0, 201)
+    demo = Demonstration.from_arrays(t, position=np.column_stack([t, 0 * t]))
+    env = phase_envelope([demo], n_bins=20)
+    # three times as fast over the first 40 samples, then the line's pace:
+    # from sample 60 on only the line's own speed is counted
+    s = np.where(t < 0.2, 3.0 * t, 0.6 + (t - 0.2) * 0.4 / 0.8)
+    path = Demonstration.from_arrays(t, position=np.column_stack([s, 0 * t]))
+    assert envelope_ratios(path, env)[0] == pytest.approx(3.0, rel=1e-9)
+    assert envelope_ratios(path, env, since=60)[0] == pytest.approx(0.5, rel=1e-9)
+    # a jump at sample 100 counts from its last sample before (since=99)
+    jump = s + np.where(np.arange(t.size) >= 100, 0.05, 0.0)
+    path = Demonstration.from_arrays(t, position=np.column_stack([jump, 0 * t]))
+    assert envelope_ratios(path, env, since=99)[0] > 5.0
+    assert envelope_ratios(path, env, since=101)[0] == pytest.approx(0.5, rel=1e-9)
+
+
+@pytest.mark.parametrize("since", [-1, 201, 1.5, True, "3"])
+def test_envelope_ratios_since_out_of_range_says_so(since):
+    from ndlfd import ValidationError
+    from ndlfd.metrics import envelope_ratios, phase_envelope
+
+    t = np.linspace(0.0, 1.0, 201)
+    demo = Demonstration.from_arrays(t, position=np.column_stack([t, 0 * t]))
+    with pytest.raises(ValidationError, match="since must be"):
+        envelope_ratios(demo, phase_envelope([demo]), since=since)

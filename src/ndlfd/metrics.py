@@ -543,7 +543,9 @@ def phase_envelope(
     return env[0], env[1]
 
 
-def envelope_ratios(path, envelope, group: str = "position") -> tuple[float, float]:
+def envelope_ratios(
+    path, envelope, group: str = "position", *, since: int = 0
+) -> tuple[float, float]:
     """The largest ratio of a path's speed and acceleration to an envelope.
 
     Parameters
@@ -552,6 +554,10 @@ def envelope_ratios(path, envelope, group: str = "position") -> tuple[float, flo
     envelope : tuple of ndarray
         :func:`phase_envelope` of the demonstrations.
     group : str, default="position"
+    since : int, default=0
+        The first sample counted: the samples before it (an observed prefix,
+        say, with ``since`` its last sample, so the step into the generated
+        rest counts) are only read for the derivatives from ``since`` on.
 
     Returns
     -------
@@ -569,7 +575,15 @@ def envelope_ratios(path, envelope, group: str = "position") -> tuple[float, flo
     >>> [round(r, 6) for r in envelope_ratios(fast, phase_envelope([slow]))]
     [2.0, 0.0]
     """
+    n = path.t.shape[0]
+    if isinstance(since, bool) or not isinstance(since, (int, np.integer)):
+        raise ValidationError(f"since must be an int, got {since!r}")
+    if not 0 <= since < n:
+        raise ValidationError(
+            f"since must be a sample of the path (0 to {n - 1}), got {since}"
+        )
     tau, v, a = _phase_motion(path.t, path.get(group))
+    tau, v, a = tau[since:], v[since:], a[since:]
     # below a billionth of the top speed (per unit phase) is rounding: a
     # straight line's acceleration of 1e-13 is no motion, whatever its envelope
     floor = 1e-9 * float(np.max(envelope[0]))

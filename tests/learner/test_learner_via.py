@@ -12,7 +12,7 @@ from ndlfd._errors import ValidationError
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
 from ndlfd.learner._conditioning import minimum_jerk
-from ndlfd.learner._via import apply_via, check_via
+from ndlfd.learner._via import apply_via, check_via, continue_from
 
 T = np.linspace(0.0, 5.0, 201)
 
@@ -273,3 +273,28 @@ def test_with_a_via_point_the_goal_carries_over_as_the_demonstrations_co_vary():
         at = [d.get("position")[int(0.9 * (d.n_samples - 1))] for d in train]
         spreads.append(np.linalg.norm(np.std(at, axis=0)))
     assert np.median(errors) <= 0.5 * np.median(spreads)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(
+    n=st.integers(5, 300),
+    speed=st.floats(-3.0, 3.0),
+    offset=st.floats(-1.0, 1.0),
+)
+def test_the_junction_leaves_at_the_prefix_velocity(n, speed, offset):
+    # a path at rest at 0, a prefix moving along a line at ``speed`` from
+    # ``offset``: the path never slows down and never accelerates, so both
+    # the offset and the velocity offset fade over the whole rest; by hand,
+    # (P_end + speed * s) * (1 - minimum_jerk(s / (1 - last)))
+    tq = np.linspace(0.0, 1.0, 1001)
+    X = np.zeros((tq.size, 1))
+    P = offset + speed * tq[:n, None]
+    out = continue_from(X, tq, Demonstration(tq[:n], P, ("p",), ("p",)), ("p",))
+    np.testing.assert_array_equal(out[:n], P)
+    last = tq[n - 1]
+    s = tq - last
+    ref = (P[-1, 0] + speed * s) * (1.0 - minimum_jerk(s / (1.0 - last)))
+    np.testing.assert_allclose(out[n:, 0], ref[n:], atol=1e-12)
+    leave = (out[n, 0] - out[n - 1, 0]) / (tq[1] - tq[0])
+    # the offset's own fade adds about 10 * offset * (h / rest)^3 / h
+    assert leave == pytest.approx(speed, abs=1e-4)

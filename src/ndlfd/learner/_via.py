@@ -57,7 +57,9 @@ the robot executed so far, at the first time stamps of ``times``:
   last observed sample, faded out by a minimum-jerk ramp that ends at the
   path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`)
   or gripper switch (:func:`~ndlfd.learner._conditioning.switch_window`),
-  as :func:`~ndlfd.learner._conditioning.pin` does for a start.
+  as :func:`~ndlfd.learner._conditioning.pin` does for a start; and by the
+  offset of the prefix's velocity at its end to the path's, faded within
+  :data:`JUNCTION_FADE`, so the path leaves at the velocity the robot has.
 """
 
 from __future__ import annotations
@@ -86,6 +88,8 @@ from ._routes import segment_paths
 from ._spec import prepare
 
 __all__ = [
+    "JUNCTION_FADE",
+    "JUNCTION_SPAN",
     "PATH_TEMPER",
     "PREFIX_POINTS",
     "PREFIX_RIDGE",
@@ -127,6 +131,46 @@ PATH_TEMPER = 100.0
 #: gave 0.882 on the single shapes and 1.18 on Multi_Models, 10 gave 0.899 and
 #: 1.12 (100: 1.10 on Multi_Models).
 PREFIX_RIDGE = 10.0
+
+#: The prefix's velocity at its last sample: the slope of a least-squares
+#: line through its samples over this much of the motion before it (at least
+#: 3 samples; a robot's joint states are noisy). 60 prefixes per set
+#: (``benchmarks/bench_envelope.py``'s draws; LASA Angle, BendedLine, Worm;
+#: SO-101-like joints at rest before and after), largest acceleration after
+#: the junction over the demonstrations' envelope: 0.01 gave 4.2, 4.1, 2.4,
+#: 2.9; 0.02 gave 4.2, 4.2, 4.2, 2.6 (a line's slope lags an accelerating
+#: prefix; a parabola's end slope over 0.02: 4.6, 4.1, 2.4, 4.2); 3 samples
+#: only: the SO-101 speed 7.3 times the envelope (its noise). (Measured with
+#: the path's velocity as a central difference across the junction.)
+JUNCTION_SPAN = 0.01
+
+#: The offset of the prefix's velocity at its end to the velocity the path
+#: leaves with (one-sided: the prefix's clock turns there, from the
+#: prefix's rate to the one that ends the plan on time,
+#: :func:`~ndlfd.learner._phase.prefix_warp`) is added as ``dv * s * (1 -
+#: minimum_jerk(s / w))`` (``s`` the normalized time since the last observed
+#: sample): the path leaves at the prefix's velocity and is back on its own
+#: after ``w``, this much of the motion, or longer where the ramp would
+#: accelerate more than the path itself does in that column
+#: (``_RAMP_BEND``), or shorter where the path's next slow-down comes
+#: sooner. As for
+#: :data:`JUNCTION_SPAN`, largest acceleration after the junction: without
+#: the term 23.1, 21.1, 26.6, 2.9 (medians 5.7, 5.0, 6.4, 1.1: the velocity
+#: jumped there), with it 2.8, 2.9, 2.4, 2.9 (medians 1.1, 1.1, 1.3, 1.0);
+#: on the arcs of ``tests/learner/test_learner_envelope.py`` 46.4, with a
+#: fixed ``w`` 11.1, with it 7.3. A clock easing from the prefix's rate
+#: instead (a minimum-jerk ramp of its slope, curvature within
+#: :data:`~ndlfd.learner._phase.MAX_BEND`) gave 4.2, 4.1, 2.4, 2.9 and was
+#: worse on held-out LASA (Multi_Models_2 1.64 times the best peer's DTW,
+#: against 1.38). Held-out LASA, protocol prefix, against no term: DTW 0.992
+#: (single shapes) and 0.978 (Multi_Models) times, fold by fold (geometric
+#: mean); per shape, to the best peer, 0.869 -> 0.865 and 1.09 -> 1.08.
+JUNCTION_FADE = 0.1
+
+#: The largest of ``|d^2/dx^2 x (1 - minimum_jerk(x))|`` on [0, 1] (at ``x =
+#: (900 - sqrt(118800)) / 1440``): the velocity offset's ramp over a width
+#: ``w`` accelerates by at most this times ``|dv| / w``.
+_RAMP_BEND = 4.6218
 
 
 def check_via(via, all_t: np.ndarray, column_groups, groups) -> list | None:
@@ -516,11 +560,16 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
 
     Examples
     --------
+    A path at rest at 0; the prefix reached 1 at time 0.25, moving at 4. The
+    path leaves at 4 and both offsets, of 1 and of 4 per unit time, fade
+    over the rest (a path at rest has no acceleration of its own to keep the
+    velocity offset's fade within):
+
     >>> from ndlfd import Demonstration
     >>> X = np.zeros((5, 1)); tq = np.linspace(0.0, 1.0, 5)
     >>> prefix = Demonstration(tq[:2], np.array([[0.0], [1.0]]), ("p",), ("p",))
     >>> np.round(continue_from(X, tq, prefix, ("p",))[:, 0], 3)
-    array([0.  , 1.  , 0.79, 0.21, 0.  ])
+    array([0.  , 1.  , 1.58, 0.63, 0.  ])
     """
     n = prefix.t.size
     last = tq[n - 1]
@@ -530,9 +579,40 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     if not first > last:
         first = 1.0
     fade = 1.0 - minimum_jerk((tq - last) / (first - last))
+    if 2 <= n < X.shape[0]:  # leave at the prefix's velocity, not the path's
+        leave = (X[n] - X[n - 1]) / (tq[n] - tq[n - 1])  # the path's, one-sided
+        dv = _end_velocity(tq[:n], prefix.X) - leave
+        width = np.minimum(_junction_width(X[n - 1 :], tq[n - 1 :], dv), first - last)
+        s = np.maximum(tq - last, 0.0)[:, None]
+        X += dv * s * (1.0 - minimum_jerk(s / width))
     X += (prefix.X[n - 1] - X[n - 1]) * fade[:, None]
     X[:n] = prefix.X
     return X
+
+
+def _junction_width(X: np.ndarray, tq: np.ndarray, dv: np.ndarray) -> np.ndarray:
+    """How long each column's velocity offset ``dv`` takes to fade (normalized time).
+
+    :data:`JUNCTION_FADE`, or longer where the fade's acceleration would
+    exceed the path's own largest in the column (``X``: the path from the
+    last observed sample on; a column the path keeps still: as long as it
+    may).
+    """
+    if X.shape[0] < 3:
+        return np.full(X.shape[1], JUNCTION_FADE)
+    dt = np.diff(tq)
+    V = np.diff(X, axis=0) / dt[:, None]
+    a = (np.abs(np.diff(V, axis=0)) / dt[1:, None]).max(axis=0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        need = np.where(dv == 0.0, 0.0, _RAMP_BEND * np.abs(dv) / a)
+    return np.maximum(JUNCTION_FADE, need)
+
+
+def _end_velocity(tq: np.ndarray, X: np.ndarray) -> np.ndarray:
+    """The least-squares slope over the last :data:`JUNCTION_SPAN` (>= 3 samples)."""
+    k = max(int(np.sum(tq >= tq[-1] - JUNCTION_SPAN)), min(tq.size, 3))
+    s = tq[-k:] - tq[-k:].mean()
+    return s @ (X[-k:] - X[-k:].mean(axis=0)) / (s @ s)
 
 
 def blend_observations(
