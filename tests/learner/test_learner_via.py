@@ -298,3 +298,36 @@ def test_the_junction_leaves_at_the_prefix_velocity(n, speed, offset):
     leave = (out[n, 0] - out[n - 1, 0]) / (tq[1] - tq[0])
     # the offset's own fade adds about 10 * offset * (h / rest)^3 / h
     assert leave == pytest.approx(speed, abs=1e-4)
+
+
+def test_an_observed_prefix_as_minus_q_is_the_same_rotation():
+    # a recorded stream may give -q for q: the path is the same rotations,
+    # its first samples the observed ones as given, and it continues them
+    # without a sign flip (before: a 176 degree turn in one step)
+    from test_learner_generation import carries
+
+    demos = carries()
+    model = KeypointHMM().fit(demos)
+    demo = demos[0]
+    t = np.linspace(0.0, demo.t[-1], 201)
+    tau = (demo.t - demo.t[0]) / demo.duration
+    X = np.column_stack([np.interp(t[:80] / t[-1], tau, c) for c in demo.X.T])
+    q = demo.columns_of("orientation")
+    runs = []
+    for s in (1.0, -1.0):
+        Y = X.copy()
+        Y[:, q] *= s
+        prefix = Demonstration(t[:80], Y, demo.columns, demo.groups)
+        path = model.generate(t, dense=True, observed=prefix)
+        for g in ("position", "orientation"):
+            np.testing.assert_array_equal(path.get(g)[:80], prefix.get(g))
+        drawn = model.sample(t, 2, observed=prefix, random_state=3)
+        runs.append([path, *drawn])
+    q = runs[0][0].columns_of("orientation")
+    other = np.setdiff1d(np.arange(runs[0][0].X.shape[1]), q)
+    for plus, minus in zip(*runs, strict=True):
+        np.testing.assert_array_equal(minus.X[:, q], -plus.X[:, q])
+        np.testing.assert_array_equal(minus.X[:, other], plus.X[:, other])
+        Q = minus.X[:, q]
+        step = 2.0 * np.arccos(np.clip(np.sum(Q[1:] * Q[:-1], axis=1), -1.0, 1.0))
+        assert np.degrees(step).max() < 1.0

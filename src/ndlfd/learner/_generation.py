@@ -62,6 +62,7 @@ from ._via import (
     complete_prefix,
     continue_from,
     observed_log_weights,
+    orient_prefix,
     orient_via,
     via_log_weights,
 )
@@ -718,6 +719,7 @@ def generate_blend(
     fill = prefix_completer(est, all_t, goal, frames, cache)
     prefix = check_observed(est, complete_prefix(est, observed, all_t, fill), all_t,
                             start=start, via=via)  # fmt: skip
+    prefix, restore = orient_prefix(est, prefix, all_t, cache)  # -q is q
     extra = route = None
     if via is not None:
         extra = via_log_weights(est, via, cache)
@@ -733,7 +735,7 @@ def generate_blend(
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames, clock=clock)  # fmt: skip
-    return (path, std) if return_std else path
+    return (restore(path), std) if return_std else restore(path)
 
 
 def prefix_completer(est, all_t, goal, frames, cache):

@@ -63,6 +63,7 @@ from ._via import (
     check_via,
     complete_prefix,
     observed_log_weights,
+    orient_prefix,
     orient_via,
     via_log_weights,
 )
@@ -153,6 +154,7 @@ def sample_paths(
     fill = prefix_completer(est, all_t, goal, frames, cache)
     observed = complete_prefix(est, observed, all_t, fill)
     prefix = check_observed(est, observed, all_t, start=start, via=via)
+    prefix, restore = orient_prefix(est, prefix, all_t, cache)  # -q is q
     logw, routes = demo_log_weights(est, start, goal, cache)
     extra = via_log_weights(est, via, cache)
     logw = logw + extra
@@ -185,4 +187,4 @@ def sample_paths(
             out[k] = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                             via=via, prefix=prefix, frames=frames,
                             clock=clock)[0]  # fmt: skip
-    return out
+    return [restore(path) for path in out]

@@ -101,6 +101,7 @@ __all__ = [
     "continue_from",
     "demo_values_at",
     "observed_log_weights",
+    "orient_prefix",
     "orient_via",
     "prefix_rows",
     "stamp_tolerance",
@@ -299,6 +300,58 @@ def orient_via(est, via, cache: dict) -> list | None:
     for k, (tau, cond) in enumerate(via):
         out.append((tau, orient_condition(cond, V[:, k], scaler, cg, f"via[{k}]")))
     return out
+
+
+def orient_prefix(est, prefix, all_t: np.ndarray, cache: dict):
+    """A checked prefix's orientations on the demonstrations' side.
+
+    ``q`` and ``-q`` are one rotation, and a recorded stream (a ROS 2 ``/tf``
+    bag, say) may give either: a prefix whose quaternions point away from
+    the demonstrations' at the same times (summed over its samples) is
+    negated, so its weights, the blend's conditioning and the junction's
+    offsets compare it with the same sign (before, the offset at the junction
+    turned the path the long way round: 176 degrees in one step). The path
+    generated from it is negated back (``restore``): its first samples are
+    the observed ones as given, and the rest continues them without a sign
+    flip.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    prefix : Demonstration or None
+        From :func:`check_observed`.
+    all_t : ndarray of shape (n_samples,)
+        The timing.
+    cache : dict
+        See :func:`demo_values_at`.
+
+    Returns
+    -------
+    prefix : Demonstration or None
+    restore : callable
+        ``restore(path) -> path`` for the paths generated from it.
+    """
+    cols = group_columns(est.column_groups_, "orientation")
+    if prefix is None or len(cols) != 4:
+        return prefix, _as_is
+    n = prefix.t.size
+    tq = est.time_bins_.normalize(all_t)[:n]
+    mean = demo_values_at(est, tq, cache).mean(axis=0)
+    ref = est.scaler_.inverse_transform(mean, weighted=False)[:, cols]
+    if float(np.sum(prefix.X[:, cols] * ref)) >= 0.0:
+        return prefix, _as_is
+
+    def flip(d: Demonstration) -> Demonstration:
+        X = d.X.copy()
+        X[:, cols] = -X[:, cols]
+        return Demonstration(d.t, X, d.columns, d.groups, d.frames)
+
+    return flip(prefix), flip
+
+
+def _as_is(path):
+    return path
 
 
 def via_log_weights(est, via, cache: dict) -> np.ndarray:
