@@ -174,3 +174,36 @@ def test_unit_time_of_the_key_points_is_theirs_in_the_whole(seed, n, uniform):
     inner = rng.choice(np.arange(1, n - 1), size=rng.integers(0, max(n - 1, 1)))
     idx = np.unique(np.r_[0, inner, n - 1]).astype(np.int64)
     assert unit_time(t[idx]).tobytes() == unit_time(t)[idx].tobytes()
+
+
+@pytest.mark.parametrize("n_jobs", [1, 2])
+def test_demonstrations_given_as_minus_q_fit_the_same_model(n_jobs):
+    # q and -q are one rotation: a recording on the other side of the sphere
+    # must not be averaged with the others into rotations none of them made
+    # (before: 180 degrees off the model of the same data on one side)
+    from test_learner_generation import carries
+
+    demos = carries()
+    q = demos[0].columns_of("orientation")
+    flipped = []
+    for i, d in enumerate(demos):
+        X = d.X.copy()
+        if i % 2:
+            X[:, q] = -X[:, q]
+        flipped.append(Demonstration(d.t, X, d.columns, d.groups, d.frames))
+    t = np.linspace(0.0, demos[0].t[-1], 101)
+    paths = [
+        KeypointHMM(n_jobs=n_jobs).fit(ds).generate(t, dense=True)
+        for ds in (demos, flipped)
+    ]
+    np.testing.assert_array_equal(paths[0].X, paths[1].X)
+    # and the first demonstration decides the side: all of them negated,
+    # the path is negated
+    negated = [
+        Demonstration(d.t, np.where(np.isin(np.arange(d.X.shape[1]), q), -d.X, d.X),
+                      d.columns, d.groups, d.frames)
+        for d in demos
+    ]  # fmt: skip
+    other = KeypointHMM(n_jobs=n_jobs).fit(negated).generate(t, dense=True)
+    np.testing.assert_allclose(other.get("orientation"), -paths[0].get("orientation"),
+                               atol=1e-12)  # fmt: skip

@@ -57,7 +57,7 @@ from .._repairs import collecting_repairs, summary_warnings
 from ..demonstration import Demonstration
 from ..io import DemoFile
 from ._exact import scale_exponents
-from ._spec import DemoSpec, frame_spec, prepare, resolve_groups
+from ._spec import DemoSpec, first_quaternion, frame_spec, prepare, resolve_groups
 from ._stats import DemoStats, FitStats, RangeStats, merge_repairs
 from ._templates import template_mask
 
@@ -221,14 +221,14 @@ def _probe(spec: _PassSpec, unit):
     """Groups and learned columns, from the first demonstration of the first item."""
     i, item = unit
     with collecting_repairs() as log:
-        groups, columns, col_groups, n, frames = _probe_item(spec, i, item)
-    return groups, columns, col_groups, n, frames, _records(log, i, item)
+        groups, columns, col_groups, n, frames, ref = _probe_item(spec, i, item)
+    return groups, columns, col_groups, n, frames, ref, _records(log, i, item)
 
 
 def _probe_item(spec: _PassSpec, i: int, item):
     demos = _read_item(item, i)
     if not demos:  # a skipped file
-        return None, None, None, 0, ()
+        return None, None, None, 0, (), ()
     p = spec.params
     groups = resolve_groups(p["groups"], demos[0], derive_velocity=p["derive_velocity"])
     where = partial(_where, i, item, 0, len(demos))
@@ -247,7 +247,7 @@ def _probe_item(spec: _PassSpec, i: int, item):
         )
     if spec.cache is not None and isinstance(item, Demonstration):
         spec.cache.put(i, d)
-    return groups, d.columns, d.groups, d.n_samples, frames
+    return groups, d.columns, d.groups, d.n_samples, frames, first_quaternion(d)
 
 
 def _map_ranges(spec: _PassSpec, chunk) -> RangeStats:
@@ -468,7 +468,7 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
             probe = client.submit(_probe, spec, (at, first), pure=False).result()
         else:
             probe = _probe(spec, (at, first))
-        groups, columns, col_groups, first_length, frames, found = probe
+        groups, columns, col_groups, first_length, frames, ref, found = probe
         probed = merge_repairs(probed, found)
         if groups is not None:
             break
@@ -490,6 +490,7 @@ def scan_ranges(params: dict, demos, *, client=None, progress=None) -> Scan:
             col_groups=col_groups,
             derive_velocity=params["derive_velocity"],
             frames=frames,
+            quat_ref=ref,
         ),
         cache=None if backend == "processes" and workers > 1 else spec.cache,
     )
@@ -546,6 +547,7 @@ def collect_statistics(params: dict, done: Scan) -> tuple[DemoSpec, FitStats]:
         demo.col_groups,
         cli=demo.cli,
         frames=demo.frames,
+        quat_ref=demo.quat_ref,
     )
     # |u| <= 2**E per column: u is monotone in x, so the extremes bound it
     ends = spec.scaler.transform(

@@ -39,10 +39,12 @@ __all__ = [
     "OTHER_LEVELS",
     "DemoSpec",
     "Reduced",
+    "first_quaternion",
     "frame_spec",
     "levels_by_group",
     "prepare",
     "resolve_groups",
+    "same_side",
     "scaler_from_ranges",
 ]
 
@@ -293,6 +295,40 @@ def _frames_text(spec) -> str:
     return ", ".join(f"{name!r} ({size} values)" for name, size in spec)
 
 
+def first_quaternion(d: Demonstration) -> tuple[float, ...]:
+    """A demonstration's first orientation (w, x, y, z), or ``()`` without one."""
+    if "orientation" not in d.group_names:
+        return ()
+    cols = d.columns_of("orientation")
+    return tuple(float(v) for v in d.X[0, cols]) if cols.size == 4 else ()
+
+
+def same_side(d: Demonstration, ref: tuple[float, ...]) -> Demonstration:
+    """``d`` with its quaternions negated if its first one points away from ``ref``.
+
+    ``q`` and ``-q`` are one rotation; a recorded stream (a ROS 2 ``/tf`` bag,
+    say) may give either, and demonstrations on both sides would be averaged
+    into rotations none of them made. A demonstration's quaternions are
+    continuous (:func:`~ndlfd.orientation.make_continuous`), so one sign
+    decides for all of them: the first sample's, against ``ref`` (its
+    rotation from ``ref`` is below 180 degrees exactly when they point the
+    same way).
+
+    Examples
+    --------
+    >>> d = Demonstration.from_arrays([0.0, 1.0], orientation=[[0, 1, 0, 0]] * 2)
+    >>> same_side(d, (0.0, -1.0, 0.0, 0.0)).get("orientation")[0]
+    array([-0., -1., -0., -0.])
+    """
+    q = first_quaternion(d)
+    if not ref or not q or float(np.dot(q, ref)) >= 0.0:
+        return d
+    X = d.X.copy()
+    cols = d.columns_of("orientation")
+    X[:, cols] = -X[:, cols]
+    return Demonstration(d.t, X, d.columns, d.groups, d.frames)
+
+
 @dataclass(frozen=True)
 class DemoSpec:
     """What is learned of a demonstration and how it is encoded (fit and generate).
@@ -319,6 +355,10 @@ class DemoSpec:
     frames : tuple of (str, int)
         The task frames every demonstration carries: name and pose size
         (:mod:`ndlfd._poses`), as the first one has them.
+    quat_ref : tuple of float
+        The first demonstration's first orientation (w, x, y, z), or empty:
+        ``q`` and ``-q`` are one rotation, and every demonstration's
+        quaternions are put on its side (:meth:`prepared`).
     """
 
     groups: tuple[str, ...] = ()
@@ -333,6 +373,7 @@ class DemoSpec:
     time_bins: TimeBins | None = None
     cli: bool = False
     frames: tuple[tuple[str, int], ...] = ()
+    quat_ref: tuple[float, ...] = ()
 
     @classmethod
     def fitted(cls, params: Mapping, ranges, groups, columns, col_groups, **kw):
@@ -408,7 +449,7 @@ class DemoSpec:
                 f" pose size); the first has {_frames_text(self.frames)} and this"
                 f" one has {_frames_text(have)}"
             )
-        return d
+        return same_side(d, self.quat_ref)
 
     def frame_values(self, d: Demonstration) -> np.ndarray:
         """A prepared demonstration's frame poses, one after another (F,)."""
