@@ -228,3 +228,60 @@ def test_a_jerk_limit_is_met_by_slowing_down(share):
     assert np.array_equal(out.X[[0, -1]], path.X[[0, -1]])
     # a uniform slow-down by k divides jerk by k**2 to k**3: at least this slow
     assert out.duration >= path.duration * share ** (-1 / 3) * (1 - 0.02)
+
+
+def test_an_executed_prefix_is_kept_and_the_rest_leaves_at_its_speed():
+    """A line at 1 /s speeding up smoothly to 3 /s from 0.5 s on; limits 1.5 /s
+    and 20 /s^2; the first 80 samples (0.395 s) executed: kept with their
+    stamps, and the rest leaves at 1 /s (the path's own speed there, within
+    the limits), not from rest, and meets the limits."""
+    t = np.linspace(0.0, 1.0, 201)
+    s = np.clip((t - 0.5) / 0.3, 0.0, 1.0)
+    speed = 1.0 + 2.0 * s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+    x = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
+    path = Demonstration.from_arrays(t, position=np.column_stack([x, 0 * t]))
+    limits = {"position": {"velocity": 1.5, "acceleration": 20.0}}
+    out = time_scale(path, limits, keep=80)
+    np.testing.assert_array_equal(out.t[:80], path.t[:80])
+    np.testing.assert_array_equal(out.X[:80], path.X[:80])
+    rest = out.take(np.arange(79, out.n_samples))
+    assert _within(rest, limits)
+    v = np.diff(out.X[:, 0]) / np.diff(out.t)
+    assert v[79] == pytest.approx(1.0, abs=0.01)  # no jump at the junction
+    assert v.max() >= 1.5 * (1 - 2 * MARGIN)  # time-optimal: up to the limit
+    assert out.X[-1].tolist() == path.X[-1].tolist()
+    # from rest without keep
+    v0 = np.diff(time_scale(path, limits).X[:, 0]) / 0.005
+    assert v0[0] < 0.1
+
+
+def test_a_prefix_faster_than_the_limits_hands_over_at_the_limit():
+    path = _line(speed=3.0)
+    limits = {"position": {"velocity": 1.5, "acceleration": 10.0}}
+    out = time_scale(path, limits, keep=40)
+    np.testing.assert_array_equal(out.X[:40], path.X[:40])
+    speed = np.diff(out.X[:, 0]) / np.diff(out.t)
+    assert speed[39] == pytest.approx(1.5 * (1 - MARGIN), rel=0.01)
+    assert _within(out.take(np.arange(39, out.n_samples)), limits)
+
+
+@pytest.mark.parametrize("keep", [-1, 200, 1.5, True])
+def test_keep_out_of_range_says_so(keep):
+    with pytest.raises(ValidationError, match="keep must"):
+        time_scale(_line(), {"position": {"velocity": 1.0}}, keep=keep)
+
+
+def test_generate_with_limits_keeps_the_observed_prefix():
+    demos = synth.obstacle(7, 5)
+    model = KeypointHMM().fit(demos)
+    t = np.linspace(0.0, 5.0, 400)
+    plain = model.generate(t, dense=True)
+    top = path_peaks(plain)["velocity"][plain.columns_of("position")].max()
+    lim = {"position": {"velocity": 0.6 * top}}
+    prefix = plain.take(np.arange(120)).select("position")
+    out = model.generate(t, dense=True, observed=prefix, limits=lim)
+    np.testing.assert_array_equal(out.t[:120], t[:120])
+    np.testing.assert_array_equal(out.get("position")[:120], prefix.X)
+    assert _within(out.take(np.arange(119, out.n_samples)), lim)
+    for drawn in model.sample(t, 2, observed=prefix, limits=lim, random_state=0):
+        np.testing.assert_array_equal(drawn.get("position")[:120], prefix.X)

@@ -9,7 +9,10 @@ TOPP-RA (`toppra <https://github.com/hungpham2511/toppra>`_, the extra
 ``limits``): the time-optimal parameterization under velocity and
 acceleration constraints, with one more constraint that the path's clock
 never runs faster than its own timing, so the path is only ever slowed down,
-never sped up. The result starts and ends at rest.
+never sped up. The result starts and ends at rest, but for the
+continuation of an executed prefix (``keep=``): the prefix's samples and
+stamps are kept, and the rest leaves its last sample at the speed the path
+has there (slowed to the limits if faster).
 
 Limits are given per group (one value for every column of the group, or one
 per column) or per column by its name, in the group's units per second (per
@@ -270,8 +273,12 @@ def _own_acceleration(path, peaks, lim, spline) -> np.ndarray:
     return np.maximum(np.maximum(peaks["acceleration"][spline], ramp), 1e-12)
 
 
-def _clock_at(toppra, path, peaks, spline, lim, n_grid):
-    """TOPP-RA's new clock: for each new time, the path's own time."""
+def _clock_at(toppra, path, peaks, spline, lim, n_grid, moving=False):
+    """TOPP-RA's new clock: for each new time, the path's own time.
+
+    From rest, or (``moving``) at the path's own pace where the limits allow
+    it (the first sample's velocity by a one-sided difference).
+    """
     t = path.t - path.t[0]
     way = np.column_stack([path.X[:, spline], t])
     interp = toppra.SplineInterpolator(t, way)
@@ -291,10 +298,18 @@ def _clock_at(toppra, path, peaks, spline, lim, n_grid):
     grid = np.linspace(0.0, t[-1], n_grid)
     algo = toppra.algorithm.TOPPRA([cv, ca], interp, gridpoints=grid,
                                    parametrizer="ParametrizeConstAccel")  # fmt: skip
-    traj = algo.compute_trajectory(0.0, 0.0)
-    if traj is None:
-        return None
-    return traj
+    pace = 0.0
+    if moving:  # the clock's speed at which the first step meets the limits
+        step = np.abs(path.X[1, spline] - path.X[0, spline]) / t[1]
+        with np.errstate(divide="ignore"):
+            pace = float(np.min(np.append(v[:-1] / step, 1.0)))
+        # and from which the limits can still be kept (TOPP-RA's controllable
+        # set at the start, of the squared pace, to the path's end at rest)
+        reach = algo.compute_controllable_sets(0.0, 0.0)
+        if reach is None or not np.all(np.isfinite(reach[0])):
+            return None
+        pace = min(pace, float(np.sqrt(max(reach[0][1], 0.0))))
+    return algo.compute_trajectory(pace, 0.0)
 
 
 def _resample(path, clock, new_t, spline, quat, held, derived) -> Demonstration:
@@ -317,7 +332,9 @@ def _resample(path, clock, new_t, spline, quat, held, derived) -> Demonstration:
     return Demonstration(new_t + path.t[0], X, path.columns, path.groups)
 
 
-def time_scale(path: Demonstration, limits, *, rate: float | None = None):
+def time_scale(
+    path: Demonstration, limits, *, rate: float | None = None, keep: int = 0
+):
     """Slow a path down where it exceeds velocity or acceleration limits.
 
     A path already within the limits is returned as it is. Otherwise its
@@ -338,6 +355,12 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     rate : float, optional
         Samples per second of the result (stamps ``k / rate`` after the
         path's first); the path's own median step by default.
+    keep : int, default=0
+        The path's first samples that are kept as they are, with their
+        stamps (an executed prefix, ``generate(observed=)``): the rest is
+        time-scaled from the last of them on (its stamps ``k / rate`` after
+        that one), leaving it at the path's own speed there, or at the
+        limits if that is faster.
 
     Returns
     -------
@@ -365,9 +388,34 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
             f"path must be a Demonstration; got {type(path).__name__}"
         )
     lim = check_limits(limits, path)
+    if isinstance(keep, bool) or not isinstance(keep, (int, np.integer)):
+        raise ValidationError(f"keep must be an int; got {keep!r}")
+    if not 0 <= keep <= path.n_samples - 2:
+        raise ValidationError(
+            f"keep must leave at least two samples to time-scale (0 to"
+            f" {path.n_samples - 2} for a path of {path.n_samples}); got {keep}"
+        )
+    if keep > 0:
+        rest = _scaled(path.take(np.arange(keep - 1, path.n_samples)), lim, rate, True)
+        if rest is None:
+            return path
+        head = path.take(np.arange(keep - 1))
+        return Demonstration(
+            np.concatenate([head.t, rest.t]),
+            np.vstack([head.X, rest.X]),
+            path.columns,
+            path.groups,
+            path.frames,
+        )
+    out = _scaled(path, lim, rate, False)
+    return path if out is None else out
+
+
+def _scaled(path, lim, rate, moving):
+    """:func:`time_scale` of checked limits; ``None`` if already within them."""
     own = path_peaks(path)  # once: the retries below reuse it
     if _within(own, lim):
-        return path
+        return None
     toppra = _toppra()
     spline, quat, held, derived = _roles(path)
     step = float(np.median(np.diff(path.t))) if rate is None else _step(rate)
@@ -377,7 +425,7 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     tight = {k: v * (1.0 - MARGIN) for k, v in lim.items()}
     stretch = 1.0  # a uniform slow-down after TOPP-RA, for jerk
     for _ in range(RETRIES + 1):
-        traj = _clock_at(toppra, path, own, spline, tight, n_grid)
+        traj = _clock_at(toppra, path, own, spline, tight, n_grid, moving)
         if traj is None:
             raise LimitError(
                 "no timing of the path meets the limits (TOPP-RA found none): "
@@ -408,18 +456,20 @@ def time_scale(path: Demonstration, limits, *, rate: float | None = None):
     )
 
 
-def limited(path, limits, dense: bool, return_std: bool) -> Demonstration:
+def limited(path, limits, dense: bool, return_std: bool, observed=None):
     """What :meth:`~ndlfd.KeypointHMM.generate` returns with ``limits=``.
 
-    The dense path :func:`time_scale`-d; key points (``dense=False``) and a
-    band (``return_std=True``) have no meaning on a new clock and are refused.
+    The dense path :func:`time_scale`-d (after an ``observed`` prefix, kept
+    as it is); key points (``dense=False``) and a band (``return_std=True``)
+    have no meaning on a new clock and are refused.
     """
     if not dense or return_std:
         raise ValidationError(
             "limits= time-scales the dense path: pass dense=True and no "
             f"return_std (got dense={dense}, return_std={return_std})"
         )
-    return time_scale(path, limits)
+    keep = 0 if observed is None else observed.n_samples
+    return time_scale(path, limits, keep=keep)
 
 
 def _step(rate) -> float:

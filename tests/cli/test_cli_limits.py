@@ -79,3 +79,37 @@ def test_sampled_paths_are_each_slowed_to_the_limits(model_file, tmp_path, capsy
         v = path_peaks(path)["velocity"][path.columns_of("position")]
         assert np.all(v <= 2 * (1 + TOLERANCE))
         assert np.array_equal(path.t, np.arange(path.n_samples) / 20.0)
+
+
+@pytest.mark.parametrize("command", ["generate", "sample"])
+def test_an_observed_prefix_is_kept_and_the_rest_slowed(
+    model_file, tmp_path, capsys, command
+):
+    # a robot replanning with limits: what it executed stays as it was, with
+    # its stamps; the rest is slowed to the limits from the prefix's last
+    # sample on
+    from ndlfd import KeypointHMM
+
+    model = KeypointHMM.load(model_file)
+    plain = model.generate(np.linspace(0.0, 5.0, 251), dense=True)
+    prefix = plain.take(np.arange(60)).select("position")
+    np.savetxt(tmp_path / "prefix.csv", np.column_stack([prefix.t, prefix.X]),
+               delimiter=",", header="t,x,y", comments="", fmt="%.17g")  # fmt: skip
+    top = path_peaks(plain)["velocity"][plain.columns_of("position")].max()
+    out = tmp_path / ("p.csv" if command == "generate" else "s")
+    extra = ["-n", "2", "--random-state", "1"] if command == "sample" else []
+    rc, err = cli(capsys, command, model_file, "--duration", "5", "--samples",
+                  "251", "--observed", tmp_path / "prefix.csv", "--max-velocity",
+                  f"position={0.6 * top}", *extra, "-o", out)  # fmt: skip
+    assert rc == 0, err
+    files = [out] if command == "generate" else sorted(out.glob("sample_*.csv"))
+    assert files
+    for f in files:
+        path = read_csv(f)
+        np.testing.assert_array_equal(path.t[:60], prefix.t)
+        # as observed, up to the output's 10 significant digits
+        np.testing.assert_allclose(path.get("position")[:60], prefix.X, rtol=5e-10)
+        rest = path.take(np.arange(59, path.n_samples))
+        v = path_peaks(rest)["velocity"][rest.columns_of("position")]
+        assert np.all(v <= 0.6 * top * (1 + TOLERANCE))
+        assert path.duration > 5.0

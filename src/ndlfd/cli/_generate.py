@@ -104,7 +104,9 @@ def _cmd_generate(args: argparse.Namespace) -> int:
         (args.like is not None or args.rate is not None) and dense
     ) or prefix is not None
     scaled = apply_limits(args, path, dense=dense, std=std, prefix=prefix)
-    exact_time = exact_time and (scaled is path or args.rate is not None)
+    exact_time = exact_time and (
+        scaled is path or args.rate is not None or prefix is not None
+    )
     path = scaled
     if fmt in ROS_FORMATS:
         note = write_ros_output(args, path, out, fmt, like)

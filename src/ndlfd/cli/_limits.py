@@ -113,12 +113,15 @@ def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=
     down.
     """
     limits = parse_limits(args)
-    if limits is not None and (not dense or std is not None or prefix is not None):
+    if limits is not None and (not dense or std is not None):
         raise ValidationError(
             "--max-velocity/-acceleration/-jerk time-scale a dense path: pass"
-            " --dense, and neither --std nor --observed (whose stamps are kept)"
+            " --dense, and no --std"
         )
-    out = path if limits is None else time_scale(path, limits, rate=args.rate)
+    keep = 0 if prefix is None else prefix.n_samples  # kept, with their stamps
+    out = (
+        path if limits is None else time_scale(path, limits, rate=args.rate, keep=keep)
+    )
     if not report:
         return out
     if out is not path:

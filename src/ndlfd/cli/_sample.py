@@ -65,7 +65,9 @@ def _cmd_sample(args: argparse.Namespace) -> int:
                           report=False) for path in drawn]  # fmt: skip
     slowed = sum(a is not b for a, b in zip(paths, drawn, strict=True))
     if parse_limits(args) is not None:
-        exact_time = exact_time and (slowed == 0 or args.rate is not None)
+        exact_time = exact_time and (
+            slowed == 0 or args.rate is not None or prefix is not None
+        )
         say(args, f"slowed down {slowed} of {len(paths)} path(s) to the limits")
     digits = max(3, len(str(args.n - 1)))
     for k, path in enumerate(paths):

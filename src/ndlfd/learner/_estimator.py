@@ -352,7 +352,9 @@ class KeypointHMM(ParamsMixin):
         out = how(self, times_or_demo, dense=dense, start=start, goal=goal,
                   return_std=return_std, cache=self._cache, via=via,
                   observed=observed, frames=frames)  # fmt: skip
-        return out if limits is None else limited(out, limits, dense, return_std)
+        if limits is None:
+            return out
+        return limited(out, limits, dense, return_std, observed)
 
     def sample(self, times_or_demo, n_samples=1, *, dense=True, start=None, goal=None,
                via=None, observed=None, random_state=None, frames=None,
@@ -391,7 +393,7 @@ class KeypointHMM(ParamsMixin):
                             frames=frames)  # fmt: skip
         if limits is None:
             return paths
-        return [limited(p, limits, dense, False) for p in paths]
+        return [limited(p, limits, dense, False, observed) for p in paths]
 
     # --------------------------------------------------------------- save/load
     def save(self, path: str | os.PathLike) -> None:
