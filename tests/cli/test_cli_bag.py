@@ -184,6 +184,23 @@ def test_joint_trajectory_yaml_from_a_joint_model(tmp_path, capsys):
     assert np.array_equal(positions, want.get("joints"))
     stamps = [p["time_from_start"] for p in msg["points"]]
     assert stamps[-1] == {"sec": 2, "nanosec": 0}
+    # replanning: the first 12 samples executed; the trajectory sent is the
+    # rest, from where the robot is now (the last observed sample, moving)
+    prefix = want.take(np.arange(12)).select("joints")
+    np.savetxt(tmp_path / "prefix.csv", np.column_stack([prefix.t, prefix.X]),
+               delimiter=",", header="t,joints.shoulder,joints.elbow", comments="",
+               fmt="%.17g")  # fmt: skip
+    rc, err = cli(capsys, "generate", model, "--duration", 2, "--samples", 30,
+                  "--observed", tmp_path / "prefix.csv",
+                  "-o", tmp_path / "cont.yaml")  # fmt: skip
+    assert rc == 0, err
+    assert "the trajectory starts at the last observed sample" in " ".join(err)
+    cont = yaml.safe_load((tmp_path / "cont.yaml").read_text())["points"]
+    assert len(cont) == 30 - 11
+    np.testing.assert_allclose(cont[0]["positions"], prefix.X[-1], rtol=1e-12)
+    assert cont[0]["time_from_start"] == {"sec": 0, "nanosec": 0}
+    assert np.abs(cont[0]["velocities"]).max() > 0.0  # moving, not from rest
+    assert np.all(np.array(cont[-1]["velocities"]) == 0.0)
     # a bag of the joints: JointState on TOPIC/joint_states
     rc, err = cli(
         capsys,

@@ -171,3 +171,20 @@ def test_joint_velocities_go_in_the_joint_states_and_read_back(tmp_path):
     assert back.columns == demo.columns and back.groups == demo.groups
     assert np.allclose(back.get("joints"), np.deg2rad(q), rtol=1e-15)
     assert np.allclose(back.get("joint_velocity"), np.deg2rad(w), rtol=1e-15)
+
+
+def test_a_continuation_starts_moving_and_ends_at_rest(tmp_path):
+    # the first point is where a moving robot is now: its velocity and
+    # acceleration are the path's there (np.gradient), only the end's fade
+    demo = so101_like()
+    out = write_joint_trajectory(demo, tmp_path / "c.yaml", units="deg",
+                                 moving_start=True)  # fmt: skip
+    msg = yaml.safe_load(out.read_text())
+    V = np.array([p["velocities"] for p in msg["points"]])
+    Q = np.radians(np.column_stack([demo.get("joints"), demo.get("gripper")]))
+    want = np.gradient(Q, demo.t, axis=0)
+    np.testing.assert_allclose(V[: V.shape[0] // 2], want[: V.shape[0] // 2])
+    assert np.abs(V[0]).min() > 0.0 and np.all(V[-1] == 0.0)
+    rest = write_joint_trajectory(demo, tmp_path / "r.yaml", units="deg")
+    first = yaml.safe_load(rest.read_text())["points"][0]
+    assert np.all(np.array(first["velocities"]) == 0.0)

@@ -109,7 +109,8 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     )
     path = scaled
     if fmt in ROS_FORMATS:
-        note = write_ros_output(args, path, out, fmt, like)
+        observed = 0 if prefix is None else prefix.n_samples
+        note = write_ros_output(args, path, out, fmt, like, observed=observed)
         if note:
             say(args, note)
     elif fmt == "npz":

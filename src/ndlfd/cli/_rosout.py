@@ -185,11 +185,13 @@ def joint_units(units: str | None, mapping) -> tuple[str, str]:
     return "rad", ""
 
 
-def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
+def write_ros_output(args, path, out: Path, fmt: str, mapping, *, observed=0) -> str:
     """Write ``path`` as ``fmt`` to ``out``; a note on its units for the summary.
 
     The note (else ``""``) says that the joints were taken for degrees
-    (:func:`joint_units`).
+    (:func:`joint_units`). After ``observed`` executed samples (``--observed``),
+    a JointTrajectory is the rest only, from the last of them (where the robot
+    is now, moving: its velocity not 0) on; a bag holds the whole path.
     """
     joint_names = split_names(args.joint_names, "--joint-names")
     start = args.start_time or 0.0
@@ -209,6 +211,10 @@ def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
                 units=units,
             )
             return note
+        if observed:  # the past is not sent: from where the robot is now
+            path = path.take(list(range(observed - 1, path.n_samples)))
+            now = "the trajectory starts at the last observed sample"
+            note = f"{note}; {now}" if note else now
         write_joint_trajectory(
             path,
             out,
@@ -216,6 +222,7 @@ def write_ros_output(args, path, out: Path, fmt: str, mapping) -> str:
             units=units,
             topic=args.topic or TRAJECTORY_TOPIC,
             start_time=start,
+            moving_start=observed > 0,
         )
     except ValidationError as exc:
         text = str(exc).replace("joint_names", "--joint-names")

@@ -421,6 +421,7 @@ def joint_trajectory_points(
     joint_names: Sequence[str] | None = None,
     units: str = "rad",
     fade: float | None = None,
+    moving_start: bool = False,
 ):
     """The joints, positions, velocities and accelerations of a JointTrajectory.
 
@@ -451,6 +452,10 @@ def joint_trajectory_points(
     fade : float, optional
         Seconds over which the velocities fade to 0 at each end; default 5 %
         of the duration (0: only the end points are 0).
+    moving_start : bool, default=False
+        The first point is where a moving robot is now (the continuation of
+        an executed prefix): its velocity and acceleration are the path's
+        there, not 0, and only the last point's fade to 0.
 
     Returns
     -------
@@ -486,10 +491,14 @@ def joint_trajectory_points(
         )
     V = np.gradient(Q, demo.t, axis=0)
     if fade > 0:
-        V *= _fade(t, fade)[:, None]
-    V[0] = V[-1] = 0.0
+        w = _fade(t, fade)
+        if moving_start:
+            w = np.where(t < span / 2, 1.0, w)
+        V *= w[:, None]
+    ends = [-1] if moving_start else [0, -1]
+    V[ends] = 0.0
     A = np.gradient(V, demo.t, axis=0)
-    A[0] = A[-1] = 0.0
+    A[ends] = 0.0
     return names, t, Q, V, A
 
 
@@ -539,6 +548,7 @@ def write_joint_trajectory(
     fade: float | None = None,
     topic: str = TRAJECTORY_TOPIC,
     start_time: float = 0.0,
+    moving_start: bool = False,
 ) -> Path:
     r"""Write a ``trajectory_msgs/msg/JointTrajectory``, atomically: YAML or a bag.
 
@@ -564,7 +574,7 @@ def write_joint_trajectory(
         The path; needs the group ``group``.
     path : str or path-like
         The YAML file or the bag.
-    group, gripper, joint_names, units, fade
+    group, gripper, joint_names, units, fade, moving_start
         See :func:`joint_trajectory_points`.
     topic : str, default="/joint_trajectory_controller/joint_trajectory"
         The topic of a bag.
@@ -598,6 +608,7 @@ def write_joint_trajectory(
         joint_names=joint_names,
         units=units,
         fade=fade,
+        moving_start=moving_start,
     )
     final = Path(path)
     if final.suffix.lower() in (".yaml", ".yml"):
