@@ -255,14 +255,16 @@ def test_an_executed_prefix_is_kept_and_the_rest_leaves_at_its_speed():
     assert v0[0] < 0.1
 
 
-def test_a_prefix_faster_than_the_limits_hands_over_at_the_limit():
+@pytest.mark.parametrize("keep", [1, 40])
+def test_a_prefix_faster_than_the_limits_hands_over_at_the_limit(keep):
     path = _line(speed=3.0)
     limits = {"position": {"velocity": 1.5, "acceleration": 10.0}}
-    out = time_scale(path, limits, keep=40)
-    np.testing.assert_array_equal(out.X[:40], path.X[:40])
+    out = time_scale(path, limits, keep=keep)
+    np.testing.assert_array_equal(out.X[:keep], path.X[:keep])
+    np.testing.assert_array_equal(out.t[:keep], path.t[:keep])
     speed = np.diff(out.X[:, 0]) / np.diff(out.t)
-    assert speed[39] == pytest.approx(1.5 * (1 - MARGIN), rel=0.01)
-    assert _within(out.take(np.arange(39, out.n_samples)), limits)
+    assert speed[keep - 1] == pytest.approx(1.5 * (1 - MARGIN), rel=0.01)
+    assert _within(out.take(np.arange(keep - 1, out.n_samples)), limits)
 
 
 @pytest.mark.parametrize("keep", [-1, 200, 1.5, True])

@@ -399,6 +399,8 @@ def time_scale(
         rest = _scaled(path.take(np.arange(keep - 1, path.n_samples)), lim, rate, True)
         if rest is None:
             return path
+        if keep == 1:  # nothing before the sample the rest leaves from
+            return Demonstration(rest.t, rest.X, path.columns, path.groups, path.frames)
         head = path.take(np.arange(keep - 1))
         return Demonstration(
             np.concatenate([head.t, rest.t]),
