@@ -40,6 +40,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ._errors import MissingExtraError, ValidationError
+from ._validation import check_positive_int
 from .demonstration import Demonstration
 
 __all__ = [
@@ -388,9 +389,8 @@ def time_scale(
             f"path must be a Demonstration; got {type(path).__name__}"
         )
     lim = check_limits(limits, path)
-    if isinstance(keep, bool) or not isinstance(keep, (int, np.integer)):
-        raise ValidationError(f"keep must be an int; got {keep!r}")
-    if not 0 <= keep <= path.n_samples - 2:
+    keep = check_positive_int(keep, "keep", minimum=0)
+    if keep > path.n_samples - 2:
         raise ValidationError(
             f"keep must leave at least two samples to time-scale (0 to"
             f" {path.n_samples - 2} for a path of {path.n_samples}); got {keep}"
@@ -399,12 +399,9 @@ def time_scale(
         rest = _scaled(path.take(np.arange(keep - 1, path.n_samples)), lim, rate, True)
         if rest is None:
             return path
-        if keep == 1:  # nothing before the sample the rest leaves from
-            return Demonstration(rest.t, rest.X, path.columns, path.groups, path.frames)
-        head = path.take(np.arange(keep - 1))
         return Demonstration(
-            np.concatenate([head.t, rest.t]),
-            np.vstack([head.X, rest.X]),
+            np.concatenate([path.t[: keep - 1], rest.t]),
+            np.vstack([path.X[: keep - 1], rest.X]),
             path.columns,
             path.groups,
             path.frames,

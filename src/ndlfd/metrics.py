@@ -18,7 +18,12 @@ import numpy as np
 from numba import njit
 
 from ._errors import ValidationError
-from ._validation import check_nonnegative_scalar, check_points, check_times
+from ._validation import (
+    check_nonnegative_scalar,
+    check_points,
+    check_positive_int,
+    check_times,
+)
 from .demonstration import unit_time
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -576,9 +581,8 @@ def envelope_ratios(
     [2.0, 0.0]
     """
     n = path.t.shape[0]
-    if isinstance(since, bool) or not isinstance(since, (int, np.integer)):
-        raise ValidationError(f"since must be an int, got {since!r}")
-    if not 0 <= since < n:
+    since = check_positive_int(since, "since", minimum=0)
+    if since >= n:
         raise ValidationError(
             f"since must be a sample of the path (0 to {n - 1}), got {since}"
         )

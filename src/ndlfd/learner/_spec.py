@@ -42,6 +42,7 @@ __all__ = [
     "first_quaternion",
     "frame_spec",
     "levels_by_group",
+    "negated_orientation",
     "prepare",
     "resolve_groups",
     "same_side",
@@ -323,6 +324,11 @@ def same_side(d: Demonstration, ref: tuple[float, ...]) -> Demonstration:
     q = first_quaternion(d)
     if not ref or not q or float(np.dot(q, ref)) >= 0.0:
         return d
+    return negated_orientation(d)
+
+
+def negated_orientation(d: Demonstration) -> Demonstration:
+    """``d`` with its orientation group's quaternions ``-q``: the same rotations."""
     X = d.X.copy()
     cols = d.columns_of("orientation")
     X[:, cols] = -X[:, cols]

@@ -69,6 +69,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .._demo_kernels import window_derivative
 from .._errors import ValidationError
 from ..demonstration import Demonstration
 from ._conditioning import (
@@ -85,7 +86,7 @@ from ._conditioning import (
 )
 from ._filtering import path_log_likelihoods
 from ._routes import segment_paths
-from ._spec import prepare
+from ._spec import negated_orientation, prepare
 
 __all__ = [
     "JUNCTION_FADE",
@@ -341,13 +342,7 @@ def orient_prefix(est, prefix, all_t: np.ndarray, cache: dict):
     ref = est.scaler_.inverse_transform(mean, weighted=False)[:, cols]
     if float(np.sum(prefix.X[:, cols] * ref)) >= 0.0:
         return prefix, _as_is
-
-    def flip(d: Demonstration) -> Demonstration:
-        X = d.X.copy()
-        X[:, cols] = -X[:, cols]
-        return Demonstration(d.t, X, d.columns, d.groups, d.frames)
-
-    return flip(prefix), flip
+    return negated_orientation(prefix), negated_orientation
 
 
 def _as_is(path):
@@ -664,8 +659,7 @@ def _junction_width(X: np.ndarray, tq: np.ndarray, dv: np.ndarray) -> np.ndarray
 def _end_velocity(tq: np.ndarray, X: np.ndarray) -> np.ndarray:
     """The least-squares slope over the last :data:`JUNCTION_SPAN` (>= 3 samples)."""
     k = max(int(np.sum(tq >= tq[-1] - JUNCTION_SPAN)), min(tq.size, 3))
-    s = tq[-k:] - tq[-k:].mean()
-    return s @ (X[-k:] - X[-k:].mean(axis=0)) / (s @ s)
+    return window_derivative(tq[-k:], X[-k:], tq[-1] - tq[-k])[-1]
 
 
 def blend_observations(
