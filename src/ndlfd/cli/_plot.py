@@ -3,18 +3,29 @@
 from __future__ import annotations
 
 import argparse
+import json
+import zipfile
 from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from .. import plot
-from .._errors import DataFileError, ValidationError
+from .._errors import DataFileError, MissingExtraError, NdlfdError, ValidationError
+from .._fileformat import META_KEY
 from .._poses import check_frames
 from .._simplify import simplify_many
 from ..demonstration import unit_time
-from ..io import CLI_HINTS, MAPPING_DEFAULTS, csv_header, parse_table, read_file
+from ..io import (
+    CLI_HINTS,
+    MAPPING_DEFAULTS,
+    csv_header,
+    parse_table,
+    read_file,
+    read_or_skip,
+)
 from ..learner import NORMALIZATIONS, KeypointHMM, demo_routes, resolve_groups
+from ..learner._persist import FORMAT_KIND as MODEL_KIND
 from ..normalize import GroupScaler
 from ._conditions import flag_named, parse_task_frames
 from ._options import (
@@ -29,7 +40,7 @@ from ._options import (
     say,
     split_names,
 )
-from ._task_frames import parse_frame_columns, read_framed_or_skip
+from ._task_frames import parse_frame_columns, read_framed
 
 __all__ = ["add_plot"]
 
@@ -45,17 +56,109 @@ def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
     return n[lo], maps[lo].source, n[hi], maps[hi].source
 
 
-def _read_path(p: Path, args: argparse.Namespace):
+#: How ``--path`` is read, in turn, until one reading works (see :func:`_read_path`).
+_PATH_READINGS = (
+    ("with the demonstrations' column flags", None),
+    ("with them but no --drop or --rate", {"drop": (), "rate": None}),
+    ("by its own column names alone", "defaults"),
+)  # fmt: skip
+
+
+def _read_path(p: Path, args: argparse.Namespace, flag: str = "--path"):
     """The generated path of ``--path``: in the demonstrations' names or the model's.
 
-    ``ndlfd generate`` writes the names of the files the model was fitted on
-    (read with the same flags as the demonstrations) or, when the model did
-    not record them, its own (read by their names).
+    ``ndlfd generate`` writes the names, order and time column of the files
+    the model was fitted on (:mod:`ndlfd.io._output`), never a column they
+    left out: the path is read with the demonstrations' flags, else with
+    them but no ``--drop`` or ``--rate`` (the dropped columns are not in the
+    path; it has a time column), else by its own names alone (a model that
+    did not record its files' names writes its own). When no reading works,
+    the error says why each failed (the same reason once).
     """
+    _refuse_model(p, flag)
+    options = column_options(args)
+    errors: dict[str, list[str]] = {}
+    for label, how in _PATH_READINGS:
+        if how == "defaults":
+            mapping = dict(MAPPING_DEFAULTS)
+        else:
+            mapping = {**options, **(how or {})}
+            if how and all(options.get(k) == v for k, v in how.items()):
+                continue  # no --drop, no --rate: the same reading again
+        try:
+            return read_file(p, CLI_HINTS, **mapping)
+        except MissingExtraError:
+            raise
+        except (NdlfdError, OSError) as exc:
+            errors.setdefault(str(exc), []).append(label)
+    if len(errors) == 1:
+        raise DataFileError(f"{flag} {next(iter(errors))}")
+    reasons = "; ".join(
+        f"{' and '.join(ways)}: {text}" for text, ways in errors.items()
+    )
+    raise DataFileError(
+        f"{flag} {p}: expected a path as 'ndlfd generate' writes it (the"
+        f" demonstrations' column names, or the model's); no reading works: {reasons}"
+    )
+
+
+def _model_meta(p) -> dict | None:
+    """The metadata of an ndlfd model file ``p`` (by its content), else None.
+
+    Only the ``__ndlfd__`` entry of a zip archive is read, never pickled data.
+    """
+    if not isinstance(p, (str, Path)) or not Path(p).is_file():
+        return None
     try:
-        return read_file(p, CLI_HINTS, **column_options(args))
-    except DataFileError:
-        return read_file(p, CLI_HINTS, **MAPPING_DEFAULTS)
+        with open(p, "rb") as fh:
+            if fh.read(4) not in (b"PK\x03\x04", b"PK\x05\x06"):
+                return None
+            fh.seek(0)
+            with zipfile.ZipFile(fh) as z:
+                if f"{META_KEY}.npy" not in z.namelist():
+                    return None
+                with z.open(f"{META_KEY}.npy") as m:
+                    raw = np.lib.format.read_array(m, allow_pickle=False)
+        meta = json.loads(str(raw))
+    except (OSError, ValueError, zipfile.BadZipFile):
+        return None
+    if isinstance(meta, dict) and meta.get("kind") == MODEL_KIND:
+        return meta
+    return None
+
+
+def _refuse_model(p, flag: str | None) -> None:
+    """A clear error when ``p`` (a demonstration, or ``flag``'s file) is a model."""
+    if _model_meta(p) is None:
+        return
+    head = f"{flag} {p}" if flag else f"{p}"
+    takes = (
+        f"{flag} takes a generated path"
+        if flag
+        else "ndlfd plot draws demonstrations (files or folders, read as 'ndlfd"
+        " fit' reads them) and a generated path (--path FILE.csv)"
+    )
+    raise ValidationError(
+        f"{head}: is an ndlfd model (written by 'ndlfd fit'), which ndlfd plot"
+        f" does not draw; {takes}. Make a path from the model with 'ndlfd"
+        f" generate {p} --duration SECONDS -o path.csv' (or --like"
+        " DEMONSTRATION), then draw it with 'ndlfd plot DEMOS --path path.csv -o"
+        " FIGURE'"
+    )
+
+
+def _read_demo(p, how, *, frames, **mapping) -> list:
+    """One demonstration source as ``ndlfd fit`` reads it; a model refused.
+
+    :func:`~ndlfd.cli._task_frames.read_framed_or_skip` with a model file
+    refused by its content (``--bad-files skip`` skips it, with the reason).
+    """
+
+    def read(q, h, **m):
+        _refuse_model(q, None)
+        return read_framed(q, h, frames=frames, **m) if frames else read_file(q, h, **m)
+
+    return read_or_skip(p, how, read=read, **mapping)
 
 
 def _sample_files(args: argparse.Namespace) -> list[Path]:
@@ -77,7 +180,7 @@ def _read_samples(args, files: list[Path], group: str, k: int) -> list:
     """The sampled paths of ``files``, each with the ``k`` columns of ``group``."""
     out = []
     for p in files:
-        pairs = _read_path(p, args)
+        pairs = _read_path(p, args, "--samples")
         d = pairs[0][0]
         if len(pairs) != 1 or not d.has_group(group) or d.columns_of(group).size != k:
             raise ValidationError(
@@ -177,7 +280,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     sample_files = _sample_files(args)
     frames = parse_frame_columns(args.task_frame)  # read as 'ndlfd fit' reads them
     _path_frames(args)  # its words, before the files are read
-    read = partial(read_framed_or_skip, frames=frames)
+    read = partial(_read_demo, frames=frames)
     demos, maps = read_sources(args, args.demos, flag="demos", read=read)
     fewest, fewest_src, _, _ = _sample_bounds(demos, maps)
     if args.n_points is not None and args.n_points > fewest:
@@ -351,7 +454,7 @@ def _plot_over_time(args, out, demos, keypoints, routes, files, order) -> int:
             )
         if args.std is not None:
             S = _std_of(args, path, path_map)
-    samples = [_read_path(p, args)[0][0] for p in files]
+    samples = [_read_path(p, args, "--samples")[0][0] for p in files]
     fig, _ = plot.plot_channels(demos, columns=columns, keypoints=keypoints,
                                 generated=path, std=S, routes=routes,
                                 samples=samples, title=args.title)  # fmt: skip
