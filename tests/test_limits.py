@@ -183,7 +183,7 @@ def test_orientation_and_a_gripper_are_carried_along():
 @pytest.mark.parametrize(
     "limits, match",
     [
-        ({"position": {"speed": 1.0}}, "unknown limit 'speed'"),
+        ({"position": {"spin": 1.0}}, "unknown limit 'spin'"),
         ({"joints": {"velocity": 1.0}}, "no group or column 'joints'"),
         ({"position": {"velocity": -1.0}}, "finite and > 0"),
         ({"position": {"velocity": [1.0, 2.0, 3.0]}}, "one value or 2"),
@@ -192,6 +192,7 @@ def test_orientation_and_a_gripper_are_carried_along():
         ({"orientation": {"velocity": 1.0}}, "quaternions"),
         ({"qw": {"velocity": 1.0}}, "quaternions"),
         ({"position": 1.0}, "must map velocity, acceleration, jerk"),
+        ({"orientation": {"velocity": 1.0}}, "angular_velocity"),
         ([("velocity", 1.0)], "must be a mapping"),
     ],
 )

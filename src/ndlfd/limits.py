@@ -21,9 +21,14 @@ second squared, cubed):
 "wrist_roll": {"velocity": 60.0}}``.
 Each column is limited on its own, as a robot's joints are; a Cartesian
 ``position`` group is limited axis by axis (its speed can reach ``sqrt(3)``
-times a common limit). Quaternion groups (``orientation``) cannot be limited
-this way and are carried along, as are two-valued grippers (held between
-samples) and a ``velocity`` group derived from ``position`` (derived again).
+times a common limit). Limits on a group's norm (:mod:`ndlfd._norm_limits`)
+bound a position-like group's ``speed`` and the quaternion group
+``orientation``'s ``angular_velocity`` (rad/s) and ``angular_acceleration``
+(rad/s^2): ``{"position": {"speed": 0.05}, "orientation":
+{"angular_velocity": 0.5, "angular_acceleration": 2.0}}``. Quaternions are
+carried along on the same clock (a normalized cubic spline of them), as are
+two-valued grippers (held between samples) and a ``velocity`` group derived
+from ``position`` (derived again).
 
 TOPP-RA bounds velocity and acceleration; a jerk limit is met by slowing the
 TOPP-RA timing down uniformly until the samples' jerk is within it (not
@@ -40,11 +45,20 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ._errors import MissingExtraError, ValidationError
+from ._norm_limits import (
+    ANGULAR_KINDS,
+    NORM_KINDS,
+    QuaternionCurve,
+    angular_rates,
+    norm_constraints,
+)
 from ._validation import check_positive_int
 from .demonstration import Demonstration
 
 __all__ = [
+    "ALL_KINDS",
     "KINDS",
+    "NORM_KINDS",
     "LimitError",
     "check_limits",
     "limited",
@@ -52,8 +66,10 @@ __all__ = [
     "time_scale",
 ]
 
-#: The quantities that can be limited.
+#: The quantities that can be limited column by column.
 KINDS = ("velocity", "acceleration", "jerk")
+#: And every quantity that can be limited (the norms: one value per group).
+ALL_KINDS = KINDS + NORM_KINDS
 
 #: Relative tolerance of the measured peaks against the limits (TOPP-RA
 #: meets its constraints at its grid points; between them, and through the
@@ -78,6 +94,9 @@ GRID_PER_SAMPLE = 3
 MAX_GRIDPOINTS = 20_000
 
 _UNLIMITED = ("orientation",)
+#: Groups that are not positions: no speed of theirs is limited.
+_NOT_POSITIONS = ("orientation", "velocity", "gripper", "joints", "force",
+                  "joint_velocity", "joint_effort")  # fmt: skip
 
 
 class LimitError(ValidationError):
@@ -111,14 +130,18 @@ def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
         ``{group or column: {kind: value}}`` with ``kind`` in :data:`KINDS`:
         for a group, one value for each of its columns or one per column;
         for a column (by its name), one value. A column named twice (by its
-        group and by its name) takes the smaller limit.
+        group and by its name) takes the smaller limit. Or ``kind`` in
+        :data:`NORM_KINDS`, one value for a whole group: ``"speed"`` of a
+        position-like group, ``"angular_velocity"`` and
+        ``"angular_acceleration"`` of the quaternion group ``orientation``.
     demo : Demonstration
         The path the limits are for.
 
     Returns
     -------
     limits : dict of str to ndarray of shape (n_dims,)
-        ``inf`` for columns without a limit.
+        One per kind of :data:`ALL_KINDS`; ``inf`` for columns without a
+        limit (a norm limit stands on every column of its group).
 
     Examples
     --------
@@ -126,29 +149,62 @@ def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
     >>> lim = check_limits({"position": {"velocity": 2.0}, "y": {"velocity": 1.0}}, d)
     >>> lim["velocity"]
     array([2., 1.])
+    >>> check_limits({"position": {"speed": 0.5}}, d)["speed"]
+    array([0.5, 0.5])
     """
     if not isinstance(limits, Mapping):
         raise ValidationError(
             "limits must be a mapping like {'joints': {'velocity': 90.0}}; "
             f"got {type(limits).__name__}"
         )
-    out = {kind: np.full(demo.n_dims, np.inf) for kind in KINDS}
+    out = {kind: np.full(demo.n_dims, np.inf) for kind in ALL_KINDS}
     for key, per_kind in limits.items():
-        cols = _limited_columns(demo, key)
         if not isinstance(per_kind, Mapping):
             raise ValidationError(
                 f"limits[{key!r}] must map {', '.join(KINDS)} to values, e.g."
                 f" {{{key!r}: {{'velocity': 1.0}}}}; got {type(per_kind).__name__}"
             )
         for kind, value in per_kind.items():
-            if kind not in KINDS:
+            if kind not in ALL_KINDS:
                 raise ValidationError(
                     f"unknown limit {kind!r} of {key!r}; expected one of"
-                    f" {', '.join(KINDS)}"
+                    f" {', '.join(ALL_KINDS)}"
                 )
-            v = _limit_values(value, demo, key, kind, cols)
+            if kind in NORM_KINDS:
+                cols = _norm_group(demo, key, kind)
+                v = _limit_values(value, demo, key, kind, cols[:1])
+            else:
+                cols = _limited_columns(demo, key)
+                v = _limit_values(value, demo, key, kind, cols)
             out[kind][cols] = np.minimum(out[kind][cols], v)
     return out
+
+
+def _position_groups(demo: Demonstration) -> list[str]:
+    """The groups whose speed can be limited (vectors of positions)."""
+    return [g for g in demo.group_names if g not in _NOT_POSITIONS]
+
+
+def _quaternion_groups(demo: Demonstration) -> list[str]:
+    return [g for g in _UNLIMITED if demo.has_group(g) and demo.columns_of(g).size == 4]
+
+
+def _norm_group(demo: Demonstration, key, kind) -> np.ndarray:
+    """The columns of the group whose norm ``kind`` limits."""
+    angular = kind in ANGULAR_KINDS
+    valid = _quaternion_groups(demo) if angular else _position_groups(demo)
+    if not (isinstance(key, str) and key in valid):
+        what = "a quaternion group (w, x, y, z)" if angular else "a position group"
+        raise ValidationError(
+            f"a {kind} limit is of {what}; {key!r} is not one: the path has "
+            + (", ".join(map(repr, valid)) if valid else "none")
+            + (
+                ""
+                if angular
+                else " (joints are limited one by one: {'joints': {'velocity': v}})"
+            )
+        )
+    return demo.columns_of(key)
 
 
 def _limited_columns(demo: Demonstration, key) -> np.ndarray:
@@ -166,7 +222,8 @@ def _limited_columns(demo: Demonstration, key) -> np.ndarray:
     if group in _UNLIMITED:
         raise ValidationError(
             f"{key!r} holds quaternions and cannot be limited column by "
-            "column; limit the position or joint groups"
+            "column; limit its rotation: {'orientation': {'angular_velocity': w,"
+            " 'angular_acceleration': a}} (rad/s, rad/s^2)"
         )
     if group == "velocity" and demo.has_group("position"):
         raise ValidationError(
@@ -183,6 +240,11 @@ def _limit_values(value, demo, key, kind, cols) -> np.ndarray:
         raise ValidationError(
             f"the {kind} limit of {key!r} must be numbers; got {value!r}"
         ) from None
+    if kind in NORM_KINDS and v.size != 1:
+        raise ValidationError(
+            f"the {kind} limit of {key!r} must be one value (of the group's"
+            f" norm); got {v.size}"
+        )
     if v.ndim > 1 or (v.ndim == 1 and v.size not in (1, cols.size)):
         raise ValidationError(
             f"the {kind} limit of {key!r} must be one value or {cols.size} "
@@ -202,7 +264,11 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
     Measured as a controller sampling the path sees them: ``numpy.gradient``
     over the path's own stamps (second order at the ends, as
     :func:`~ndlfd.with_velocity`), once for velocity, again for acceleration
-    and again for jerk.
+    and again for jerk. And the norms (:data:`NORM_KINDS`) of the groups they
+    are of, on each of the group's columns (0 on others): the ``speed`` of a
+    position-like group (the norm of its velocity), the ``angular_velocity``
+    and ``angular_acceleration`` of ``orientation`` (quaternions; see
+    :func:`ndlfd._norm_limits.angular_rates`).
 
     Parameters
     ----------
@@ -212,14 +278,16 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
     Returns
     -------
     peaks : dict of str to ndarray of shape (n_dims,)
-        ``"velocity"``, ``"acceleration"`` and ``"jerk"``.
+        One per kind of :data:`ALL_KINDS`.
 
     Examples
     --------
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> d = Demonstration.from_arrays(t, position=np.column_stack([2 * t, t * t]))
-    >>> {k: v.round(6).tolist() for k, v in path_peaks(d).items()}
+    >>> {k: v.round(6).tolist() for k, v in path_peaks(d).items() if k in KINDS}
     {'velocity': [2.0, 2.0], 'acceleration': [0.0, 2.0], 'jerk': [0.0, 0.0]}
+    >>> round(float(path_peaks(d)["speed"][0]), 6)  # at t = 1: |(2, 2)|
+    2.828427
     """
     if path.n_samples < 3:
         raise ValidationError(
@@ -228,15 +296,25 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
     V = np.gradient(path.X, path.t, axis=0, edge_order=2)
     A = np.gradient(V, path.t, axis=0, edge_order=2)
     J = np.gradient(A, path.t, axis=0, edge_order=2)
-    return {
+    out = {
         "velocity": np.abs(V).max(axis=0),
         "acceleration": np.abs(A).max(axis=0),
         "jerk": np.abs(J).max(axis=0),
     }
+    out.update({k: np.zeros(path.n_dims) for k in NORM_KINDS})
+    for g in _position_groups(path):
+        cols = path.columns_of(g)
+        out["speed"][cols] = np.linalg.norm(V[:, cols], axis=1).max()
+    for g in _quaternion_groups(path):
+        cols = path.columns_of(g)
+        w, a = angular_rates(path.X[:, cols], path.t)
+        out["angular_velocity"][cols] = w.max()
+        out["angular_acceleration"][cols] = a.max()
+    return out
 
 
 def _within(peaks, lim, tol: float = TOLERANCE) -> bool:
-    return all(bool(np.all(peaks[k] <= lim[k] * (1.0 + tol))) for k in KINDS)
+    return all(bool(np.all(peaks[k] <= lim[k] * (1.0 + tol))) for k in ALL_KINDS)
 
 
 def _roles(path: Demonstration):
@@ -274,11 +352,28 @@ def _own_acceleration(path, peaks, lim, spline) -> np.ndarray:
     return np.maximum(np.maximum(peaks["acceleration"][spline], ramp), 1e-12)
 
 
-def _clock_at(toppra, path, peaks, spline, lim, n_grid, moving=False):
+def _norm_limits(path, spline, curves, lim) -> dict:
+    """The norm limits for :func:`~ndlfd._norm_limits.norm_constraints`."""
+    norm: dict[str, list] = {k: [] for k in NORM_KINDS}
+    for g in _position_groups(path):
+        cols = path.columns_of(g)
+        if np.isfinite(lim["speed"][cols[0]]):
+            where = [spline.index(c) for c in cols]
+            norm["speed"].append((where, lim["speed"][cols[0]]))
+    for cols, curve in curves.items():
+        for k in ANGULAR_KINDS:
+            if np.isfinite(lim[k][cols[0]]):
+                norm[k].append((curve, lim[k][cols[0]]))
+    return norm
+
+
+def _clock_at(toppra, path, peaks, spline, lim, n_grid, moving=False, curves=None):
     """TOPP-RA's new clock: for each new time, the path's own time.
 
     From rest, or (``moving``) at the path's own pace where the limits allow
-    it (the first sample's velocity by a one-sided difference).
+    it (the first sample's velocity by a one-sided difference). ``curves``:
+    the quaternion groups' :class:`~ndlfd._norm_limits.QuaternionCurve` by
+    their columns.
     """
     t = path.t - path.t[0]
     way = np.column_stack([path.X[:, spline], t])
@@ -296,8 +391,9 @@ def _clock_at(toppra, path, peaks, spline, lim, n_grid, moving=False):
         np.column_stack([-a, a]),
         discretization_scheme=con.DiscretizationType.Interpolation,
     )
+    norm = norm_constraints(toppra, interp, _norm_limits(path, spline, curves, lim))
     grid = np.linspace(0.0, t[-1], n_grid)
-    algo = toppra.algorithm.TOPPRA([cv, ca], interp, gridpoints=grid,
+    algo = toppra.algorithm.TOPPRA([cv, ca, *norm], interp, gridpoints=grid,
                                    parametrizer="ParametrizeConstAccel")  # fmt: skip
     pace = 0.0
     if moving:  # the clock's speed at which the first step meets the limits
@@ -313,17 +409,16 @@ def _clock_at(toppra, path, peaks, spline, lim, n_grid, moving=False):
     return algo.compute_trajectory(pace, 0.0)
 
 
-def _resample(path, clock, new_t, spline, quat, held, derived) -> Demonstration:
+def _resample(path, clock, new_t, spline, curves, held, derived) -> Demonstration:
     t = path.t - path.t[0]
     X = np.empty((new_t.size, path.n_dims))
     if spline:
         X[:, spline] = CubicSpline(t, path.X[:, spline])(clock)
-        X[[0, -1]] = path.X[[0, -1]]  # the ends exactly, not up to the spline
     i = np.clip(np.searchsorted(t, clock, side="right") - 1, 0, t.size - 2)
     s = np.clip((clock - t[i]) / (t[i + 1] - t[i]), 0.0, 1.0)[:, None]
-    for cols in quat:
-        q = path.X[i][:, cols] * (1.0 - s) + path.X[i + 1][:, cols] * s
-        X[:, cols] = q / np.linalg.norm(q, axis=1, keepdims=True)
+    for cols, curve in curves.items():  # on the sign the path has there
+        X[:, list(cols)] = curve(clock) * curve.sign[i][:, None]
+    X[[0, -1]] = path.X[[0, -1]]  # the ends exactly, not up to the splines
     if held:
         j = np.where(s[:, 0] >= 1.0, i + 1, i)
         X[:, held] = path.X[j][:, held]
@@ -417,6 +512,7 @@ def _scaled(path, lim, rate, moving):
         return None
     toppra = _toppra()
     spline, quat, held, derived = _roles(path)
+    curves = {tuple(c): QuaternionCurve(path.t - path.t[0], path.X[:, c]) for c in quat}
     step = float(np.median(np.diff(path.t))) if rate is None else _step(rate)
     n_grid = int(min(MAX_GRIDPOINTS, max(GRID_PER_SAMPLE * path.n_samples, 100)))
     # aimed a margin below the limits: TOPP-RA meets them at its grid points,
@@ -424,7 +520,7 @@ def _scaled(path, lim, rate, moving):
     tight = {k: v * (1.0 - MARGIN) for k, v in lim.items()}
     stretch = 1.0  # a uniform slow-down after TOPP-RA, for jerk
     for _ in range(RETRIES + 1):
-        traj = _clock_at(toppra, path, own, spline, tight, n_grid, moving)
+        traj = _clock_at(toppra, path, own, spline, tight, n_grid, moving, curves)
         if traj is None:
             raise LimitError(
                 "no timing of the path meets the limits (TOPP-RA found none): "
@@ -436,18 +532,18 @@ def _scaled(path, lim, rate, moving):
         clock = traj(new_t * (traj.duration / new_t[-1]))[:, -1]
         clock = np.clip(np.maximum.accumulate(clock), 0.0, path.t[-1] - path.t[0])
         clock[0], clock[-1] = 0.0, path.t[-1] - path.t[0]
-        out = _resample(path, clock, new_t, spline, quat, held, derived)
+        out = _resample(path, clock, new_t, spline, curves, held, derived)
         peaks = path_peaks(out)
         if _within(peaks, lim):
             return out
-        for k in ("velocity", "acceleration"):
+        for k in ("velocity", "acceleration", *NORM_KINDS):
             over = peaks[k] / lim[k]
             tight[k] = tight[k] / (np.maximum(over.max(), 1.0) * (1.0 + MARGIN))
         # jerk falls as the square (an acceleration step sampled) to the cube
         # of a uniform slow-down: the square root is enough either way
         over = float(np.max(peaks["jerk"] / lim["jerk"]))
         stretch *= np.sqrt(max(over, 1.0)) * (1.0 + MARGIN)
-    worst = max(KINDS, key=lambda k: float(np.max(peaks[k] / lim[k])))
+    worst = max(ALL_KINDS, key=lambda k: float(np.max(peaks[k] / lim[k])))
     raise LimitError(
         f"the path's {worst} stays above its limits after {RETRIES + 1} "
         f"attempts: at most {float(np.max(peaks[worst] / lim[worst])):.3g} times "

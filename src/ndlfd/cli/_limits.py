@@ -1,6 +1,9 @@
 """The limit flags of ``generate`` and ``sample``, and the peaks report.
 
-``--max-velocity`` and ``--max-acceleration`` (:mod:`ndlfd.limits`).
+``--max-velocity``, ``--max-acceleration`` and ``--max-jerk`` column by
+column; ``--max-speed`` of a position group's norm, ``--max-angular-velocity``
+and ``--max-angular-acceleration`` of an orientation's rotation, in radians
+(or degrees: ``orientation=30deg``) per second (:mod:`ndlfd.limits`).
 """
 
 from __future__ import annotations
@@ -11,14 +14,34 @@ import numpy as np
 
 from .._errors import ValidationError
 from ..demonstration import Demonstration
-from ..limits import KINDS, path_peaks, time_scale
+from ..limits import KINDS, NORM_KINDS, path_peaks, time_scale
 from ._options import parse_floats, say
 
 __all__ = ["add_limit_options", "apply_limits", "parse_limits", "peaks_line"]
 
 
+#: The norm flags: the kind each sets, its metavar, example and help.
+_NORM_FLAGS = {
+    "speed": ("NAME=V", "position=0.05",
+              "the largest speed of the position group NAME: the norm of its"
+              " velocity, in its units per second (not axis by axis)"),
+    "angular_velocity": ("NAME=W[deg]", "orientation=0.5",
+                         "the largest angular velocity of the orientation NAME"
+                         " (quaternions), in rad/s (or deg/s: orientation=30deg)"),
+    "angular_acceleration": ("NAME=A[deg]", "orientation=2",
+                             "the largest angular acceleration of the"
+                             " orientation NAME, in rad/s^2 (or deg/s^2: a"
+                             " conservative bound, 0.89 to 1 times A)"),
+}  # fmt: skip
+_DEGREES = np.pi / 180.0
+
+
+def _flag(kind: str) -> str:
+    return "--max-" + kind.replace("_", "-")
+
+
 def add_limit_options(p) -> None:
-    """The three limit flags (repeatable, one group or column each)."""
+    """The limit flags (repeatable, one group or column each)."""
     g = p.add_argument_group(
         "a robot's limits",
         "Per second (squared, cubed), in the units of the demonstrations. A path"
@@ -44,6 +67,13 @@ def add_limit_options(p) -> None:
                 else ""
             ),
         )
+    for kind, (metavar, example, text) in _NORM_FLAGS.items():
+        g.add_argument(
+            _flag(kind),
+            action="append",
+            metavar=metavar,
+            help=f"{text}, e.g. {_flag(kind)} {example}; repeatable",
+        )
 
 
 def parse_limits(args: argparse.Namespace) -> dict | None:
@@ -56,10 +86,15 @@ def parse_limits(args: argparse.Namespace) -> dict | None:
     >>> limits = parse_limits(args)
     >>> limits["joints"], limits["wrist.pos"]
     ({'velocity': [90.0, 80.0], 'acceleration': [400.0]}, {'velocity': [30.0]})
+    >>> args = argparse.Namespace(max_speed=["position=0.05"],
+    ...                           max_angular_velocity=["orientation=90deg"])
+    >>> limits = parse_limits(args)
+    >>> limits["position"], limits["orientation"]
+    ({'speed': 0.05}, {'angular_velocity': 1.5707963267948966})
     """
     out: dict[str, dict] = {}
-    for kind in KINDS:
-        flag = f"--max-{kind}"
+    for kind in KINDS + NORM_KINDS:
+        flag = _flag(kind)
         for text in getattr(args, f"max_{kind}", None) or []:
             name, eq, values = text.partition("=")
             name = name.strip()
@@ -70,39 +105,71 @@ def parse_limits(args: argparse.Namespace) -> dict | None:
                 )
             if kind in out.get(name, {}):
                 raise ValidationError(f"{flag} gives {name} twice; give it once")
-            out.setdefault(name, {})[kind] = parse_floats(values, f"{flag} {name}")
+            if kind in NORM_KINDS:
+                value = _norm_value(values, flag, name, kind)
+            else:
+                value = parse_floats(values, f"{flag} {name}")
+            out.setdefault(name, {})[kind] = value
     return out or None
+
+
+def _norm_value(text: str, flag: str, name: str, kind: str) -> float:
+    """One number; an angular one in rad (per second...) or with ``deg``."""
+    text = text.strip()
+    factor = 1.0
+    if kind != "speed" and text.lower().endswith("deg"):
+        text, factor = text[:-3].strip(), _DEGREES
+    values = parse_floats(text, f"{flag} {name}")
+    if len(values) != 1:
+        raise ValidationError(
+            f"{flag} takes one value for the group {name} (of its norm, not per"
+            f" column); got {len(values)}"
+        )
+    return values[0] * factor
 
 
 def peaks_line(path: Demonstration) -> str:
     """The largest velocity and acceleration of each group, and where.
 
-    Not of an orientation (quaternions), a velocity derived from the position,
-    or a gripper on two values (it switches in one sample).
+    A position group's speed too (the norm of its velocity); an orientation
+    (quaternions) by its angular velocity and acceleration. Not a velocity
+    derived from the position, or a gripper on two values (it switches in one
+    sample).
 
     Examples
     --------
     >>> t = np.linspace(0.0, 1.0, 11)
     >>> d = Demonstration.from_arrays(t, position=np.column_stack([2 * t, t * t]))
     >>> peaks_line(d)
-    'peaks: position velocity 2 /s (x), acceleration 2 /s^2 (y)'
+    'peaks: position velocity 2 /s (x), acceleration 2 /s^2 (y), speed 2.83 /s'
     """
     peaks = path_peaks(path)
     parts = []
     for g in path.group_names:
         cols = path.columns_of(g)
+        if g == "orientation" and cols.size == 4:
+            w = peaks["angular_velocity"][cols[0]]
+            a = peaks["angular_acceleration"][cols[0]]
+            parts.append(
+                f"{g} angular velocity {w:.3g} rad/s ({np.degrees(w):.3g} deg/s),"
+                f" angular acceleration {a:.3g} rad/s^2"
+            )
+            continue
         if (
-            g == "orientation"  # a quaternion
+            g == "orientation"
             or (g == "velocity" and path.has_group("position"))  # derived
             or (g == "gripper" and np.unique(path.X[:, cols]).size <= 2)  # switches
         ):
             continue
         v, a = peaks["velocity"][cols], peaks["acceleration"][cols]
         iv, ia = int(np.argmax(v)), int(np.argmax(a))
-        parts.append(
+        part = (
             f"{g} velocity {v[iv]:.3g} /s ({path.columns[cols[iv]]}), "
             f"acceleration {a[ia]:.3g} /s^2 ({path.columns[cols[ia]]})"
         )
+        if peaks["speed"][cols[0]] > 0 and cols.size > 1:
+            part += f", speed {peaks['speed'][cols[0]]:.3g} /s"
+        parts.append(part)
     return "peaks: " + "; ".join(parts)
 
 
@@ -110,13 +177,15 @@ def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=
     """The path time-scaled to the flags' limits (as it is without them).
 
     Says (``report``) the peaks, and the new duration when the path was slowed
-    down.
+    down. After an observed ``prefix`` the peaks are of what follows it (from
+    its last sample, what a JointTrajectory sends): the executed samples are
+    history, their peaks the robot's.
     """
     limits = parse_limits(args)
     if limits is not None and (not dense or std is not None):
         raise ValidationError(
-            "--max-velocity/-acceleration/-jerk time-scale a dense path: pass"
-            " --dense, and no --std"
+            "--max-velocity/-acceleration/-jerk/-speed/-angular-* time-scale a"
+            " dense path: pass --dense, and no --std"
         )
     keep = 0 if prefix is None else prefix.n_samples  # kept, with their stamps
     out = (
@@ -130,6 +199,11 @@ def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=
             f"slowed down to the limits: {path.duration:.4g} s -> "
             f"{out.duration:.4g} s, {out.n_samples} samples",
         )
-    if out.n_samples >= 3:
-        say(args, peaks_line(out))
+    # of what is sent on: after an executed prefix, from its last sample
+    sent = out if keep <= 1 else out.take(np.arange(keep - 1, out.n_samples))
+    if sent.n_samples >= 3:
+        line = peaks_line(sent)
+        if keep > 1:
+            line += f" (from the last of the {keep} observed samples on)"
+        say(args, line)
     return out
