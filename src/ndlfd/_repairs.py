@@ -34,6 +34,7 @@ from ._errors import NdlfdWarning
 __all__ = [
     "REPAIRS",
     "SHOWN_FILES",
+    "Measured",
     "collecting_repairs",
     "repaired",
     "summary_warnings",
@@ -42,8 +43,8 @@ __all__ = [
 #: The kinds of repair and how their summary starts (``{count}``: the total).
 REPAIRS = {
     "quaternions": (
-        "renormalized {count} quaternion(s) whose norm was off by up to 1e-3 (logged"
-        " with few decimals)"
+        "renormalized {count} quaternion(s) whose norm was off by up to {worst}"
+        " (up to 1e-3 is repaired)"
     ),
     "jitter": (
         "time stamps are jittery: velocity is derived by a local straight-line fit"
@@ -55,15 +56,46 @@ REPAIRS = {
     ),
     "rows": "dropped {count} row(s) with NaN or inf (bad_rows='drop')",
     "files": "skipped {count} file(s) that cannot be read (bad_files='skip'),",
+    "left_out": (
+        "left out {count} commanded column(s) (goal_, desired_, cmd_, target_ ...)"
+        " beside the measured ones they command; map them with groups/--group to"
+        " learn them instead,"
+    ),
 }
 
 #: The kinds whose summary names the sources without a count.
-_NAMES_ONLY = ("jitter", "files")
+_NAMES_ONLY = ("jitter", "files", "left_out")
 
 #: How many files a summary names before "and N more".
 SHOWN_FILES = 5
 
 _local = threading.local()
+
+
+class Measured(str):
+    """A kind of repair that carries its largest measure (how far off).
+
+    It is the kind's name as far as any code that groups or sorts the
+    records goes (equal to it, the same hash), and travels with them
+    through threads, processes and Dask workers (it pickles with its
+    measure); :func:`summary_warnings` gives the largest of a kind.
+
+    Examples
+    --------
+    >>> k = Measured("quaternions", 4.8e-06)
+    >>> k == "quaternions", k.worst
+    (True, 4.8e-06)
+    """
+
+    worst: float
+
+    def __new__(cls, kind: str, worst: float):
+        self = super().__new__(cls, kind)
+        self.worst = float(worst)
+        return self
+
+    def __reduce__(self):
+        return (Measured, (str(self), self.worst))
 
 
 @contextmanager
@@ -85,7 +117,13 @@ def collecting_repairs():
 
 
 def repaired(
-    kind: str, count: int, message: str, *, detail=None, stacklevel: int = 2
+    kind: str,
+    count: int,
+    message: str,
+    *,
+    detail=None,
+    worst: float | None = None,
+    stacklevel: int = 2,
 ) -> None:
     """Report a repair: recorded inside :func:`collecting_repairs`, else a warning.
 
@@ -100,6 +138,9 @@ def repaired(
     detail : str, optional
         What the summary says of this source instead of its name and count
         (a skipped file: why).
+    worst : float, optional
+        The largest measure of the repair (how far a quaternion's norm was
+        off): the summary gives the largest over every source.
     stacklevel : int, default=2
         As for :func:`warnings.warn`, from the caller of this function.
     """
@@ -107,7 +148,9 @@ def repaired(
     if log is None:
         warnings.warn(message, NdlfdWarning, stacklevel=stacklevel + 1)
     else:
-        log.append((kind, int(count), detail))
+        log.append(
+            (kind if worst is None else Measured(kind, worst), int(count), detail)
+        )
 
 
 def summary_warnings(records, *, stacklevel: int = 2) -> None:
@@ -122,8 +165,11 @@ def summary_warnings(records, *, stacklevel: int = 2) -> None:
         As for :func:`warnings.warn`.
     """
     kinds: dict[str, list[tuple[str, int]]] = {}
+    worst: dict[str, float] = {}
     for kind, source, count in records:
         kinds.setdefault(kind, []).append((source, count))
+        if isinstance(kind, Measured):
+            worst[kind] = max(worst.get(kind, 0.0), kind.worst)
     for kind in REPAIRS:
         if kind not in kinds:
             continue
@@ -134,7 +180,10 @@ def summary_warnings(records, *, stacklevel: int = 2) -> None:
         named = sep.join(shown[:SHOWN_FILES]) + (
             f" and {more} more" if more > 0 else ""
         )
-        head = REPAIRS[kind].format(count=sum(n for _, n in items))
+        head = REPAIRS[kind].format(
+            count=sum(n for _, n in items),
+            worst=f"{worst[kind]:.2g}" if kind in worst else "1e-3",
+        )
         noun = "file" if len(items) == 1 else "files"
         warnings.warn(
             f"{head} in {len(items)} {noun}: {named}",

@@ -26,13 +26,20 @@ __all__ = [
     "EULER_AXES",
     "QUATERNION_ORDERS",
     "RENORMALIZE_TOL",
+    "REPRESENTATIONS",
     "check_euler",
     "check_quaternions",
+    "check_representation",
     "euler_to_quaternions",
+    "from_quaternions",
     "make_continuous",
     "normalize_quaternions",
     "quaternions_to_euler",
+    "quaternions_to_rotvec",
+    "representation_size",
+    "rotvec_to_quaternions",
     "to_order",
+    "to_quaternions",
 ]
 
 QUATERNION_ORDERS: Registry[tuple[int, ...]] = Registry("quaternion_order")
@@ -140,6 +147,7 @@ def check_quaternions(
             f"{name}: renormalized {int(fix.sum())} of {A.shape[0]} quaternions"
             f" whose norm was off by more than {atol:g} (at most"
             f" {float(dev.max()):.2g}; up to {renormalize_tol:g} is repaired)",
+            worst=float(dev.max()),
         )
     return np.ascontiguousarray(A[:, list(perm)])
 
@@ -402,3 +410,205 @@ def quaternions_to_euler(Q, seq: str = "xyz") -> np.ndarray:
         warnings.filterwarnings("ignore", message=".*[Gg]imbal.*")
         angles = Rotation.from_quat(A[:, [1, 2, 3, 0]]).as_euler(seq)
     return np.unwrap(angles, axis=0)
+
+
+# ------------------------------------------------- rotation vectors, representations
+def rotvec_to_quaternions(rotvec) -> np.ndarray:
+    """Unit quaternions ``(w, x, y, z)`` of rotation vectors (axis times angle).
+
+    A rotation vector is the rotation's axis scaled by its angle in radians
+    (Universal Robots' ``rx, ry, rz``; scipy's ``as_rotvec``). Converted by
+    :meth:`scipy.spatial.transform.Rotation.from_rotvec`.
+
+    Parameters
+    ----------
+    rotvec : array-like of shape (n_samples, 3)
+
+    Returns
+    -------
+    Q : ndarray of shape (n_samples, 4)
+        Scalar-first unit quaternions, sign-aligned from one sample to the
+        next (:func:`make_continuous`): a logged vector that flips to its
+        equivalent at an angle of pi gives no jump.
+
+    Examples
+    --------
+    >>> rotvec_to_quaternions([[0.0, 0.0, np.pi / 2]]).round(4)
+    array([[0.7071, 0.    , 0.    , 0.7071]])
+    """
+    from scipy.spatial.transform import Rotation
+
+    A = check_points(rotvec, "rotation vectors")
+    if A.shape[1] != 3:
+        raise ValidationError(
+            "rotation vectors must have shape (n_samples, 3); got an array of shape"
+            f" {A.shape}"
+        )
+    xyzw = Rotation.from_rotvec(A).as_quat()
+    return make_continuous(np.ascontiguousarray(xyzw[:, [3, 0, 1, 2]]))
+
+
+def quaternions_to_rotvec(Q) -> np.ndarray:
+    """Rotation vectors of unit quaternions ``(w, x, y, z)``, continuous in time.
+
+    The inverse of :func:`rotvec_to_quaternions`:
+    :meth:`scipy.spatial.transform.Rotation.as_rotvec` gives each vector with
+    an angle in ``[0, pi]``; where the stream turns through an angle of pi,
+    the vectors continue past it (angle up to ``2 pi``, the same rotation)
+    instead of flipping to the opposite side. The stream is taken on the side
+    of its first quaternion with ``w >= 0``, so a path that stays within an
+    angle of pi gives exactly scipy's vectors.
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+        Scalar-first unit quaternions.
+
+    Returns
+    -------
+    rotvec : ndarray of shape (n_samples, 3)
+
+    Examples
+    --------
+    >>> quaternions_to_rotvec([[np.sqrt(0.5), 0.0, 0.0, np.sqrt(0.5)]]).round(4)
+    array([[0.    , 0.    , 1.5708]])
+    """
+    from scipy.spatial.transform import Rotation
+
+    A = make_continuous(_as_quaternion_array(Q, "quaternions"))
+    if A[0, 0] < 0:
+        A = -A
+    r = Rotation.from_quat(A[:, [1, 2, 3, 0]]).as_rotvec()
+    # rows past an angle of pi (w < 0 on the continuous stream): the same
+    # rotation as r - 2 pi r / |r|, which continues the stream
+    angle = np.linalg.norm(r, axis=1)
+    past = (A[:, 0] < 0) & (angle > 0)
+    r[past] -= (2.0 * np.pi / angle[past])[:, None] * r[past]
+    return r
+
+
+#: The representations an orientation may be read from and written back to:
+#: ``"quat-wxyz"``, ``"quat-xyzw"`` (four columns), ``"rotvec"`` (three: a
+#: rotation vector) and ``"euler-SEQ"`` for any Euler convention ``SEQ`` that
+#: :func:`check_euler` takes (three angles in radians, e.g. ``"euler-xyz"``,
+#: ``"euler-ZYX"``). Every conversion goes through scipy's
+#: :class:`~scipy.spatial.transform.Rotation`.
+REPRESENTATIONS = ("quat-wxyz", "quat-xyzw", "rotvec", "euler-SEQ")
+
+
+def check_representation(rep) -> str:
+    """``rep`` if it names an orientation representation, else a clear error.
+
+    Parameters
+    ----------
+    rep : str
+        One of :data:`REPRESENTATIONS` (``"euler-SEQ"`` with a convention).
+
+    Returns
+    -------
+    rep : str
+
+    Examples
+    --------
+    >>> check_representation("euler-ZYX")
+    'euler-ZYX'
+    >>> check_representation("axis")
+    Traceback (most recent call last):
+    ...
+    ndlfd._errors.ValidationError: an orientation representation must be ...
+    """
+    ok = isinstance(rep, str) and (
+        rep in ("quat-wxyz", "quat-xyzw", "rotvec")
+        or (rep.startswith("euler-") and _is_euler(rep[len("euler-") :]))
+    )
+    if not ok:
+        raise ValidationError(
+            "an orientation representation must be one of quat-wxyz, quat-xyzw"
+            " (four columns), rotvec (a rotation vector: axis times angle, three"
+            " columns) or euler-SEQ (three Euler angles in radians, SEQ any"
+            f" convention scipy takes, e.g. euler-xyz or euler-ZYX); got {rep!r}"
+        )
+    return rep
+
+
+def _is_euler(seq: str) -> bool:
+    try:
+        check_euler(seq)
+    except ValidationError:
+        return False
+    return True
+
+
+def representation_size(rep: str) -> int:
+    """How many columns a representation takes: 4 for a quaternion, else 3.
+
+    Examples
+    --------
+    >>> representation_size("rotvec"), representation_size("quat-xyzw")
+    (3, 4)
+    """
+    return 4 if check_representation(rep).startswith("quat-") else 3
+
+
+def to_quaternions(values, rep: str) -> np.ndarray:
+    """Scalar-first unit quaternions of orientations given in ``rep``.
+
+    Parameters
+    ----------
+    values : array-like of shape (n_samples, 3) or (n_samples, 4)
+        The orientations, as many columns as :func:`representation_size`.
+    rep : str
+        The representation (:data:`REPRESENTATIONS`).
+
+    Returns
+    -------
+    Q : ndarray of shape (n_samples, 4)
+        Sign-aligned from one sample to the next. Quaternions are only put in
+        scalar-first order (their unit norm is checked where a demonstration
+        is made, :func:`check_quaternions`).
+
+    Examples
+    --------
+    >>> to_quaternions([[0.0, 0.0, np.pi]], "euler-xyz").round(4)
+    array([[0., 0., 0., 1.]])
+    >>> to_quaternions([[0.0, 0.0, 0.0, 1.0]], "quat-xyzw")
+    array([[1., 0., 0., 0.]])
+    """
+    rep = check_representation(rep)
+    if rep == "rotvec":
+        return rotvec_to_quaternions(values)
+    if rep.startswith("euler-"):
+        return euler_to_quaternions(values, rep[len("euler-") :])
+    A = _as_quaternion_array(values, "quaternions")
+    perm = QUATERNION_ORDERS.get(rep[len("quat-") :])
+    return make_continuous(np.ascontiguousarray(A[:, list(perm)]))
+
+
+def from_quaternions(Q, rep: str) -> np.ndarray:
+    """Orientations in ``rep`` of scalar-first unit quaternions.
+
+    The inverse of :func:`to_quaternions`: rotation vectors continue past an
+    angle of pi (:func:`quaternions_to_rotvec`), Euler angles are unwrapped
+    along the samples (:func:`quaternions_to_euler`).
+
+    Parameters
+    ----------
+    Q : array-like of shape (n_samples, 4)
+    rep : str
+        The representation (:data:`REPRESENTATIONS`).
+
+    Returns
+    -------
+    values : ndarray of shape (n_samples, 3) or (n_samples, 4)
+
+    Examples
+    --------
+    >>> from_quaternions([[0.0, 0.0, 0.0, 1.0]], "rotvec").round(4)
+    array([[0.    , 0.    , 3.1416]])
+    """
+    rep = check_representation(rep)
+    if rep == "rotvec":
+        return quaternions_to_rotvec(Q)
+    if rep.startswith("euler-"):
+        return quaternions_to_euler(Q, rep[len("euler-") :])
+    return to_order(Q, rep[len("quat-") :])

@@ -67,7 +67,7 @@ def test_read_demos_errors(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(
         DataFileError,
-        match=r"empty: expected \.csv, \.tsv, \.npz, \.h5, \.hdf5, \.mcap or \.db3"
+        match=r"empty: expected \.csv, \.tsv, \.npz, \.npy, \.h5, \.hdf5, \.mcap or \.db3"
         r" files or ROS 2 bag folders in the folder \(any case\); found none",
     ):
         read_demos(tmp_path / "empty")

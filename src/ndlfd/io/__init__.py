@@ -22,14 +22,23 @@ same way: a time column (``t`` or ``time`` unless named), explicit
 ``groups={"position": ["pos_x", "pos_y"]}`` (a 2-D array maps all its columns),
 and every other column by its name (:func:`group_of_column`; 2-D arrays named
 ``position``/``pos``, ``velocity``/``vel``, ``orientation``/``quat``,
-``force``). Names are matched case-insensitively (an exact match wins). The
-mapping used is returned as a :class:`ColumnMapping` on request.
+``force``), or the names labs export (``current_pos_x``, ``joint_3``,
+``torque_z``: :func:`lab_name`; a commanded set such as ``goal_pos_x`` beside
+a measured one is left out with a warning). Names are matched
+case-insensitively (an exact match wins); ``groups`` and ``drop`` take glob
+patterns. Three orientation columns need their ``representation``
+(``"rotvec"``, ``"euler-SEQ"``) unless named ``roll, pitch, yaw``. ``.npy``
+files hold a bare array: their columns are named by ``columns=`` or a sidecar
+``NAME.columns.txt``. The mapping used is returned as a :class:`ColumnMapping`
+on request.
 
 Every write goes to a temporary file beside the target and is renamed into place,
 so a crash never leaves a partial file behind.
 
 **Where each part lives.** ``_mapping`` (column names to groups,
-:class:`ColumnMapping`, Euler angles), ``_csv`` (delimited text), ``_npz``,
+:class:`ColumnMapping`, Euler angles), ``_names`` (the names labs export, a
+mapping to paste), ``_rotations`` (orientation columns to quaternions),
+``_csv`` (delimited text), ``_npz``, ``_npy``,
 ``_hdf5``, ``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra;
 ``_tf`` their tf trees, ``_bag_frames`` their task frames), ``_frame_poses``
 (a task frame's samples checked still and averaged),
@@ -88,6 +97,8 @@ from ._mapping import (
     euler_columns,
     group_of_column,
 )
+from ._names import COMMANDED, MEASURED, lab_name
+from ._npy import SIDECAR_SUFFIX, read_npy
 from ._npz import read_npz, write_npz
 from ._output import csv_columns, csv_header
 from ._parquet import read_parquet, write_parquet
@@ -98,10 +109,13 @@ __all__ = [
     "BAD_ROWS",
     "BAG_TYPES",
     "CLI_HINTS",
+    "COMMANDED",
     "DEMO_SUFFIXES",
     "EULER_NAMES",
     "MAPPING_DEFAULTS",
+    "MEASURED",
     "NAMING_CONVENTION",
+    "SIDECAR_SUFFIX",
     "TIME_NAMES",
     "ColumnMapping",
     "DemoFile",
@@ -112,6 +126,7 @@ __all__ = [
     "demo_files",
     "euler_columns",
     "group_of_column",
+    "lab_name",
     "parse_table",
     "read_bag",
     "read_csv",
@@ -119,6 +134,7 @@ __all__ = [
     "read_file",
     "read_hdf5",
     "read_lerobot",
+    "read_npy",
     "read_npz",
     "read_or_skip",
     "read_parquet",

@@ -561,7 +561,8 @@ def read_csv(
     groups: Mapping[str, Sequence[str] | str] | None = None,
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
-    euler: str = "xyz",
+    euler: str | None = None,
+    representation: str | None = None,
     bad_rows: str = "error",
 ) -> Demonstration:
     r"""Read one demonstration from a CSV file.
@@ -571,11 +572,26 @@ def read_csv(
     (:func:`group_of_column`): ``x, y, z`` (or ``p0, p1, ...``) position,
     ``vx, vy, vz`` (or ``v0, ...``) velocity, ``qw, qx, qy, qz`` orientation
     (or Euler angles ``roll, pitch, yaw``), ``fx, fy, fz`` (or ``f0, ...``)
-    force, ``gripper``, ``group.column`` a user group; any
-    other name is an error asking for ``groups=``. Names are matched
-    case-insensitively (an exact match wins). The groups of ``groups`` come
+    force, ``gripper``, ``group.column`` a user group; or the names labs
+    export (:mod:`ndlfd.io._names`): ``pos_x``/``<prefix>_pos_x`` position,
+    ``<prefix>_orientation_w..z``/``quat_w..z``/``q_w..z`` orientation,
+    ``force_x`` force, ``torque_x`` torque, ``joint_1``/``joint1``/``q1``
+    joints; where a log holds a measured and a commanded set of one kind
+    (``current_``/``actual_``/``measured_`` beside
+    ``goal_``/``desired_``/``cmd_``/``target_``), the measured one is learned
+    and the commanded one left out with a warning. Any other name is an
+    error giving ``groups=`` and ``drop=`` to paste. Names are matched
+    case-insensitively (an exact match wins); ``groups`` and ``drop`` take
+    glob patterns (``drop=["goal_*"]``). The groups of ``groups`` come
     first, in its order, then the others in the order their first column
     appears in the file.
+
+    Three orientation columns are Euler angles or a rotation vector, never
+    guessed: columns named ``roll, pitch, yaw`` are Euler angles (``euler``,
+    default ``"xyz"``); any other three need ``representation`` (or
+    ``euler``), e.g. Universal Robots' axis-angle ``rx, ry, rz``:
+    ``groups={"orientation": ["rx", "ry", "rz"]}, representation="rotvec"``.
+    All conversions are scipy's :class:`~scipy.spatial.transform.Rotation`.
 
     Parameters
     ----------
@@ -596,11 +612,19 @@ def read_csv(
         names decide and this is not used.
     drop : sequence of str, default=()
         Columns to ignore.
-    euler : str, default="xyz"
+    euler : str, optional
         The convention of Euler angle columns (``roll, pitch, yaw``, or three
         columns of ``groups["orientation"]``, in radians), which become unit
-        quaternions: ``"xyz"`` extrinsic (ROS's roll-pitch-yaw), ``"ZYX"``
-        intrinsic, ... (see :mod:`ndlfd.io._mapping`).
+        quaternions: ``"xyz"`` extrinsic (ROS's roll-pitch-yaw; the default
+        for ``roll, pitch, yaw``), ``"ZYX"`` intrinsic, ... (see
+        :mod:`ndlfd.io._mapping`).
+    representation : str, optional
+        How the orientation columns hold it
+        (:data:`~ndlfd.orientation.REPRESENTATIONS`): ``"rotvec"`` (three
+        columns: axis times angle), ``"euler-SEQ"`` (three Euler angles,
+        ``SEQ`` any scipy convention: ``"euler-xyz"``, ``"euler-ZYX"``),
+        ``"quat-wxyz"`` or ``"quat-xyzw"`` (four). Written paths give it back
+        in the same representation (:func:`write_csv` with the mapping).
     bad_rows : {"error", "drop"}, default="error"
         A row with NaN or inf is an error naming it, or (``"drop"``) dropped
         with one :class:`~ndlfd.NdlfdWarning` (one summary per fit); at least
@@ -627,6 +651,10 @@ def read_csv(
     >>> _ = p.write_text("Time;Pos_X;Pos_Y\n0;0;0\n1;1;0\n")
     >>> read_csv(p, groups={"position": ["pos_x", "pos_y"]})
     Demonstration(n_samples=2, duration=1, position=(Pos_X, Pos_Y))
+    >>> _ = p.write_text("t,x,y,z,rx,ry,rz\n0,0,0,0,0,0,1.5\n1,1,0,0,0,0,1.6\n")
+    >>> read_csv(p, representation="rotvec").get("orientation").round(3)
+    array([[0.732, 0.   , 0.   , 0.682],
+           [0.697, 0.   , 0.   , 0.717]])
     """
     return read_csv_mapped(
         Path(path),
@@ -636,6 +664,7 @@ def read_csv(
         quaternion_order=quaternion_order,
         drop=drop,
         euler=euler,
+        representation=representation,
         bad_rows=bad_rows,
     )[0][0]
 
@@ -669,8 +698,9 @@ def write_csv(
     time_format : str, optional
         %-format of the time stamps.
     mapping : ColumnMapping, optional
-        How the input was read: when it had Euler angles, the orientation is
-        written back as those columns, in that convention (see
+        How the input was read: when it had Euler angles or a rotation
+        vector, the orientation is written back as those columns, in that
+        representation (see
         :func:`~ndlfd.io._mapping.euler_columns`); when it was a CSV file
         or a LeRobot dataset, its time column and the columns of its groups
         keep its names and its order (a group it did not have, such as a

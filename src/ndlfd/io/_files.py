@@ -30,6 +30,7 @@ from ._mapping import (
     ColumnMapping,
     check_bad_rows,
 )
+from ._npy import NPY_OPTIONS, read_npy_mapped
 from ._npz import read_npz_mapped
 from ._parquet import read_parquet_mapped
 
@@ -51,7 +52,7 @@ __all__ = [
 
 #: The file suffixes (any case) that a folder given to :func:`read_demos`
 #: contributes (besides its sub-folders that are ROS 2 bags).
-DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".h5", ".hdf5", *BAG_SUFFIXES)
+DEMO_SUFFIXES = (".csv", ".tsv", ".npz", ".npy", ".h5", ".hdf5", *BAG_SUFFIXES)
 
 
 def demo_files(source, **dataset) -> list[Path | LeRobotEpisode]:
@@ -60,7 +61,7 @@ def demo_files(source, **dataset) -> list[Path | LeRobotEpisode]:
     Parameters
     ----------
     source : str, path-like or list of them
-        A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
+        A folder (its ``.csv``, ``.tsv``, ``.npz``, ``.npy``, ``.h5``, ``.hdf5``,
         ``.mcap`` and ``.db3`` files, in any case, and its sub-folders that are
         ROS 2 bags, sorted), a ROS 2 bag folder (one source), a LeRobot dataset
         folder (one item per episode), a glob pattern (its matches, sorted), a
@@ -105,7 +106,7 @@ def _expand(source, dataset=DATASET_DEFAULTS) -> list:
             )
             if not found:
                 raise DataFileError(
-                    f"{p}: expected .csv, .tsv, .npz, .h5, .hdf5, .mcap or .db3"
+                    f"{p}: expected .csv, .tsv, .npz, .npy, .h5, .hdf5, .mcap or .db3"
                     " files or ROS 2 bag folders in the folder (any case); found"
                     " none"
                 )
@@ -144,6 +145,7 @@ def _expand(source, dataset=DATASET_DEFAULTS) -> list:
 #: ColumnMapping): see :mod:`ndlfd.io`.
 READERS = {
     ".npz": read_npz_mapped,
+    ".npy": read_npy_mapped,
     ".parquet": read_parquet_mapped,
     **dict.fromkeys(HDF5_SUFFIXES, read_hdf5_mapped),
     **dict.fromkeys(BAG_SUFFIXES, read_bag_mapped),
@@ -155,7 +157,15 @@ READERS = {
 #: :class:`DemoFiles` and :func:`read_demos` accept them besides the column
 #: mapping and give each reader those it takes (a CSV file in the same folder
 #: as a bag ignores them).
-READER_OPTIONS = {read_bag_mapped: BAG_OPTIONS, read_episode_mapped: {"frames": None}}
+READER_OPTIONS = {
+    read_bag_mapped: BAG_OPTIONS,
+    read_episode_mapped: {"frames": None},
+    read_npy_mapped: NPY_OPTIONS,
+}
+
+#: Mapping options that readers with a fixed signature (a bag's) do not take:
+#: given to a reader only when set.
+_WHEN_SET = ("representation",)
 
 
 #: What ``bad_files`` may be: ``"error"`` (a file that cannot be read stops
@@ -306,7 +316,16 @@ def read_file(
     else:
         reader = READERS.get(p.suffix.lower(), read_csv_mapped)
     own = READER_OPTIONS.get(reader, {})
-    options = {k: v for k, v in mapping.items() if k in MAPPING_DEFAULTS or k in own}
+    options = {
+        k: v
+        for k, v in mapping.items()
+        if (k in MAPPING_DEFAULTS or k in own) and not (k in _WHEN_SET and v is None)
+    }
+    if reader is read_bag_mapped and options.get("representation") is not None:
+        raise DataFileError(
+            f"{p}: a representation of the orientation is for files of columns;"
+            " a bag gives its orientation as quaternions"
+        )
     if mapping.get("rate") is not None:
         return _at_rate(p, how, reader, options, mapping["rate"])
     return reader(p, how, **options)
@@ -315,14 +334,16 @@ def read_file(
 def read_demos(source, *, return_mappings: bool = False, **kwargs):
     """Read many demonstrations: a folder, a glob pattern, a file or a list.
 
-    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.h5``, ``.hdf5``,
-    ``.mcap`` and ``.db3`` files (any case) and its ROS 2 bag folders in sorted
-    order, a LeRobot dataset folder its episodes (``feature=``, ``episodes=``:
-    see :func:`read_lerobot`); a glob pattern its matches, sorted. ``.npz``
-    files are read with :func:`read_npz`, ``.h5``/``.hdf5`` with
-    :func:`read_hdf5` (one demonstration per episode), bags with
-    :func:`~ndlfd.io.read_bag`, everything else with :func:`read_csv`; each
-    gets the same column mapping (``kwargs``).
+    A folder gives its ``.csv``, ``.tsv``, ``.npz``, ``.npy``, ``.h5``,
+    ``.hdf5``, ``.mcap`` and ``.db3`` files (any case) and its ROS 2 bag
+    folders in sorted order, a LeRobot dataset folder its episodes
+    (``feature=``, ``episodes=``: see :func:`read_lerobot`); a glob pattern
+    its matches, sorted. ``.npz`` files are read with :func:`read_npz`,
+    ``.npy`` with :func:`read_npy` (``columns=``, else each file's sidecar
+    ``NAME.columns.txt``), ``.h5``/``.hdf5`` with :func:`read_hdf5` (one
+    demonstration per episode), bags with :func:`~ndlfd.io.read_bag`,
+    everything else with :func:`read_csv`; each gets the same column mapping
+    (``kwargs``).
 
     Parameters
     ----------
@@ -331,16 +352,17 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     return_mappings : bool, default=False
         Also return the :class:`ColumnMapping` of each demonstration.
     **kwargs
-        ``time_column``, ``groups``, ``quaternion_order``, ``drop``, ``euler``:
-        see :func:`read_csv`; for bags also ``topic``, ``frame``,
-        ``base_frame``, ``split_gap``, ``split_still``, ``frames`` (see
-        :func:`~ndlfd.io.read_bag`); ``feature``, ``episodes``, and ``frames``
-        of a dataset: see :func:`read_lerobot`; ``rate``: the sample rate in Hz
-        of files without time stamps (fixed-rate logs: CSV, ``.npz`` or HDF5
-        without a time column), row ``k`` at ``k / rate`` seconds; an error for
-        a file with a time column or its own stamps (a bag, a LeRobot episode),
-        and with ``bad_rows="drop"`` (a dropped row would shift the later rows'
-        times).
+        ``time_column``, ``groups``, ``quaternion_order``, ``drop``, ``euler``,
+        ``representation``: see :func:`read_csv`; ``columns``: the names of
+        the columns of ``.npy`` files (:func:`read_npy`); for bags also
+        ``topic``, ``frame``, ``base_frame``, ``split_gap``, ``split_still``,
+        ``frames`` (see :func:`~ndlfd.io.read_bag`); ``feature``,
+        ``episodes``, and ``frames`` of a dataset: see :func:`read_lerobot`;
+        ``rate``: the sample rate in Hz of files without time stamps
+        (fixed-rate logs: CSV, ``.npz``, ``.npy`` or HDF5 without a time
+        column), row ``k`` at ``k / rate`` seconds; an error for a file with
+        a time column or its own stamps (a bag, a LeRobot episode), and with
+        ``bad_rows="drop"`` (a dropped row would shift the later rows' times).
 
     Returns
     -------

@@ -5,20 +5,30 @@ file) to a time vector and physical groups with :func:`map_arrays`, and says how
 with a :class:`ColumnMapping`. Error messages name the settings through
 ``hints``: :data:`LIBRARY_HINTS` (parameters) or :data:`CLI_HINTS` (flags).
 
-**Euler angles.** Columns named ``roll``, ``pitch`` and ``yaw`` (any case) are
-the orientation as Euler angles in radians, about the x, y and z axes; so is
-an orientation group of three columns mapped by ``groups`` (its columns listed
-in the order of the convention's axes). They become unit quaternions
-``(w, x, y, z)`` with :func:`~ndlfd.orientation.euler_to_quaternions` in the
-convention ``euler`` (default ``"xyz"``: extrinsic, roll about the fixed x
-axis, then pitch about y, then yaw about z, as ROS's ``rpy``; ``"ZYX"`` is the
-intrinsic z-y'-x'' convention, the same rotation for the same roll, pitch and
-yaw). The :class:`ColumnMapping` records the convention and the names, and
-:func:`euler_columns` turns an orientation group (a generated path's) back
-into those columns. ``rx, ry, rz`` are not taken for Euler angles by their
-names: many robots (Universal Robots' TCP pose) log a rotation vector under
-them; map them with ``groups={"orientation": ["rx", "ry", "rz"]}`` when they
-are Euler angles.
+**Orientation of three columns.** Columns named ``roll``, ``pitch`` and
+``yaw`` (any case) are the orientation as Euler angles in radians, about the
+x, y and z axes, in the convention ``euler`` (default ``"xyz"``: extrinsic,
+roll about the fixed x axis, then pitch about y, then yaw about z, as ROS's
+``rpy``; ``"ZYX"`` is the intrinsic z-y'-x'' convention, the same rotation
+for the same roll, pitch and yaw). Any other three orientation columns (an
+orientation group of three mapped by ``groups``, or names such as
+``rx, ry, rz``) need their representation named, never guessed: ``euler=``,
+or ``representation=`` one of :data:`~ndlfd.orientation.REPRESENTATIONS`
+(``"rotvec"``: a rotation vector, axis times angle, as Universal Robots log
+``rx, ry, rz``; ``"euler-SEQ"``; ``"quat-wxyz"``/``"quat-xyzw"`` for four
+columns); without one they are an error naming the choices (before issue
+37, three mapped columns were read as Euler ``xyz``). On the command line
+the representation follows the group: ``--group orientation=rx,ry,rz:rotvec``.
+Every conversion is scipy's :class:`~scipy.spatial.transform.Rotation`. The
+:class:`ColumnMapping` records the representation (``euler``: the
+convention or ``"rotvec"``) and the names, and :func:`euler_columns` turns
+an orientation group (a generated path's) back into those columns.
+
+**Names labs export** (``current_pos_x``, ``goal_pos_x``, ``force_x``,
+``torque_x``, ``joint_1``, ``q1``): :mod:`ndlfd.io._names`; a commanded set
+beside a measured one is left out (``ColumnMapping.left_out``, a warning);
+names that cannot be told give an error with a mapping to paste. ``groups``
+and ``drop`` take glob patterns (``drop=["goal_*"]``, any case).
 
 **Gripper.** A column named ``gripper`` (any case) is the group ``gripper``;
 map another with ``groups={"gripper": ["NAME"]}``.
@@ -41,6 +51,8 @@ keeping its name.
 
 from __future__ import annotations
 
+import fnmatch
+import glob
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -53,9 +65,12 @@ from ..demonstration import Demonstration, default_columns
 from ..orientation import (
     QUATERNION_ORDERS,
     check_euler,
-    euler_to_quaternions,
-    quaternions_to_euler,
+    check_representation,
+    from_quaternions,
 )
+from ._names import lab_groups, names_error, ready_line
+from ._rotations import EULER_NAMES, orientation_block, orientation_representation
+from ._rows import BAD_ROWS, check_bad_rows, drop_bad_rows
 
 __all__ = [
     "ARRAY_NAMES",
@@ -97,7 +112,8 @@ ARRAY_NAMES: tuple[tuple[str, str], ...] = (
 #: How error messages name the settings: library parameters ...
 LIBRARY_HINTS = {
     "time": "time_column=",
-    "time_hint": "pass time_column='NAME' (or None to use the row number)",
+    "time_hint": "pass time_column='NAME' (or None to use the row number), or"
+    " rate=HZ for a log without time stamps (read_demos, DemoFiles)",
     "groups": "groups",
     "group_hint": "pass groups={'position': [...], ...}",
     "drop": "drop",
@@ -106,7 +122,8 @@ LIBRARY_HINTS = {
 #: ... or the command line's flags (``ndlfd fit``, ``ndlfd plot``, ...).
 CLI_HINTS = {
     "time": "--time-column",
-    "time_hint": "name it with --time-column NAME",
+    "time_hint": "name it with --time-column NAME, or give the sample rate of a"
+    " log without time stamps with --rate HZ",
     "groups": "--group",
     "group_hint": "map them with --group GROUP=NAME[,NAME...]",
     "drop": "--drop",
@@ -171,9 +188,6 @@ def is_so_arm_joint(name: str) -> bool:
 _CONVENTION = tuple(
     (re.compile(rf"^(?:{pat})$", re.IGNORECASE), g) for pat, g in NAMING_CONVENTION
 )
-_QUAT_NAMES = ("qw", "qx", "qy", "qz")
-#: The Euler angle columns known by name, about the x, y and z axes.
-EULER_NAMES = ("roll", "pitch", "yaw")
 
 
 def group_of_column(name: str) -> tuple[str, str] | None:
@@ -272,9 +286,11 @@ class ColumnMapping:
         ``"arrays"`` for plain ``.npz`` / HDF5 arrays, ``"ndlfd"`` for an ndlfd
         demonstration file (self-described, no mapping).
     euler : str or None
-        The Euler convention of the orientation when the file gave it as three
-        Euler angles (the group's names are then those three, in the
-        convention's order), else ``None``.
+        How the file gave the orientation when not as four quaternion
+        columns: its Euler convention (``"xyz"``, ``"ZYX"``: three Euler
+        angles, the group's names those three in the convention's order), or
+        ``"rotvec"`` (three columns of a rotation vector); else ``None``. The
+        orientation is written back so (:func:`euler_columns`).
     order : tuple of str
         The file's names of the mapped columns (or arrays) in the file's
         order, which outputs keep (empty: the order of ``groups``).
@@ -283,6 +299,9 @@ class ColumnMapping:
         ``split_still``): its first and last time stamps in seconds from the
         recording's first (the piece's own time starts at 0); else ``None``.
         Not part of :meth:`__str__` (pieces of one recording read alike).
+    left_out : tuple of str
+        Commanded columns (``goal_pos_x`` ...) left out beside the measured
+        ones of the same kind (:mod:`ndlfd.io._names`).
 
     Examples
     --------
@@ -300,25 +319,41 @@ class ColumnMapping:
     euler: str | None = None
     order: tuple[str, ...] = ()
     span: tuple[float, float] | None = None
+    left_out: tuple[str, ...] = ()
 
     def __str__(self) -> str:
         """The mapping in one line, as the command line reports it."""
         if self.layout == "ndlfd":
             return "ndlfd demonstration file"
         parts = [f"time={self.time if self.time is not None else '(row number)'}"]
+        how = {None: "", "rotvec": " (rotation vector)"}.get(
+            self.euler, f" (Euler {self.euler})"
+        )
         parts += [
-            f"{g}={','.join(cols)}"
-            + (f" (Euler {self.euler})" if g == "orientation" and self.euler else "")
+            f"{g}={','.join(cols)}" + (how if g == "orientation" else "")
             for g, cols in self.groups
         ]
         if self.dropped:
             parts.append("dropped " + ",".join(self.dropped))
+        if self.left_out:
+            parts.append("left out " + ",".join(self.left_out) + " (commanded)")
         if self.ignored:
             parts.append("ignored " + ",".join(self.ignored))
         text = "; ".join(parts)
         if self.layout not in ("comma-separated", "arrays"):
             text += f" ({self.layout})"
         return text
+
+    @property
+    def representation(self) -> str | None:
+        """The orientation's representation when not four quaternion columns.
+
+        ``"rotvec"`` or ``"euler-SEQ"`` (see
+        :data:`~ndlfd.orientation.REPRESENTATIONS`), else ``None``.
+        """
+        if self.euler is None:
+            return None
+        return self.euler if self.euler == "rotvec" else f"euler-{self.euler}"
 
     @property
     def group_names(self) -> tuple[str, ...]:
@@ -379,6 +414,72 @@ def _is_data(a: np.ndarray) -> bool:
     return a.dtype.kind in "biuf" and a.ndim >= 1
 
 
+def _matches(p, name: str, keys: Sequence[str], what: str) -> list[str]:
+    """The keys ``name`` names: a glob pattern's matches (any case), else one."""
+    if not glob.has_magic(name):
+        return [resolve_column(p, name, keys, what)]
+    pat = name.casefold()
+    hits = [k for k in keys if fnmatch.fnmatchcase(k.casefold(), pat)]
+    if not hits:
+        raise DataFileError(
+            f"{p}: {what} the pattern {name!r}, which matches no column; got columns"
+            f" {list(keys)}"
+        )
+    return hits
+
+
+def _dropped(p, drop, keys, how) -> list[str]:
+    drop = [drop] if isinstance(drop, str) else list(drop)
+    dropped: list[str] = []
+    unknown = []
+    for c in drop:
+        try:
+            hits = _matches(p, c, keys, f"{how['drop']} names")
+        except DataFileError:
+            unknown.append(c)
+            continue
+        dropped.extend(k for k in hits if k not in dropped)
+    if unknown:
+        raise DataFileError(
+            f"{p}: {how['drop']} names unknown column(s) {unknown}; the columns are"
+            f" {keys}"
+        )
+    return dropped
+
+
+def _explicit(p, groups, keys, tname, dropped, how, noun):
+    """``groups`` resolved to the file's keys (glob patterns expanded)."""
+    layout_of: dict[str, list[str]] = {}
+    owner: dict[str, str] = {}
+    if groups is None:
+        return layout_of, owner
+    if not isinstance(groups, Mapping):
+        raise ValidationError(
+            f"groups must be a mapping group -> column names; got {groups!r}"
+        )
+    free = [k for k in keys if k != tname and k not in dropped]
+    for g, cols in groups.items():
+        cols = [cols] if isinstance(cols, str) else list(cols)
+        if not cols:
+            raise DataFileError(f"{p}: {how['groups']} {g} names no column")
+        for c in cols:
+            what = f"{how['groups']} {g} names"
+            for k in _matches(p, c, keys if not glob.has_magic(c) else free, what):
+                if k == tname or k in dropped:
+                    raise DataFileError(
+                        f"{p}: {how['groups']} {g} names {noun} {k!r}, which is the"
+                        " time column or dropped"
+                    )
+                if k in owner:
+                    raise DataFileError(
+                        f"{p}: {how['groups']} maps {noun} {k!r} to both"
+                        f" {owner[k]!r} and {g!r}"
+                    )
+                owner[k] = g
+                layout_of.setdefault(g, []).append(k)
+    return layout_of, owner
+
+
 def map_arrays(
     p,
     arrays: Mapping[str, np.ndarray],
@@ -388,7 +489,8 @@ def map_arrays(
     drop,
     quaternion_order: str,
     how: Mapping[str, str],
-    euler: str = "xyz",
+    euler: str | None = None,
+    representation: str | None = None,
     lines: np.ndarray | None = None,
     layout: str = "arrays",
     source: str | None = None,
@@ -396,28 +498,24 @@ def map_arrays(
 ) -> tuple[Demonstration, ColumnMapping]:
     """Map named 1-D and 2-D arrays (CSV columns, npz keys) to a demonstration.
 
+    ``groups`` and ``drop`` take glob patterns (``"goal_*"``, any case);
+    columns no group names go by their names (:func:`group_of_column`, then
+    :func:`~ndlfd.io._names.lab_groups`). ``representation`` is the
+    orientation's (:data:`~ndlfd.orientation.REPRESENTATIONS`); ``euler`` an
+    Euler convention (the same as ``representation="euler-SEQ"``).
     ``bad_rows="drop"`` drops the rows with NaN or inf in the time or a mapped
     column (a repair: see :mod:`ndlfd._repairs`); at least 2 rows must remain.
     """
     check_bad_rows(bad_rows)
     QUATERNION_ORDERS.get(quaternion_order)
-    check_euler(euler)
+    if euler is not None:
+        check_euler(euler)
+    if representation is not None:
+        check_representation(representation)
     keys = list(arrays)
     table = lines is not None
     noun = "column" if table else "array"
-    drop = [drop] if isinstance(drop, str) else list(drop)
-    dropped = []
-    unknown = []
-    for c in drop:
-        try:
-            dropped.append(resolve_column(p, c, keys, f"{how['drop']} names"))
-        except DataFileError:
-            unknown.append(c)
-    if unknown:
-        raise DataFileError(
-            f"{p}: {how['drop']} names unknown column(s) {unknown}; the columns are"
-            f" {keys}"
-        )
+    dropped = _dropped(p, drop, keys, how)
     tname = _find_time(p, [k for k in keys if k not in dropped], time_column, how)
     if tname is None:
         n = None
@@ -431,73 +529,35 @@ def map_arrays(
             )
         t = t.reshape(-1).astype(np.float64)
         n = t.shape[0]
-    # explicit groups
-    layout_of: dict[str, list[str]] = {}
-    owner: dict[str, str] = {}
-    if groups is not None:
-        if not isinstance(groups, Mapping):
-            raise ValidationError(
-                f"groups must be a mapping group -> column names; got {groups!r}"
-            )
-        for g, cols in groups.items():
-            cols = [cols] if isinstance(cols, str) else list(cols)
-            if not cols:
-                raise DataFileError(f"{p}: {how['groups']} {g} names no column")
-            for c in cols:
-                k = resolve_column(p, c, keys, f"{how['groups']} {g} names")
-                if k == tname or k in dropped:
-                    raise DataFileError(
-                        f"{p}: {how['groups']} {g} names {noun} {k!r}, which is the"
-                        " time column or dropped"
-                    )
-                if k in owner:
-                    raise DataFileError(
-                        f"{p}: {how['groups']} maps {noun} {k!r} to both"
-                        f" {owner[k]!r} and {g!r}"
-                    )
-                owner[k] = g
-                layout_of.setdefault(g, []).append(k)
+    layout_of, owner = _explicit(p, groups, keys, tname, dropped, how, noun)
     explicit = set(layout_of)
-    # every other key by its name
-    ignored, unassigned, conflicts = [], [], []
-    by_name: dict[str, str] = {}  # key -> column name, for keys the convention put
-    for k in keys:
-        if k == tname or k in dropped or k in owner:
-            continue
-        a = np.asarray(arrays[k])
-        if not _is_data(a):
-            ignored.append(k)
-            continue
-        g = _group_of_array(k) if a.ndim >= 2 else None
-        if g is None and a.ndim == 1:
-            hit = group_of_column(k)
-            if hit is not None:
-                g, by_name[k] = hit
-        if g is None:
-            unassigned.append(k)
-        elif g in explicit:
-            conflicts.append((k, g))
-        else:
-            owner[k] = g
-            layout_of.setdefault(g, []).append(k)
-    if unassigned:
-        raise DataFileError(
-            f"{p}: cannot tell the group of {noun}(s) {unassigned} from their"
-            " names; name them x, y, z / vx, vy, vz / qw, qx, qy, qz / roll, pitch,"
-            f" yaw / fx, fy, fz / gripper / group.column, or {how['group_hint']},"
-            " or leave them out with"
-            f" {how['drop_hint']}"
-        )
+    found = _by_names(
+        p, arrays, keys, (tname, dropped, representation), owner, layout_of, how, noun
+    )
+    ignored, by_name, lab, conflicts = found
     if conflicts:
         k, g = conflicts[0]
+        same = [c for c, h in conflicts if h == g]
+        line = ready_line(how["groups"].startswith("--"), {}, [*dropped, *same], None)
         raise DataFileError(
             f"{p}: {noun} {k!r} belongs to group {g!r} by its name, but"
             f" {how['groups']} {g} does not list it; add it there or leave it out"
-            f" with {how['drop_hint']}"
+            f" with {how['drop_hint']} (e.g. {line})"
         )
     if not layout_of:
         raise DataFileError(
             f"{p}: expected value columns besides the time column; got none"
+        )
+    if lab.left_out:
+        kept = lab.kept_for[lab.left_out[0]]
+        repaired(
+            "left_out",
+            len(lab.left_out),
+            f"{p}: left out the commanded column(s) {', '.join(lab.left_out)}"
+            f" beside the measured {', '.join(kept)}; map them with"
+            f" {how['groups']} to learn them instead",
+            detail=f"{p} ({','.join(lab.left_out)})",
+            stacklevel=3,
         )
     # shapes
     blocks, names, gnames, mapped = [], [], [], []
@@ -535,33 +595,19 @@ def map_arrays(
             else:
                 cols.append(by_name.get(k, k))
         block = np.hstack(parts)
-        if g == "orientation" and block.shape[1] not in (3, 4):
-            raise DataFileError(
-                f"{p}: the orientation must be four quaternion {noun}s (qw, qx, qy,"
-                " qz) or three Euler angles (roll, pitch, yaw); got"
-                f" {block.shape[1]} columns from {ks}"
+        if g == "orientation":
+            rep = orientation_representation(
+                p, ks, block, representation, euler, lab, g in explicit, how
             )
-        if g == "orientation" and block.shape[1] == 3:
-            ks, block = _euler_block(p, ks, block, euler, how)
-            cols = list(default_columns("orientation", 4))
-            from_euler = euler
-        elif g == "orientation" and block.shape[1] == 4:
-            # four named columns qw, qx, qy, qz say their order; else the option
-            low = [c.casefold() for c in ks]
-            if len(ks) == 4 and sorted(low) == sorted(_QUAT_NAMES):
-                order = [low.index(q) for q in _QUAT_NAMES]
-            else:
-                order = list(QUATERNION_ORDERS.get(quaternion_order))
-            if len(ks) == 4:
-                ks = [ks[i] for i in order]
-                cols = [cols[i] for i in order]
-            block = block[:, order]
+            ks, block, cols, from_euler = orientation_block(
+                p, ks, block, cols, rep, quaternion_order, g in lab.quaternions, how
+            )
         blocks.append(block)
         names.extend(cols)
         gnames.extend([g] * block.shape[1])
         mapped.append((g, tuple(ks)))
     if bad_rows == "drop":
-        t, blocks, lines = _drop_bad_rows(p, t, blocks, lines)
+        t, blocks, lines = drop_bad_rows(p, t, blocks, lines)
         n = blocks[0].shape[0]
     if t is None:
         t = np.arange(n, dtype=np.float64)
@@ -578,6 +624,7 @@ def map_arrays(
         layout,
         from_euler,
         tuple(k for k in keys if k in owner),
+        left_out=tuple(lab.left_out),
     )
     try:
         demo = Demonstration(t, np.hstack(blocks), tuple(names), tuple(gnames))
@@ -586,77 +633,77 @@ def map_arrays(
     return demo, mapping
 
 
-def check_bad_rows(bad_rows) -> str:
-    """``bad_rows`` if it is ``"error"`` or ``"drop"``, else a clear error."""
-    if bad_rows not in BAD_ROWS:
-        raise ValidationError(
-            f"bad_rows must be one of {', '.join(map(repr, BAD_ROWS))}; got"
-            f" {bad_rows!r}"
-        )
-    return bad_rows
+def _by_names(p, arrays, keys, given, owner, layout_of, how, noun):
+    """Every key no group names, placed by its name (``layout_of`` extended).
 
+    ``given`` is the time key, the dropped keys and the representation (three
+    orientation columns whose names do not say theirs need it).
 
-def _drop_bad_rows(p, t, blocks, lines):
-    """Rows with NaN or inf dropped from ``t``, ``blocks`` and ``lines``."""
-    ok = np.all([np.isfinite(b).all(axis=1) for b in blocks], axis=0)
-    if t is not None:
-        ok &= np.isfinite(t)
-    n_bad = int(ok.size - ok.sum())
-    if n_bad == 0:
-        return t, blocks, lines
-    if ok.sum() < 2:
-        raise DataFileError(
-            f"{p}: expected at least 2 rows without NaN or inf; got"
-            f" {int(ok.sum())} after dropping {n_bad} of {ok.size}"
-        )
-    repaired(
-        "rows",
-        n_bad,
-        f"{p}: dropped {n_bad} of {ok.size} row(s) with NaN or inf",
-        stacklevel=3,
-    )
-    t = None if t is None else t[ok]
-    lines = None if lines is None else lines[ok]
-    return t, [b[ok] for b in blocks], lines
-
-
-def _euler_block(p, ks, block, seq, how):
-    """Three Euler angle columns as quaternions, the names in ``seq``'s order.
-
-    Columns named roll, pitch and yaw are the angles about x, y and z and are
-    put in the convention's order; other names are taken as listed.
+    Returns the ignored keys, the column name of each key a name rule
+    placed, what :func:`~ndlfd.io._names.lab_groups` made of the 1-D keys,
+    and the conflicts with the explicit groups (key, group).
     """
-    low = [k.casefold() for k in ks]
-    if sorted(low) == sorted(EULER_NAMES):
-        axes = seq.lower()
-        if len(set(axes)) != 3:
-            raise DataFileError(
-                f"{p}: {ks} are the angles about x, y and z, but the Euler"
-                f" convention {seq!r} turns about {seq[0]} twice; list the angles in"
-                f" its order with {how['groups']} orientation=..."
-            )
-        order = [low.index(EULER_NAMES["xyz".index(a)]) for a in axes]
-        ks = [ks[i] for i in order]
-        block = block[:, order]
-    # rows with NaN or inf stay NaN: the demonstration's check names the row
-    ok = np.isfinite(block).all(axis=1)
-    Q = np.full((block.shape[0], 4), np.nan)
-    if ok.any():
-        Q[ok] = euler_to_quaternions(block[ok], seq)
-    return ks, Q
+    tname, dropped, representation = given
+    explicit = set(layout_of)
+    ignored, single, placed = [], [], {}
+    by_name: dict[str, str] = {}  # key -> column name, for keys a name rule put
+    for k in keys:
+        if k == tname or k in dropped or k in owner:
+            continue
+        a = np.asarray(arrays[k])
+        if not _is_data(a):
+            ignored.append(k)
+        elif a.ndim >= 2:
+            g = _group_of_array(k)
+            if g is None:
+                single.append(k)  # named as nothing: said below
+            else:
+                placed.setdefault(g, []).append(k)
+        else:
+            single.append(k)
+
+    def known(name):
+        if np.asarray(arrays[name]).ndim >= 2:
+            return None
+        hit = group_of_column(name)
+        if hit is not None:
+            by_name[name] = hit[1]
+        return hit
+
+    lab = lab_groups(single, known)
+    for g, cols in lab.groups.items():
+        placed.setdefault(g, []).extend(cols)
+    conflicts = [(k, g) for g, ks in placed.items() if g in explicit for k in ks]
+    unsure = lab.unsure and representation is None and "orientation" not in explicit
+    if lab.unknown or lab.ambiguous or unsure:
+        names_error(p, layout_of, placed, dropped, lab, how, noun)
+    rank = {k: i for i, k in enumerate(keys)}
+    for g in sorted(placed, key=lambda g: min(rank[k] for k in placed[g])):
+        if g not in explicit:
+            layout_of[g] = placed[g]
+            owner.update(dict.fromkeys(placed[g], g))
+    for g, cols in lab.unsure:  # with a representation given (else an error)
+        if g not in explicit:
+            layout_of[g] = cols
+            owner.update(dict.fromkeys(cols, g))
+    return ignored, by_name, lab, conflicts
 
 
 def euler_columns(
     demo: Demonstration, mapping: ColumnMapping
 ) -> tuple[list[str], list[str], np.ndarray]:
-    """A demonstration's columns with its orientation back as recorded Euler angles.
+    """A demonstration's columns with its orientation back as it was recorded.
 
-    The inverse of the Euler mapping of :func:`map_arrays`: the four
-    quaternion columns of ``demo``'s orientation group (a generated path, say)
-    become the three Euler angle columns ``mapping`` recorded, with their
-    names, in the recorded convention (see
-    :func:`~ndlfd.orientation.quaternions_to_euler` for the angles' ranges).
-    A mapping without Euler angles leaves the columns as they are.
+    The inverse of the Euler and rotation-vector mappings of
+    :func:`map_arrays`: the four quaternion columns of ``demo``'s orientation
+    group (a generated path, say) become the three columns ``mapping``
+    recorded, with their names: Euler angles in the recorded convention (see
+    :func:`~ndlfd.orientation.quaternions_to_euler` for the angles' ranges),
+    or a rotation vector (``mapping.euler == "rotvec"``, continuous past an
+    angle of pi: :func:`~ndlfd.orientation.quaternions_to_rotvec`). A
+    mapping of quaternions leaves the columns as they are. Every writer that
+    keeps the input's names (:func:`~ndlfd.io.write_csv`, the Parquet
+    writer) calls it, so a rotation-vector input is written back as one.
 
     Parameters
     ----------
@@ -687,7 +734,7 @@ def euler_columns(
         return columns, groups, demo.X
     names = dict(mapping.groups)["orientation"]
     idx = [j for j, g in enumerate(groups) if g == "orientation"]
-    angles = quaternions_to_euler(demo.X[:, idx], mapping.euler)
+    angles = from_quaternions(demo.X[:, idx], mapping.representation)
     first = idx[0]
     keep = [j for j in range(len(columns)) if j not in idx]
     before = [j for j in keep if j < first]
@@ -708,16 +755,13 @@ def wrap_error(p, exc: ValidationError, lines: np.ndarray | None = None):
     return DataFileError(f"{p}: {msg}")
 
 
-#: What ``bad_rows`` may be: ``"error"`` (a row with NaN or inf is an error
-#: naming it) or ``"drop"`` (such rows are dropped, with a summary warning).
-BAD_ROWS = ("error", "drop")
-
 #: The column mapping options of every reader, with their defaults.
 MAPPING_DEFAULTS = {
     "time_column": TIME_NAMES,
     "groups": None,
     "quaternion_order": "wxyz",
     "drop": (),
-    "euler": "xyz",
+    "euler": None,
+    "representation": None,
     "bad_rows": "error",
 }

@@ -101,7 +101,8 @@ def read_npz(
     groups: Mapping[str, Sequence[str] | str] | None = None,
     quaternion_order: str = "wxyz",
     drop: Sequence[str] = (),
-    euler: str = "xyz",
+    euler: str | None = None,
+    representation: str | None = None,
     bad_rows: str = "error",
 ) -> Demonstration:
     """Read a demonstration from an ``.npz`` file: ndlfd's own or plain arrays.
@@ -119,7 +120,7 @@ def read_npz(
     ----------
     path : str or path-like
         The file.
-    time_column, groups, quaternion_order, drop, euler
+    time_column, groups, quaternion_order, drop, euler, representation
         As in :func:`read_csv`, for a plain file.
     bad_rows : {"error", "drop"}, default="error"
         A row with NaN or inf is an error naming it, or (``"drop"``) dropped
@@ -159,5 +160,6 @@ def read_npz(
         quaternion_order=quaternion_order,
         drop=drop,
         euler=euler,
+        representation=representation,
         bad_rows=bad_rows,
     )[0][0]
