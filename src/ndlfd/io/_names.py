@@ -403,7 +403,9 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
     for g, sets in lab.ambiguous:
         groups.setdefault(g, sets[0])
         for s in sets[1:]:
-            prefix = re.sub(r"[^A-Za-z0-9_]+", "_", _common_prefix(s)).strip("_")
+            part = _parse(s[0])
+            prefix = part.prefix if part is not None else ""
+            prefix = re.sub(r"[^A-Za-z0-9_]+", "_", prefix).strip("_")
             groups.setdefault(f"{prefix or 'other'}_{g}", s)
     rep = None
     for g, cols in lab.unsure:
@@ -413,12 +415,3 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
     also = " (or another representation in place of rotvec)" if rep is not None else ""
     raise DataFileError(f"{head}; e.g., in place of your {how['groups']}/"
                         f"{how['drop']}: {line}{also}")  # fmt: skip
-
-
-def _common_prefix(names) -> str:
-    low = [n.casefold() for n in names]
-    first = low[0]
-    k = 0
-    while k < len(first) and all(len(n) > k and n[k] == first[k] for n in low):
-        k += 1
-    return names[0][:k]
