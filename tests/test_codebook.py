@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from ndlfd._errors import ValidationError
-from ndlfd.codebook import Codebook, TimeBins
+from ndlfd.codebook import Codebook, TimeBins, intern_cells, lowest_unseen_cell
 
 
 def _reference_state(q, levels):
@@ -108,14 +108,88 @@ def test_large_codebooks_use_exact_integers():
     np.testing.assert_array_equal(cb.to_levels(s), q)
 
 
-def test_overflowing_codebook_is_refused_with_the_count():
-    with pytest.raises(
-        ValidationError, match=r"has 10{20} states .* does not fit in int64"
-    ):
-        Codebook([10] * 20)
-    with pytest.raises(ValidationError, match=r"9223372036854775808 states"):
-        Codebook([2] * 63 + [1, 1])  # 2**63: one too many
-    assert Codebook([2] * 62 + [1]).n_states == 2**62
+def test_codebook_past_int64_has_cells_but_no_state_numbers():
+    cb = Codebook([10] * 20)  # 1e20 cells: no int64 state number, still cells
+    assert cb.n_states == 10**20 and not cb.fits_int64
+    U = np.linspace(0, 1, 40).reshape(2, 20)
+    np.testing.assert_array_equal(cb.cells(U), np.minimum(np.floor(U * 10), 9))
+    for call in (cb.encode, cb.decode, cb.to_levels):
+        arg = U if call is cb.encode else [0]
+        with pytest.raises(ValidationError, match=r"1e\+20 cells .* fit in int64"):
+            call(arg)
+    assert not Codebook([2] * 63 + [1, 1]).fits_int64  # 2**63: one too many
+    assert Codebook([2] * 62 + [1]).fits_int64
+
+
+def _lex_reference(rows):
+    """Distinct rows sorted as tuples, each row's index among them (brute force)."""
+    distinct = sorted(set(map(tuple, rows)))
+    where = {r: i for i, r in enumerate(distinct)}
+    return np.array(distinct, dtype=np.int64).reshape(-1, len(rows[0])), np.array(
+        [where[tuple(r)] for r in rows], dtype=np.int64
+    )
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(1, 6).flatmap(
+        lambda d: st.lists(
+            st.lists(st.integers(0, 30), min_size=d, max_size=d),
+            min_size=1,
+            max_size=40,
+        )
+    ),
+    st.booleans(),
+)
+def test_intern_cells_is_the_sorted_distinct_tuples(rows, wide):
+    q = np.array(rows, dtype=np.int64)
+    if wide:  # ranges whose product passes int64: the column-wise sort
+        q = q * (2**40)
+    distinct, ids = intern_cells(q)
+    want_distinct, want_ids = _lex_reference(q.tolist())
+    np.testing.assert_array_equal(distinct, want_distinct)
+    np.testing.assert_array_equal(ids, want_ids)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.lists(st.integers(1, 5), min_size=1, max_size=5))
+def test_interned_ids_rank_the_mixed_radix_numbers(seed, levels):
+    # the paper's state numbers and the interned ids order cells alike
+    cb = Codebook(levels)
+    U = np.random.default_rng(seed).random((30, len(levels)))
+    numbers = cb.encode(U)
+    distinct, ids = intern_cells(cb.cells(U))
+    np.testing.assert_array_equal(np.unique(numbers)[ids], numbers)
+    np.testing.assert_array_equal(cb.from_levels(distinct), np.unique(numbers))
+    np.testing.assert_array_equal(cb.centres(cb.cells(U)), cb.decode(numbers))
+
+
+def test_lowest_unseen_cell_known_answers():
+    assert lowest_unseen_cell(np.array([[0, 0], [0, 1], [1, 1]]), [2, 2]).tolist() == [
+        1,
+        0,
+    ]
+    assert lowest_unseen_cell(np.array([[0, 1]]), [2, 2]).tolist() == [0, 0]
+    full = np.array(list(itertools.product(range(2), range(3))))
+    assert lowest_unseen_cell(full, [2, 3]) is None
+    assert lowest_unseen_cell(full[:4], [2, 3]).tolist() == [1, 1]
+    # past int64: the walk needs no state number
+    big = np.zeros((1, 30), dtype=np.int64)
+    assert lowest_unseen_cell(big, [20] * 30).tolist() == [0] * 29 + [1]
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.lists(st.integers(1, 4), min_size=1, max_size=4))
+def test_lowest_unseen_cell_is_the_lowest_missing_number(seed, levels):
+    cb = Codebook(levels)
+    rng = np.random.default_rng(seed)
+    numbers = np.unique(rng.integers(0, cb.n_states, size=rng.integers(1, 8)))
+    missing = sorted(set(range(cb.n_states)) - set(numbers.tolist()))
+    got = lowest_unseen_cell(cb.to_levels(numbers), levels)
+    if not missing:
+        assert got is None
+    else:
+        assert int(cb.from_levels(got[None])[0]) == missing[0]
 
 
 def test_from_groups():

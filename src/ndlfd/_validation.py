@@ -359,6 +359,7 @@ def check_int_sequence(values, name: str, *, low: int, high: int) -> np.ndarray:
             raise ValidationError(
                 f"{name} must hold whole numbers; got non-integer values"
             )
+    high = min(high, 2**63)  # int64 ids, whatever the bound (n_states of any size)
     if a.size and (a.min() < low or a.max() >= high):  # before a cast that wraps
         i = int(np.flatnonzero((a < low) | (a >= high))[0])
         raise ValidationError(

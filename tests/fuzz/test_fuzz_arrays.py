@@ -150,11 +150,14 @@ def test_fuzz_codebook(levels, U):
         assert back is not None and ((back >= 0) & (back <= 1)).all()
 
 
-def test_fuzz_codebook_overflowing_int64_is_refused():
-    with pytest.raises(ndlfd.ValidationError, match="int64"):
-        Codebook([2**32, 2**32])
-    with pytest.raises(ndlfd.ValidationError, match="int64"):
-        Codebook([100] * 10)
+def test_fuzz_codebook_overflowing_int64_numbers_are_refused_cells_are_not():
+    for levels in ([2**32, 2**32], [100] * 10):
+        cb = Codebook(levels)
+        assert cb.cells([[0.5] * len(levels)]).shape == (1, len(levels))
+        with pytest.raises(ndlfd.ValidationError, match="int64"):
+            cb.encode([[0.5] * len(levels)])
+    with pytest.raises(ndlfd.ValidationError, match="at most"):
+        Codebook([2**63])  # one level index past int64
 
 
 @pytest.mark.parametrize("bad", [*BAD_OBJECTS, 1.5, True, -1, 0], ids=repr)

@@ -99,8 +99,14 @@ def test_points_and_samples_are_bounded():
     assert f"at most {MAX_VALUES:,} values" in msg
 
 
-def test_states_beyond_int64_are_refused():
+def test_state_ids_beyond_int64_are_refused_but_not_n_states():
+    # n_states is the pseudo-count's m, of any size (interned cells of many
+    # columns); the ids themselves are int64
+    model = hmm.estimate([0, 5], [0, 0], 2**70, 1)
+    assert model.n_states == 2**70 and model.states_.tolist() == [0, 5]
+    with pytest.raises(ndlfd.ValidationError, match="states"):
+        hmm.estimate([2**63], [0], 2**70, 1)
     with pytest.raises(ndlfd.ValidationError, match="int64"):
-        hmm.estimate([0], [0], 2**63, 1)
+        ndlfd.Codebook([2**32, 2**32]).encode([[0.5, 0.5]])
     with pytest.raises(ndlfd.ValidationError, match="int64"):
-        ndlfd.Codebook([2**32, 2**32])
+        model.transition_matrix()

@@ -125,7 +125,7 @@ def test_estimate_errors(args, kwargs, match):
         (0, 2, r"n_states must be an integer >= 1; got 0"),
         (2.0, 2, r"n_states must be an integer >= 1; got 2.0"),
         (2, 0, r"n_symbols must be an integer >= 1; got 0"),
-        (2**63, 2, r"n_states must fit in int64"),
+        (2, 2**63, r"n_symbols must fit in int64"),
     ],
 )
 def test_estimate_size_errors(m, nt, match):

@@ -153,11 +153,11 @@ def test_a_tampered_frames_entry_is_a_format_error(rigid_model, tmp_path, bad):
     from ndlfd._fileformat import load_npz, save_npz
 
     rigid_model.save(tmp_path / "m.ndlfd")
-    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=4)
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=5)
     assert meta["frames"] == [["object", 7]]
     meta["frames"] = bad
     extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
-    save_npz(tmp_path / "bad.ndlfd", arrays, kind="KeypointHMM", version=4,
+    save_npz(tmp_path / "bad.ndlfd", arrays, kind="KeypointHMM", version=5,
              metadata=extra)  # fmt: skip
     with pytest.raises(ModelFormatError, match="task frames"):
         KeypointHMM.load(tmp_path / "bad.ndlfd")
@@ -170,13 +170,13 @@ def test_frame_values_that_do_not_match_the_frames_are_a_format_error(
     from ndlfd._fileformat import load_npz, save_npz
 
     rigid_model.save(tmp_path / "m.ndlfd")
-    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=4)
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=5)
     if width:
         arrays["stats_frames"] = arrays["stats_frames"][:, :width]
     else:  # the values dropped, the names kept
         del arrays["stats_frames"]
     extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
-    save_npz(tmp_path / "bad.ndlfd", arrays, kind="KeypointHMM", version=4,
+    save_npz(tmp_path / "bad.ndlfd", arrays, kind="KeypointHMM", version=5,
              metadata=extra)  # fmt: skip
     with pytest.raises(ModelFormatError, match="task-frame values"):
         KeypointHMM.load(tmp_path / "bad.ndlfd")

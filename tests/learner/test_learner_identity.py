@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ndlfd import NdlfdWarning
+from ndlfd import Codebook, NdlfdWarning
 from ndlfd._fileformat import load_npz
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM
@@ -121,6 +121,24 @@ CASES = {
 }
 
 
+def _as_version_4(arrays: dict, meta: dict) -> tuple[dict, dict]:
+    """A version-5 file's arrays as version 4 wrote them (issue 37).
+
+    Version 5 interns the states: each visited cell once
+    (``stats_centroid_cells``) and the key points' ids among them, where
+    version 4 wrote each state's mixed-radix number. The ids are those
+    numbers' ranks, so numbering the cells in mixed radix gives version 4's
+    arrays back, and every digest below still checks the whole model.
+    """
+    arrays = dict(arrays)
+    cells = arrays.pop("stats_centroid_cells")
+    numbers = Codebook([int(v) for v in arrays["levels"]]).from_levels(cells)
+    assert np.all(np.diff(numbers) > 0)  # the ids' order is the numbers' order
+    arrays["stats_centroid_states"] = numbers
+    arrays["stats_key_states"] = numbers[arrays["stats_key_states"]]
+    return arrays, {**meta, "version": 4}
+
+
 def fit_digests(name: str, tmp_path) -> tuple[dict[str, str], np.ndarray, tuple]:
     """Digests of the saved model's arrays and metadata and of the path's times.
 
@@ -136,7 +154,8 @@ def fit_digests(name: str, tmp_path) -> tuple[dict[str, str], np.ndarray, tuple]
         model = KeypointHMM(**params).fit(demos)
     path = tmp_path / f"{name}.npz"
     model.save(path)
-    arrays, meta = load_npz(path, kind="KeypointHMM", version=4)
+    arrays, meta = load_npz(path, kind="KeypointHMM", version=5)
+    arrays, meta = _as_version_4(arrays, meta)
     out = {k: _digest(v) for k, v in sorted(arrays.items()) if k != "__metadata__"}
     for later in LATER_PARAMS:  # parameters added since, at their defaults
         assert meta["params"].pop(later) is None

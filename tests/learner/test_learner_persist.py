@@ -21,6 +21,7 @@ from ndlfd import (
     ValidationError,
     synth,
 )
+from ndlfd._fileformat import load_npz, save_npz
 from ndlfd.demonstration import Demonstration
 from ndlfd.io import ColumnMapping
 from ndlfd.learner._persist import FORMAT_VERSION, input_from_json, input_to_json
@@ -182,6 +183,53 @@ def test_committed_v2_model_file_still_loads_and_generates_the_same():
     assert model.fit_stats_ == mk.build().fit_stats_
 
 
+def test_committed_v4_model_file_loads_into_interned_states(tmp_path):
+    # format 4 numbered states in mixed radix; today's code interns the cells
+    from ndlfd.io import read_csv
+
+    mk = fixture_module("make_keypointhmm_v4")
+    model = KeypointHMM.load(mk.FIXTURE)
+    with np.load(mk.FIXTURE, allow_pickle=False) as z:
+        numbers = z["stats_centroid_states"]
+    # the same states in the same order: each id's cell is its old number's
+    np.testing.assert_array_equal(
+        model.codebook_.from_levels(model.centroid_cells_), numbers
+    )
+    fresh = mk.build()
+    assert model.fit_stats_ == fresh.fit_stats_
+    for expected, kw in ((mk.EXPECTED, {}), (mk.EXPECTED_START, {"start": mk.START})):
+        want = read_csv(expected)
+        for m in (model, fresh):
+            got = m.generate(mk.GRID, dense=True, **kw)
+            np.testing.assert_array_equal(got.t, want.t)
+            np.testing.assert_allclose(got.X, want.X, rtol=0, atol=1e-12)
+    # saved again, it is a version-5 file of the same model
+    model.save(tmp_path / "again.ndlfd")
+    load_npz(tmp_path / "again.ndlfd", kind="KeypointHMM", version=5)
+    assert KeypointHMM.load(tmp_path / "again.ndlfd").fit_stats_ == model.fit_stats_
+
+
+def test_a_tampered_cell_table_is_a_format_error(tmp_path):
+    mk = fixture_module("make_keypointhmm_v4")
+    model = KeypointHMM.load(mk.FIXTURE)
+    model.save(tmp_path / "m.ndlfd")
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=5)
+    extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
+    cells = arrays["stats_centroid_cells"]
+    for name, bad in (
+        ("repeated", np.r_[cells[:1], cells[:-1]]),
+        ("out of order", cells[::-1]),
+        ("past the levels", cells + 100),
+        ("negative", cells - 100),
+    ):
+        tampered = {**arrays, "stats_centroid_cells": bad}
+        save_npz(tmp_path / "bad.ndlfd", tampered, kind="KeypointHMM", version=5,
+                 metadata=extra)  # fmt: skip
+        with pytest.raises(ModelFormatError, match="tampered"):
+            KeypointHMM.load(tmp_path / "bad.ndlfd")
+        assert name  # each case a format error, never a wrong model
+
+
 def test_match_window_is_checked_saved_and_zero_for_older_files(tmp_path):
     from ndlfd._fileformat import load_npz, save_npz
 
@@ -196,7 +244,7 @@ def test_match_window_is_checked_saved_and_zero_for_older_files(tmp_path):
     t = np.linspace(0.0, 2.0, 60)
     assert_same_model(model, again, t)
     # the same file as format 3 wrote it (no match_window): raw matching
-    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=4)
+    arrays, meta = load_npz(tmp_path / "m.ndlfd", kind="KeypointHMM", version=5)
     del meta["params"]["match_window"]
     extra = {k: v for k, v in meta.items() if k not in ("format", "kind", "version")}
     save_npz(tmp_path / "v3.ndlfd", arrays, kind="KeypointHMM", version=3,

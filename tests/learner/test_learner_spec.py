@@ -113,7 +113,9 @@ def test_one_reduction_serves_fit_and_timing():
     np.testing.assert_array_equal(r.key_bins, m.time_bins_.transform(d.t)[r.keypoints])
     assert r.tau.tobytes() == m.time_bins_.normalize(d.t).tobytes()
     e = spec.encode(d)
-    np.testing.assert_array_equal(e.key_states, m.fit_stats_.keypoint_lists()[1][2])
+    ids = m.fit_stats_.keypoint_lists()[1][2]  # interned: their cells are the keys'
+    np.testing.assert_array_equal(e.key_cells, m.centroid_cells_[ids])
+    np.testing.assert_array_equal(e.key_cells, m.codebook_.cells(r.values[r.keypoints]))
     np.testing.assert_array_equal(e.key_bins, r.key_bins)
     # and the paper's timing of a demonstration is the same reduction
     key_t, symbols, _ = m.timing(test)

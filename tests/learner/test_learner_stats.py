@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ndlfd import ModelFormatError, ValidationError, hmm
+from ndlfd import Codebook, ModelFormatError, ValidationError, hmm
 from ndlfd.learner import FitStats, RangeStats
 from ndlfd.learner._exact import from_limbs, scale_exponents, to_limbs
 from ndlfd.learner._templates import template_keys, template_mask
@@ -59,6 +59,11 @@ def test_limbs_hand_worked():
 # -- FitStats ----------------------------------------------------------------------
 
 
+def _cells(states, d):
+    """State numbers 0..5 as cells of ``d`` columns (mixed radix, so ordered alike)."""
+    return Codebook((1,) * (d - 2) + (2, 3)).to_levels(states)
+
+
 def _demo_stats(j, rng, d=2, n_states=6, template=True):
     """Statistics of one random demonstration (and its raw pieces)."""
     n = int(rng.integers(2, 12))
@@ -69,7 +74,7 @@ def _demo_stats(j, rng, d=2, n_states=6, template=True):
     states = rng.integers(0, n_states, idx.size)
     bins = np.sort(rng.integers(0, 5, idx.size))
     E = scale_exponents(np.full(d, 1.1))
-    s = FitStats.of_demo(j, U, tau, idx, states, bins, exponents=E,
+    s = FitStats.of_demo(j, U, tau, idx, _cells(states, d), bins, exponents=E,
                          n_clipped=int(j % 3), template=template)  # fmt: skip
     return s, (U, tau, idx, states, bins)
 
@@ -106,9 +111,13 @@ def test_merged_statistics_against_plain_references(per_demo):
     m = stats[4].merge(*stats[:4], *stats[5:])  # not in index order
     np.testing.assert_array_equal(m.demo_index, np.arange(9))
     kp, ks, kb = m.keypoint_lists()
+    seen = np.unique(np.concatenate([r[3] for r in raw]))
+    np.testing.assert_array_equal(m.centroid_cells, _cells(seen, 2))
     for j, (U, _tau, idx, states, bins) in enumerate(raw):
         np.testing.assert_array_equal(kp[j], idx)
-        np.testing.assert_array_equal(ks[j], states)
+        # interned: each state's rank among the seen ones, its cell kept
+        np.testing.assert_array_equal(ks[j], np.searchsorted(seen, states))
+        np.testing.assert_array_equal(m.centroid_cells[ks[j]], _cells(states, 2))
         np.testing.assert_array_equal(kb[j], bins)
         np.testing.assert_array_equal(m.first[j], U[0])
         np.testing.assert_array_equal(m.last[j], U[-1])
@@ -132,9 +141,9 @@ def test_merged_statistics_against_plain_references(per_demo):
         for row, s in zip(U[idx], states, strict=True):
             groups.setdefault(int(s), []).append(row)
     ids, C = m.centroids()
-    assert ids.tolist() == sorted(groups)
+    assert ids.tolist() == list(range(len(groups)))
     assert m.centroid_counts.tolist() == [len(groups[s]) for s in sorted(groups)]
-    for s, c in zip(ids, C, strict=True):
+    for s, c in zip(sorted(groups), C, strict=True):
         exact = [sum(Fraction(float(r[k])) for r in groups[s]) for k in range(2)]
         ref = [float(x / len(groups[s])) for x in exact]
         np.testing.assert_allclose(c, ref, rtol=4e-16, atol=1e-300)
@@ -142,7 +151,14 @@ def test_merged_statistics_against_plain_references(per_demo):
     # the HMM of the merged sequences is hmm.merge of the parts' HMMs
     a = stats[0].merge(*stats[1:5])
     b = stats[5].merge(*stats[6:])
-    est = [hmm.estimate(list(x.keypoint_lists()[1]), list(x.keypoint_lists()[2]), 6, 5)
+    # (each part numbers its own cells: its ids are put in the merged numbering)
+    where = {tuple(c): i for i, c in enumerate(m.centroid_cells.tolist())}
+
+    def merged_ids(x):
+        ids = np.array([where[tuple(c)] for c in x.centroid_cells.tolist()])
+        return [ids[k] for k in x.keypoint_lists()[1]]
+
+    est = [hmm.estimate(merged_ids(x), list(x.keypoint_lists()[2]), 6, 5)
            for x in (a, b, m)]  # fmt: skip
     merged = hmm.merge(est[:2])
     for k, v in est[2].to_arrays().items():
@@ -304,8 +320,7 @@ def test_counter_reference_of_key_states(per_demo):
     # centroid counts are plain counts of the key states
     m = per_demo[0][0].merge(*[s for s, _ in per_demo[1:]])
     c = Counter(int(s) for _, r in per_demo for s in r[3])
-    assert dict(zip(m.centroid_states.tolist(), m.centroid_counts.tolist(),
-                    strict=True)) == c  # fmt: skip
+    assert dict(zip(sorted(c), m.centroid_counts.tolist(), strict=True)) == c
 
 
 @settings(max_examples=25, deadline=None)
@@ -325,7 +340,9 @@ def test_of_demos_is_the_merge_of_of_demo(seed, n_demos):
         bins = rng.integers(0, 5, keys.size)
         clipped, template = int(rng.integers(0, 3)), bool(rng.random() < 0.5)
         parts.append(
-            DemoStats(3 * j + 1, U, tau, keys, states, bins, clipped, template)
+            DemoStats(
+                3 * j + 1, U, tau, keys, _cells(states, 3), bins, clipped, template
+            )
         )
     E = scale_exponents(np.full(3, 1.1))
     one_by_one = [

@@ -110,6 +110,11 @@ def _check_bounds(args, ranges, paths, default_bins: int) -> tuple[int, str]:
     return time_bins, note
 
 
+def _possible(n: int) -> str:
+    """A count of possible cells: exact below a trillion, else about 1.02e+23."""
+    return f"{n:,}" if n < 10**12 else f"about {float(n):.3g}"
+
+
 def _cmd_fit(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     groups = split_names(args.groups, "--groups")
@@ -229,7 +234,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         f"fitted {n_demos} demonstration(s) in {elapsed:.2f} s on {learned}:"
         f" key points {k.min()}-{k.max()} (median {int(np.median(k))}),"
         f" {model.n_states_used_} codebook cells visited (of"
-        f" {model.codebook_.n_states:,} possible),"
+        f" {_possible(model.codebook_.n_states)} possible),"
         f" {time_bins} time bins{note} -> {out}",
     )
     say(args, describe_routes(model))

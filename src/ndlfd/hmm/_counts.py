@@ -361,9 +361,7 @@ def check_params(
         A value out of its range, or a pseudo-count so large that a
         denominator ``width * pseudo`` overflows.
     """
-    m = check_positive_int(n_states, "n_states")
-    if m > np.iinfo(np.int64).max:
-        raise ValidationError(f"n_states must fit in int64; got {m}")
+    m = check_positive_int(n_states, "n_states")  # any size: ids are int64
     nt = check_positive_int(n_symbols, "n_symbols")
     if nt > np.iinfo(np.int64).max:
         raise ValidationError(f"n_symbols must fit in int64; got {nt}")

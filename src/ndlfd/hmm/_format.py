@@ -71,14 +71,40 @@ def counts_to_arrays(
         :data:`ARRAY_KEYS`, ``sizes`` of shape (3,) and ``pseudo`` of shape (2,).
     """
     out = {prefix + k: getattr(counts, k).copy() for k in ARRAY_KEYS}
+    m = counts.n_states
+    big = m > np.iinfo(np.int64).max
     out[prefix + "sizes"] = np.array(
-        [counts.n_states, counts.n_symbols, counts.n_sequences], dtype=np.int64
+        [-1 if big else m, counts.n_symbols, counts.n_sequences], dtype=np.int64
     )
+    if big:  # an n_states past int64 (interned states of many columns)
+        out[prefix + "n_states_limbs"] = _to_limbs(m)
     p_param = np.nan if default_pseudo_transition else counts.pseudo_transition
     out[prefix + "pseudo"] = np.array(
         [p_param, counts.pseudo_emission], dtype=np.float64
     )
     return out
+
+
+#: Bits per limb of an ``n_states`` written as limbs (``n_states_limbs``).
+_LIMB_BITS = 31
+
+
+def _to_limbs(m: int) -> np.ndarray:
+    """A positive int as little-endian base ``2**31`` limbs (int64)."""
+    limbs = []
+    while m:
+        limbs.append(m & ((1 << _LIMB_BITS) - 1))
+        m >>= _LIMB_BITS
+    return np.array(limbs, dtype=np.int64)
+
+
+def _from_limbs(limbs: np.ndarray) -> int:
+    """:func:`_to_limbs` undone; -1 for limbs out of range (refused after)."""
+    if limbs.size == 0 or limbs.size > 64 or limbs.min() < 0:
+        return -1
+    if limbs.max() >= 1 << _LIMB_BITS:
+        return -1
+    return sum(int(v) << (_LIMB_BITS * k) for k, v in enumerate(limbs.tolist()))
 
 
 def counts_from_arrays(arrays, prefix: str = "") -> tuple[Counts, float | None]:
@@ -166,6 +192,10 @@ def counts_from_arrays_v1(arrays, prefix: str) -> tuple[Counts, float | None]:
             f" {sizes.shape} and {pseudo.shape}"
         )
     m, nt, n_seq = (int(v) for v in sizes)
+    if m == -1 and prefix + "n_states_limbs" in arrays:
+        m = _from_limbs(get("n_states_limbs", "i"))
+        if m <= np.iinfo(np.int64).max:
+            raise bad("'n_states_limbs' must hold an n_states past int64")
     if m < 1 or nt < 1 or n_seq < 1:
         raise bad(f"sizes (n_states, n_symbols, n_sequences) must be >= 1; got {sizes}")
     p_param, r = float(pseudo[0]), float(pseudo[1])

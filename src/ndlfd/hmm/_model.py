@@ -58,6 +58,13 @@ def _table_matrix(counts: Counts, table: Table, columns, dense: bool, name: str)
     ids for transitions, symbols for emissions).
     """
     m, seen = counts.n_states, counts.states
+    if m > np.iinfo(np.int64).max:
+        raise ValidationError(
+            f"the {name} matrix over all {m:.3g} states cannot be indexed (scipy and"
+            f" numpy index with int64); the model's counts are over its"
+            f" {seen.shape[0]} seen states (states_), which is what the decoders"
+            " use"
+        )
     shape = (m, table.width)
     src = table.rows()
     rows = seen[src]

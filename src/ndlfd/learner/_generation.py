@@ -53,6 +53,7 @@ from ._prefix_route import allowed_routes, prefix_stride
 from ._routes import choose_route, route_probabilities
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
+from ._states import centroid_rows, state_centres
 from ._via import (
     PREFIX_RIDGE,
     apply_via,
@@ -406,7 +407,7 @@ def plan_from_states(
     skel = states[change]
     if skel.size == 1:
         skel = np.repeat(skel, 2)  # a start and an end in one state
-    C = est.centroids_[np.searchsorted(est.centroid_states_, skel)]
+    C = est.centroids_[centroid_rows(est, skel)]
     values = [est.train_values_[j] for j in templates]
     taus = [est.train_tau_[j] for j in templates]
     if cache is None:
@@ -777,7 +778,7 @@ def generate_paper(
     groups = est.column_groups_
     start, goal = orient_conditions(est, start, goal)
     key_t, states, _, all_t = decode_paper(est, times_or_demo)
-    X = est.scaler_.inverse_transform(est.codebook_.decode(states))
+    X = est.scaler_.inverse_transform(state_centres(est, states))
     X = _renormalize(X, groups)
     if dense:
         X = np.column_stack(

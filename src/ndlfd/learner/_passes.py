@@ -322,7 +322,7 @@ def _stats_of_one(spec: _PassSpec, demo: Demonstration, j: int, d=None) -> DemoS
         r.values,
         r.tau if template else None,  # read for a template only
         r.keypoints,
-        r.key_states,
+        r.key_cells,
         r.key_bins,
         r.n_clipped,
         template,

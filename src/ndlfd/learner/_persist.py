@@ -14,6 +14,11 @@ version   what it holds
           of the key points, HMM and values
 4         version 3 plus the parameter ``match_window`` (older files load
           with 0: raw matching)
+5         version 4 with states interned: the statistics hold each
+          visited cell (``stats_centroid_cells``, its level index per
+          column) and the key points' ids among them, no mixed-radix
+          state numbers, so any number of columns fits (versions 3 and 4
+          load into the same cells, ids in the same order)
 ========  ===========================================================
 
 Version 4 files also carry the scaler's data extremes per group and its
@@ -60,7 +65,7 @@ __all__ = [
 
 FORMAT_KIND = "KeypointHMM"
 #: The version :func:`save_model` writes.
-FORMAT_VERSION = 4
+FORMAT_VERSION = 5
 
 
 @dataclass
@@ -214,11 +219,11 @@ def _read_v2(arrays, meta, path, make) -> Loaded:
     exponents = scale_exponents(np.abs(np.concatenate(values)).max(axis=0))
     parts = []
     for j, (u, tq, idx) in enumerate(zip(values, tau, v1["keypoints_"], strict=True)):
-        states, clipped = out.codebook.encode(u[idx], return_n_clipped=True)
+        cells, clipped = out.codebook.cells(u[idx], return_n_clipped=True)
         bins = out.time_bins.transform(tq)[idx]  # tau is already normalized
         parts.append(
             FitStats.of_demo(
-                j, u, tq, idx, states, bins,
+                j, u, tq, idx, cells, bins,
                 exponents=exponents, n_clipped=clipped, template=True,
             )
         )  # fmt: skip
@@ -233,11 +238,15 @@ def _read_v3(arrays, meta, path, make) -> Loaded:
 
 
 def _read_v4(arrays, meta, path, make) -> Loaded:
-    """Version 4: version 3 plus ``match_window`` and the scaler's data extremes."""
+    """Version 4: version 3 plus ``match_window`` and the scaler's data extremes.
+
+    Version 5 (interned states) reads alike: :meth:`FitStats.from_arrays`
+    reads either form of the states.
+    """
     return _with_stats(_common(arrays, meta, path, make), arrays, path)
 
 
-_READERS = {1: _read_v1, 2: _read_v2, 3: _read_v3, 4: _read_v4}
+_READERS = {1: _read_v1, 2: _read_v2, 3: _read_v3, 4: _read_v4, 5: _read_v4}
 
 
 def _common(arrays, meta, path, make, **older) -> Loaded:
@@ -388,7 +397,7 @@ def input_from_json(obj, path) -> ColumnMapping | None:
 
 
 def _with_stats(out: Loaded, arrays, path) -> Loaded:
-    stats = FitStats.from_arrays(arrays, prefix="stats_")
+    stats = FitStats.from_arrays(arrays, prefix="stats_", levels=out.codebook.levels)
     if stats.n_dims != len(out.columns):
         raise ModelFormatError(
             f"{path}: the fit statistics have {stats.n_dims} columns,"

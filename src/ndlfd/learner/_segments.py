@@ -129,7 +129,9 @@ def learned_from_stats(
     ----------
     stats : FitStats
     n_states, n_bins : int
-        Codebook states and time bins.
+        The codebook's possible cells (``prod(levels)``, of any size: the
+        pseudo-count's ``m``) and time bins. The HMM's states are the
+        statistics' interned cells, ids ``0..n_seen-1``.
     pseudo_transition, pseudo_emission : float or None
         As in :func:`ndlfd.hmm.estimate`.
 
@@ -162,6 +164,7 @@ def learned_from_stats(
         "train_values_": train_values,
         "train_tau_": train_tau,
         "centroid_states_": centroid_states,
+        "centroid_cells_": stats.centroid_cells,
         "centroids_": centroids,
         "segment_model_": segment_model(
             stats, np.arange(stats.n_demos), n_states, n_bins, **hmm_kw

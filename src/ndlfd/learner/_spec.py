@@ -12,7 +12,7 @@ Fit and generation see a demonstration the same way:
 5. **reduce** (:meth:`DemoSpec.reduce`): normalize → :func:`ndlfd.simplify`
    (the key points) → time bins, for one demonstration; the paper's generation
    decodes the key points' time bins. **encode** (:meth:`DemoSpec.encode`)
-   adds the key points' codebook states, for the fit's second pass.
+   adds the key points' codebook cells, for the fit's second pass.
 """
 
 from __future__ import annotations
@@ -62,6 +62,7 @@ DEFAULT_LEVELS = {
     "velocity": 10,
     "orientation": 10,
     "force": 10,
+    "torque": 10,
     "gripper": 2,  # open or closed (a gripper of two recorded values stays so)
     "joints": 20,
     "joint_velocity": 10,
@@ -263,8 +264,9 @@ class Reduced:
         Key-point indices.
     key_bins : ndarray of shape (n_keys,), dtype int64
         Time bin of each key point.
-    key_states : ndarray of shape (n_keys,), dtype int64 or None
-        Codebook state of each key point (:meth:`DemoSpec.encode` only).
+    key_cells : ndarray of shape (n_keys, n_columns), dtype int64 or None
+        Codebook cell of each key point: its level index in every column
+        (:meth:`DemoSpec.encode` only).
     n_clipped : int
         Values the codebook clipped (:meth:`DemoSpec.encode` only).
     tau : ndarray of shape (n_samples,)
@@ -276,7 +278,7 @@ class Reduced:
     times: np.ndarray
     keypoints: np.ndarray
     key_bins: np.ndarray
-    key_states: np.ndarray | None = None
+    key_cells: np.ndarray | None = None
     n_clipped: int = 0
 
     @cached_property
@@ -486,7 +488,7 @@ class DemoSpec:
         return Reduced(*self._key_points(d, n_jobs))
 
     def encode(self, d: Demonstration, *, n_jobs=None) -> Reduced:
-        """:meth:`reduce`, and the key points' codebook states (the fit's pass 2).
+        """:meth:`reduce`, and the key points' codebook cells (the fit's pass 2).
 
         Parameters
         ----------
@@ -498,13 +500,13 @@ class DemoSpec:
         Returns
         -------
         reduced : Reduced
-            With ``key_states`` and ``n_clipped``.
+            With ``key_cells`` and ``n_clipped``.
         """
         u, t, idx, bins = self._key_points(d, n_jobs)
         # the key points' normalized values, float64 of n columns, which
         # simplify checked finite: the codebook need not check them again
-        states, clipped = self.codebook.encode_checked(u[idx])
-        return Reduced(u, t, idx, bins, states, clipped)
+        cells, clipped = self.codebook.cells_checked(u[idx])
+        return Reduced(u, t, idx, bins, cells, clipped)
 
     def _key_points(self, d: Demonstration, n_jobs):
         """Normalized values, times, key points and their time bins."""

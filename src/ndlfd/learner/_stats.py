@@ -35,8 +35,10 @@ from typing import NamedTuple
 import numpy as np
 
 from .._errors import ModelFormatError, ValidationError
+from ..codebook import intern_cells
 from ._exact import LIMB_BITS, N_LIMBS, from_limbs, to_limbs
 from ._fit_kernels import column_extremes, group_sums
+from ._states import cell_problems, cells_of_numbers
 
 __all__ = ["DemoStats", "FitStats", "RangeStats", "merge_repairs"]
 
@@ -278,8 +280,10 @@ class DemoStats(NamedTuple):
         Its normalized (unweighted) values.
     tau : ndarray of shape (n_samples,) or None
         Its normalized times (0 to 1); read for a template only.
-    keypoints, key_states, key_bins : ndarray of shape (n_keys,), dtype int64
-        Key-point indices, and the codebook state and time bin of each.
+    keypoints, key_bins : ndarray of shape (n_keys,), dtype int64
+        Key-point indices, and the time bin of each.
+    key_cells : ndarray of shape (n_keys, n_dims), dtype int64
+        The codebook cell of each key point (its level index per column).
     n_clipped : int
         Values the codebook clipped.
     template : bool
@@ -292,7 +296,7 @@ class DemoStats(NamedTuple):
     values: np.ndarray
     tau: np.ndarray | None
     keypoints: np.ndarray
-    key_states: np.ndarray
+    key_cells: np.ndarray
     key_bins: np.ndarray
     n_clipped: int = 0
     template: bool = False
@@ -301,7 +305,8 @@ class DemoStats(NamedTuple):
 
 #: FitStats fields: name → (dtype, kind) where kind says what the first axis
 #: runs over: "demo" (one row per demonstration), "key" (one per key point),
-#: "state" (one per centroid state), "template" (one per template),
+#: "state" (one per centroid state), "cells" (one row per state, one column
+#: per dim), "template" (one per template),
 #: "sample" (one per template sample), "limbs" (3, state, dim), "dim", "scalar".
 _FIELDS = {
     "exponents": (np.int64, "dim"),
@@ -314,7 +319,7 @@ _FIELDS = {
     "keypoints": (np.int64, "key"),
     "key_states": (np.int64, "key"),
     "key_bins": (np.int64, "key"),
-    "centroid_states": (np.int64, "state"),
+    "centroid_cells": (np.int64, "cells"),
     "centroid_counts": (np.int64, "state"),
     "centroid_limbs": (np.int64, "limbs"),
     "template_index": (np.int64, "template"),
@@ -334,11 +339,15 @@ class FitStats:
     scaler):
 
     * per demonstration (in index order): its index, sample count, key-point
-      indices, the codebook state and time bin of each key point (the HMM
-      and the segment model are estimated from these), and its first and last
+      indices, the state and time bin of each key point (the HMM and the
+      segment model are estimated from these), and its first and last
       normalized sample (for start and goal conditioning);
-    * per codebook state: the exact sum (as integer limbs, :func:`to_limbs`)
-      and count of the normalized key-point values in it (the centroids);
+    * per state, a codebook cell the key points visit: the cell (its level
+      index per column, ``centroid_cells``), the exact sum (as integer limbs,
+      :func:`to_limbs`) and count of the normalized key-point values in it
+      (the centroids). States are the visited cells interned
+      (:func:`ndlfd.codebook.intern_cells`): ids ``0..n_states-1`` in the
+      cells' lexicographic order, whatever the number of columns;
     * the full normalized values and normalized times of the demonstrations
       that are blend templates only;
     * the number of values the codebook clipped.
@@ -356,17 +365,19 @@ class FitStats:
     >>> U = np.array([[0.0, 0.0], [0.5, 0.5], [1.0, 1.0]])
     >>> tau = np.array([0.0, 0.5, 1.0])
     >>> kw = dict(exponents=np.array([0, 0]), n_clipped=0)
-    >>> a = FitStats.of_demo(0, U, tau, np.array([0, 2]), np.array([0, 3]),
+    >>> a = FitStats.of_demo(0, U, tau, np.array([0, 2]), np.array([[0, 0], [1, 1]]),
     ...                      np.array([0, 1]), template=True, **kw)
     >>> b = FitStats.of_demo(1, U[::-1], tau, np.array([0, 1, 2]),
-    ...                      np.array([3, 2, 0]), np.array([0, 0, 1]),
-    ...                      template=False, **kw)
+    ...                      np.array([[1, 1], [1, 0], [0, 0]]),
+    ...                      np.array([0, 0, 1]), template=False, **kw)
     >>> ab = a + b
     >>> ab == b + a, ab.n_demos, ab.template_index
     (True, 2, array([0]))
+    >>> ab.centroid_cells.tolist(), ab.key_states  # the visited cells, the ids
+    ([[0, 0], [1, 0], [1, 1]], array([0, 2, 2, 1, 0]))
     >>> states, centroids = ab.centroids()
     >>> states, centroids
-    (array([0, 2, 3]), array([[0. , 0. ],
+    (array([0, 1, 2]), array([[0. , 0. ],
            [0.5, 0.5],
            [1. , 1. ]]))
     >>> FitStats.from_arrays(ab.to_arrays()) == ab
@@ -444,7 +455,7 @@ class FitStats:
         values: np.ndarray,
         tau: np.ndarray,
         keypoints: np.ndarray,
-        key_states: np.ndarray,
+        key_cells: np.ndarray,
         key_bins: np.ndarray,
         *,
         exponents: np.ndarray,
@@ -455,7 +466,7 @@ class FitStats:
 
         Parameters
         ----------
-        index, values, tau, keypoints, key_states, key_bins
+        index, values, tau, keypoints, key_cells, key_bins
             The demonstration, as the fields of :class:`DemoStats`.
         exponents : ndarray of shape (n_dims,)
             Scale exponents of the centroid sums (:func:`scale_exponents`),
@@ -468,7 +479,7 @@ class FitStats:
         stats : FitStats
         """
         part = DemoStats(
-            index, values, tau, keypoints, key_states, key_bins, n_clipped, template
+            index, values, tau, keypoints, key_cells, key_bins, n_clipped, template
         )
         return cls.of_demos([part], exponents=exponents)
 
@@ -495,7 +506,10 @@ class FitStats:
         cat = np.concatenate
         values = [np.asarray(r.values, dtype=np.float64) for r in demos]
         keys = [np.asarray(r.keypoints, dtype=np.int64) for r in demos]
-        states = cat([np.asarray(r.key_states, dtype=np.int64) for r in demos])
+        d = np.asarray(exponents).size
+        cells = cat(
+            [np.asarray(r.key_cells, dtype=np.int64).reshape(-1, d) for r in demos]
+        )
         kept = [(r, v) for r, v in zip(demos, values, strict=True) if r.template]
         raw = cls._of_pieces(  # one row per key point in the centroids: merge sums them
             [(v, np.asarray(r.tau, dtype=np.float64)) for r, v in kept],
@@ -507,10 +521,10 @@ class FitStats:
             last=cat([v[-1:] for v in values]),
             frames=np.stack([_frame_row(r) for r in demos]),
             keypoints=cat(keys),
-            key_states=states,
+            key_states=np.arange(cells.shape[0], dtype=np.int64),  # a cell each
             key_bins=cat([r.key_bins for r in demos]),
-            centroid_states=states,
-            centroid_counts=np.ones(states.size, dtype=np.int64),
+            centroid_cells=cells,
+            centroid_counts=np.ones(cells.shape[0], dtype=np.int64),
             centroid_limbs=to_limbs(
                 cat([v[k] for v, k in zip(values, keys, strict=True)]), exponents
             ),
@@ -544,12 +558,19 @@ class FitStats:
         pieces = self._template_pieces()
         return [v for v, _ in pieces], [t for _, t in pieces]
 
+    @property
+    def centroid_states(self) -> np.ndarray:
+        """The states' ids, ``0..n_states_seen-1`` (one per visited cell)."""
+        return np.arange(self.centroid_counts.size, dtype=np.int64)
+
     def centroids(self) -> tuple[np.ndarray, np.ndarray]:
-        """Sorted states and the mean normalized key-point value in each.
+        """The states (ids) and the mean normalized key-point value in each.
 
         Returns
         -------
         states : ndarray of shape (n_states_seen,), dtype int64
+            ``0..n_states_seen-1``; state ``i`` is the cell
+            ``centroid_cells[i]``.
         centroids : ndarray of shape (n_states_seen, n_dims)
         """
         sums = from_limbs(self.centroid_limbs, self.exponents)
@@ -589,8 +610,14 @@ class FitStats:
         t_order = _sorted_unique_index(t_index, "template")
         t_counts = cat([p.template_counts for p in parts])
         pieces = [x for p in parts for x in p._template_pieces()]
-        ids, counts, sums = _group_sum(
-            cat([p.centroid_states for p in parts]),
+        # the parts' cells interned together: each part's ids renumbered
+        offsets = np.cumsum([0] + [p.centroid_cells.shape[0] for p in parts])
+        cells, renumber = intern_cells(cat([p.centroid_cells for p in parts]))
+        key_states = cat(
+            [renumber[a + p.key_states] for p, a in zip(parts, offsets, strict=False)]
+        )
+        _, counts, sums = _group_sum(
+            renumber,
             cat([p.centroid_counts for p in parts]),
             cat([p.centroid_limbs for p in parts], axis=1),
         )
@@ -609,9 +636,9 @@ class FitStats:
             last=_take(cat([p.last for p in parts]), order),
             frames=_take(cat([p.frames for p in parts]), order),
             keypoints=_ragged_take(cat([p.keypoints for p in parts]), n_keys, order),
-            key_states=_ragged_take(cat([p.key_states for p in parts]), n_keys, order),
+            key_states=_ragged_take(key_states, n_keys, order),
             key_bins=_ragged_take(cat([p.key_bins for p in parts]), n_keys, order),
-            centroid_states=ids,
+            centroid_cells=cells,
             centroid_counts=counts,
             centroid_limbs=sums,
             template_index=_take(t_index, t_order),
@@ -629,7 +656,7 @@ class FitStats:
     def __repr__(self) -> str:
         return (
             f"FitStats(n_demos={self.n_demos}, n_keys={int(self.n_keys.sum())},"
-            f" n_states={self.centroid_states.size},"
+            f" n_states={self.centroid_counts.size},"
             f" n_templates={self.template_index.size}, n_dims={self.n_dims})"
         )
 
@@ -652,14 +679,20 @@ class FitStats:
         return out
 
     @classmethod
-    def from_arrays(cls, arrays, prefix: str = "") -> FitStats:
+    def from_arrays(cls, arrays, prefix: str = "", *, levels=None) -> FitStats:
         """Rebuild statistics from :meth:`to_arrays` output, checking every array.
+
+        With ``levels``, statistics of mixed-radix states (model files of
+        versions 3, 4) are read into cells (:func:`._states.cells_of_numbers`).
 
         Parameters
         ----------
         arrays : mapping of str to ndarray
             May hold other keys; only those starting with ``prefix`` are read.
         prefix : str, default=""
+        levels : sequence of int, optional
+            The codebook's levels: the cells' bounds, checked, and what reads
+            mixed-radix states.
 
         Returns
         -------
@@ -671,6 +704,8 @@ class FitStats:
             A missing array, a wrong dtype or shape, or arrays that disagree.
         """
         got = {}
+        if prefix + "centroid_cells" not in arrays and levels is not None:
+            arrays = cells_of_numbers(arrays, prefix, levels)
         for k, (dtype, _) in _FIELDS.items():
             if k == "frames" and prefix + k not in arrays:  # before task frames
                 n = np.asarray(arrays.get(prefix + "demo_index", ())).shape[0]
@@ -687,13 +722,20 @@ class FitStats:
                 )
             got[k] = a.astype(dtype)
         _check_consistent(got)
+        if levels is not None:
+            cells = got["centroid_cells"]
+            if cells.shape[1] != len(levels) or np.any(cells >= np.asarray(levels)):
+                raise ModelFormatError(
+                    "inconsistent fit statistics (tampered file?): a cell lies"
+                    f" outside the codebook's levels {list(levels)}"
+                )
         return cls(**got)
 
 
 def _check_consistent(a: dict) -> None:
     d = a["exponents"].shape[0] if a["exponents"].ndim == 1 else -1
     n = a["demo_index"].shape[0] if a["demo_index"].ndim == 1 else -1
-    s = a["centroid_states"].shape[0] if a["centroid_states"].ndim == 1 else -1
+    s = a["centroid_counts"].shape[0] if a["centroid_counts"].ndim == 1 else -1
     t = a["template_index"].shape[0] if a["template_index"].ndim == 1 else -1
     n_key = int(a["n_keys"].sum()) if a["n_keys"].ndim == 1 else -1
     n_smp = int(a["template_counts"].sum()) if a["template_counts"].ndim == 1 else -1
@@ -705,6 +747,7 @@ def _check_consistent(a: dict) -> None:
         "template": (t,),
         "sample": (n_smp,),
         "limbs": (N_LIMBS, s, d),
+        "cells": (s, d),
         "scalar": (),
     }
     problems = []
@@ -726,13 +769,12 @@ def _check_consistent(a: dict) -> None:
             np.diff(a["template_index"]) <= 0
         ):
             problems.append("indices not strictly increasing")
-        if np.any(np.diff(a["centroid_states"]) <= 0):
-            problems.append("centroid states not strictly increasing")
+        problems += cell_problems(a["centroid_cells"])
         if np.any(a["centroid_counts"] < 1) or np.any(a["n_keys"] < 1):
             problems.append("empty counts")
         elif int(a["centroid_counts"].sum()) != n_key:
             problems.append("centroid counts do not add up to the key points")
-        elif not np.array_equal(np.unique(a["key_states"]), a["centroid_states"]):
+        elif not np.array_equal(np.unique(a["key_states"]), np.arange(s)):
             problems.append("centroid states are not the key points' states")
         starts = np.cumsum(a["n_keys"]) - a["n_keys"]
         k_demo = np.repeat(a["n_samples"], a["n_keys"])
