@@ -49,16 +49,15 @@ def test_column_mapping_on_the_command_line(tmp_path, capsys, sep):
         for args, message in [
             (["--time-column", "when"], "--time-column names 'when', but there is no"
              " such column; got columns ['TIME', 'Pos_X',"),
-            (["--time-column", "TIME"], "cannot tell the group of column(s)"
-             " ['Pos_X', 'Pos_Y', 'pos_z'] from their names"),
-            (["--time-column", "TIME"], "map them with --group GROUP=NAME[,NAME...],"
-             " or leave them out with --drop NAME[,NAME...]"),
             ([*m[:2], "--group", "position=pos_x,"], "--group position must be a"
              " comma-separated list of names without empty entries"),
             ([*m[:2], "--group", "position=px,py"], "--group position names 'px',"
              " but there is no such column"),
+            # pos_z is a position by its name (issue 37): listed or dropped
             ([*m[:2], "--group", "position=pos_x,pos_y"],
-             "cannot tell the group of column(s) ['pos_z']"),
+             "column 'pos_z' belongs to group 'position' by its name, but"
+             " --group position does not list it; add it there or leave it"
+             " out with --drop NAME[,NAME...] (e.g. --drop pos_z)"),
         ]:  # fmt: skip
             rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "x.ndlfd", *args)
             assert rc == 2 and len(err) == 1, err
@@ -71,8 +70,32 @@ def test_column_mapping_on_the_command_line(tmp_path, capsys, sep):
         assert rc == 2 and err == [
             f"ndlfd fit: error: {stamp}: expected a time column named 't' or 'time' or"
             " 'timestamp' (any case); got columns ['stamp', 'x', 'y']; name it with"
-            " --time-column NAME"
+            " --time-column NAME, or give the sample rate of a log without time"
+            " stamps with --rate HZ"
         ]
+        # names as labs export them need no flag besides the time column now
+        rc, err = cli(capsys, "fit", folder, "-o", tmp_path / "y.ndlfd",
+                      "--time-column", "TIME")  # fmt: skip
+        assert rc == 0, err
+        assert "position=Pos_X,Pos_Y,pos_z; orientation=qw,qx,qy,qz" in err[0]
+        # names that say nothing: the error says how, with a line to paste
+        odd = tmp_path / "odd.csv"
+        odd.write_text("TIME,x,y,a,b\n0,0,0,1,2\n1,1,1,1,2\n")
+        rc, err = cli(capsys, "fit", odd, "-o", tmp_path / "x.ndlfd",
+                      "--time-column", "TIME")  # fmt: skip
+        assert rc == 2 and len(err) == 1
+        assert (
+            "cannot tell the group of column(s) ['a', 'b'] from their names" in (err[0])
+        )
+        assert (
+            "map them with --group GROUP=NAME[,NAME...], or leave them out with"
+            " --drop NAME[,NAME...]; e.g., in place of your --group/--drop:"
+            " --group position=x,y --drop a,b"
+        ) in err[0]
+        rc, err = cli(capsys, "fit", odd, "-o", tmp_path / "x.ndlfd",
+                      "--time-column", "TIME", "--group", "position=x,y",
+                      "--drop", "a,b")  # fmt: skip
+        assert rc == 0, err
 
 
 def test_plain_npz_and_hdf5_fit_the_same_model_as_csv(tmp_path, capsys):

@@ -16,19 +16,15 @@ flags.
 from __future__ import annotations
 
 import argparse
-import contextlib
-import functools
 import math
-import os
 import re
 import sys
-import warnings
 from collections import Counter
 from pathlib import Path
 
 import numpy as np
 
-from .._errors import DataFileError, NdlfdWarning, ValidationError
+from .._errors import DataFileError, ValidationError
 from .._repairs import repaired
 from .._validation import check_times
 from ..demonstration import with_velocity
@@ -43,7 +39,15 @@ from ..io import (
     read_file,
     read_or_skip,
 )
-from ..orientation import QUATERNION_ORDERS, check_euler
+from ..orientation import QUATERNION_ORDERS, check_euler, check_representation
+from ._news import noting, quiet_news, tell
+from ._parsing import (
+    check_output,
+    check_range,
+    parse_floats,
+    parse_pairs,
+    split_names,
+)
 
 __all__ = [
     "EXIT_USAGE",
@@ -105,105 +109,6 @@ def say(args: argparse.Namespace, line: str) -> None:
         print(line, file=sys.stderr)
 
 
-# ------------------------------------------------------------------ parsing
-def split_names(text: str | None, flag: str) -> list[str] | None:
-    """``a,b,c`` strictly: no empty entry (a trailing comma is an error)."""
-    if text is None:
-        return None
-    names = [s.strip() for s in text.split(",")]
-    if not text.strip() or any(not s for s in names):
-        raise ValidationError(
-            f"{flag} must be a comma-separated list of names without empty entries;"
-            f" got {text!r}"
-        )
-    dup = next((s for s in names if names.count(s) > 1), None)
-    if dup is not None:
-        raise ValidationError(f"{flag} names {dup!r} twice; got {text!r}")
-    return names
-
-
-def parse_floats(text: str | None, flag: str) -> list[float] | None:
-    if text is None:
-        return None
-    try:
-        values = [float(s) for s in text.split(",")]
-    except ValueError:
-        raise ValidationError(
-            f"{flag} must be comma-separated numbers; got {text!r}"
-        ) from None
-    if not all(math.isfinite(v) for v in values):
-        raise ValidationError(f"{flag} must be finite numbers; got {text!r}")
-    return values
-
-
-def parse_pairs(text: str, flag: str, cast, example: str) -> dict:
-    """``name=value,name=value`` strictly (no empty entry, no repeated name)."""
-    out: dict = {}
-    for part in text.split(","):
-        part = part.strip()
-        if not part:
-            raise ValidationError(
-                f"{flag} must look like {example}; got {text!r} (an empty entry:"
-                " a trailing or doubled comma)"
-            )
-        if "=" not in part:
-            raise ValidationError(f"{flag} must look like {example}; got {text!r}")
-        key, _, value = part.partition("=")
-        key, value = key.strip(), value.strip()
-        if not key:
-            raise ValidationError(
-                f"{flag} must look like {example}; got {part!r} without a name"
-            )
-        if key in out:
-            raise ValidationError(f"{flag} names {key!r} twice; got {text!r}")
-        try:
-            out[key] = cast(value)
-        except ValueError:
-            raise ValidationError(
-                f"{flag}: {value!r} is not a valid number in {text!r}"
-            ) from None
-    return out
-
-
-def check_range(value, flag: str, low=None, high=None) -> None:
-    """One message for every bounded setting: ``FLAG must be ... ; got V``."""
-    ok = value is not None and math.isfinite(value)
-    if ok and low is not None:
-        ok = value >= low
-    if ok and high is not None:
-        ok = value <= high
-    if ok:
-        return
-    noun = "an integer" if isinstance(value, int) else "a finite number"
-    if low is not None and high is not None:
-        bound = f"between {low} and {high}"
-    elif low is not None:
-        bound = f"{noun} >= {low}"
-    else:
-        bound = f"{noun} <= {high}"
-    raise ValidationError(f"{flag} must be {bound}; got {value}")
-
-
-def check_output(path: str, flag: str = "-o") -> Path:
-    """Refuse an output that is a folder or lies in a missing folder."""
-    p = Path(path)
-    if p.is_dir():
-        raise ValidationError(
-            f"{flag} {path}: is a folder; expected a file name (e.g."
-            f" {p / ('out' + (p.suffix or '.csv'))})"
-        )
-    parent = p.parent
-    if not parent.exists():
-        raise ValidationError(
-            f"{flag} {path}: the folder {parent} does not exist; create it first"
-        )
-    if not parent.is_dir():
-        raise ValidationError(f"{flag} {path}: {parent} is not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ValidationError(f"{flag} {path}: the folder {parent} is not writable")
-    return p
-
-
 # ------------------------------------------------------------- data columns
 def add_column_options(
     p,
@@ -222,12 +127,16 @@ def add_column_options(
         f"columns of the {what}",
         "CSV files are comma-, semicolon-, tab- or whitespace-separated (the header"
         " row decides); .npz files hold arrays and HDF5 files one group per"
-        " episode, mapped like columns (a 2-D array is a whole group). Names match"
-        " in any case. Columns not named here go by their names: x,y,z position,"
-        " vx,vy,vz velocity, qw,qx,qy,qz orientation, fx,fy,fz force,"
-        " group.name a group of your own; 2-D arrays named position/pos,"
-        " velocity/vel, orientation/quat, force. The mapping used is reported on"
-        " one line.",
+        " episode, mapped like columns (a 2-D array is a whole group); .npy files"
+        " one array whose columns --columns or a sidecar NAME.columns.txt names."
+        " Names match in any case. Columns not named here go by their names: x,y,z"
+        " position, vx,vy,vz velocity, qw,qx,qy,qz orientation, fx,fy,fz force,"
+        " group.name a group of your own, or as labs export them: pos_x or"
+        " PREFIX_pos_x, PREFIX_orientation_w..z or quat_w..z, force_x, torque_x,"
+        " joint_1 or q1; of a measured and a commanded set (current_/actual_ beside"
+        " goal_/desired_/cmd_/target_) the measured one is learned and the other"
+        " left out with a warning. 2-D arrays named position/pos, velocity/vel,"
+        " orientation/quat, force. The mapping used is reported on one line.",
     )
     g.add_argument(
         "--time-column",
@@ -238,13 +147,20 @@ def add_column_options(
     g.add_argument(
         "--group",
         action="append",
-        metavar="GROUP=NAME[,NAME...]",
+        metavar="GROUP=NAME[,NAME...][:REPR]",
         help="put these columns (or one 2-D array) in GROUP, e.g."
-        " --group position=pos_x,pos_y or --group position=pos; repeatable."
-        " Orientation columns are listed in w,x,y,z order",
+        " --group position=pos_x,pos_y or --group position=pos; names may be glob"
+        " patterns (--group joints='joint_*'); repeatable. Orientation columns"
+        " are listed in w,x,y,z order; three orientation columns need their"
+        " representation after a colon: --group orientation=rx,ry,rz:rotvec (a"
+        " rotation vector, axis times angle), :euler-xyz (Euler angles, any scipy"
+        " sequence such as euler-ZYX); four may say :quat-wxyz or :quat-xyzw",
     )
     g.add_argument(
-        "--drop", metavar="NAME[,NAME...]", help="columns to leave out of the data"
+        "--drop",
+        metavar="NAME[,NAME...]",
+        help="columns to leave out of the data; names may be glob patterns, e.g."
+        " --drop 'goal_*'",
     )
     if bags is not None:
         b = p.add_argument_group(
@@ -286,7 +202,7 @@ def add_column_options(
                 type=float,
                 metavar="HZ",
                 help="the sample rate of files without time stamps (fixed-rate logs:"
-                " no time column); row k is at k / HZ seconds",
+                " no time column, .npy arrays); row k is at k / HZ seconds",
             )
             b.add_argument(
                 "--split-gap",
@@ -321,12 +237,20 @@ def _add_demonstration_options(p, g) -> None:
     )
     g.add_argument(
         "--euler",
-        default="xyz",
+        default=None,
         metavar="AXES",
         help="the convention of Euler angle columns (roll,pitch,yaw, or three"
         " columns of --group orientation=..., radians), which are learned as unit"
-        " quaternions and written back as angles: xyz (default) is extrinsic"
-        " (ROS's roll-pitch-yaw), XYZ intrinsic, e.g. ZYX",
+        " quaternions and written back as angles: xyz (the default for"
+        " roll,pitch,yaw) is extrinsic (ROS's roll-pitch-yaw), XYZ intrinsic,"
+        " e.g. ZYX",
+    )
+    g.add_argument(
+        "--columns",
+        metavar="NAME[,NAME...]",
+        help="the names of the columns of .npy files (one 2-D array each), in"
+        " order; without it, each file's sidecar NAME.columns.txt (the names"
+        " separated by commas or new lines)",
     )
     d = p.add_argument_group(
         "LeRobot datasets",
@@ -371,8 +295,13 @@ def check_datasets(args: argparse.Namespace, items) -> None:
 
 
 def column_options(args: argparse.Namespace) -> dict:
-    """``read_demos`` keyword arguments from ``--time-column/--group/--drop``."""
+    """``read_demos`` keyword arguments from ``--time-column/--group/--drop``.
+
+    ``--group orientation=A,B,C:REPR`` gives the orientation's
+    representation (``representation``).
+    """
     groups: dict[str, list[str]] | None = None
+    representation = None
     for entry in args.group or ():
         if "=" not in entry:
             raise ValidationError(
@@ -389,14 +318,19 @@ def column_options(args: argparse.Namespace) -> dict:
         groups = groups if groups is not None else {}
         if name in groups:
             raise ValidationError(f"--group {name} is given twice")
+        cols, rep = _representation_suffix(name, cols, entry)
+        if rep is not None:
+            representation = rep
         groups[name] = split_names(cols, f"--group {name}")
     time_column = args.time_column
     if time_column is not None and not time_column.strip():
         raise ValidationError("--time-column must name a column; got ''")
-    try:
-        euler = check_euler(getattr(args, "euler", "xyz"))
-    except ValidationError as exc:
-        raise ValidationError("--" + str(exc)) from None
+    euler = getattr(args, "euler", None)
+    if euler is not None:
+        try:
+            euler = check_euler(euler)
+        except ValidationError as exc:
+            raise ValidationError("--" + str(exc)) from None
     options = {
         "time_column": TIME_NAMES if time_column is None else time_column.strip(),
         "groups": groups,
@@ -404,6 +338,11 @@ def column_options(args: argparse.Namespace) -> dict:
         "quaternion_order": getattr(args, "quaternion_order", "wxyz"),
         "euler": euler,
     }
+    if representation is not None:
+        options["representation"] = representation
+    columns = split_names(getattr(args, "columns", None), "--columns")
+    if columns is not None:
+        options["columns"] = columns
     split_gap = getattr(args, "split_gap", None)
     split_still = getattr(args, "split_still", None)
     for flag, value in (("--split-gap", split_gap), ("--split-still", split_still)):
@@ -422,6 +361,24 @@ def column_options(args: argparse.Namespace) -> dict:
     options.update({k: v for k, v in bag.items() if v is not None})
     options.update(bad_data_options(args))
     return options
+
+
+def _representation_suffix(name: str, cols: str, entry: str):
+    """``A,B,C:REPR`` split into the names and the representation (or None)."""
+    head, sep, rep = cols.rpartition(":")
+    if not sep:
+        return cols, None
+    rep = rep.strip()
+    try:
+        check_representation(rep)
+    except ValidationError as exc:
+        raise ValidationError(f"--group {entry}: {exc}") from None
+    if name != "orientation":
+        raise ValidationError(
+            f"--group {entry}: a representation ({rep}) is for the orientation"
+            f" group; got it on {name!r}"
+        )
+    return head, rep
 
 
 # --------------------------------------- bad rows and files (every reading command)
@@ -460,23 +417,6 @@ def bad_data_options(args) -> dict:
         "bad_rows": getattr(args, "bad_rows", "error"),
         "bad_files": getattr(args, "bad_files", "error"),
     }
-
-
-def quiet_news(command):
-    """``command(args)`` with its :class:`~ndlfd.NdlfdWarning` lines silenced by ``-q``.
-
-    The repairs of the data (dropped rows, skipped files) are news for the
-    user, one line per kind; ``-q`` asks for none.
-    """
-
-    @functools.wraps(command)
-    def run(args: argparse.Namespace):
-        with warnings.catch_warnings():
-            if getattr(args, "quiet", False):
-                warnings.simplefilter("ignore", NdlfdWarning)
-            return command(args)
-
-    return run
 
 
 def describe_mappings(texts: dict[str, int], n_demos: int, items) -> str:
@@ -522,34 +462,6 @@ def read_sources(args, sources, *, flag: str, progress: bool = False, read=None)
     texts = Counter(str(m) for m in maps)
     say(args, describe_mappings(texts, len(maps), paths))
     return demos, maps
-
-
-@contextlib.contextmanager
-def noting(source, news: list):
-    """Collect the NdlfdWarnings raised while ``source`` is handled."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", NdlfdWarning)
-        yield
-    for w in caught:
-        if issubclass(w.category, NdlfdWarning):
-            news.append((str(source), " ".join(str(w.message).split())))
-        else:  # pragma: no cover - not ndlfd's news: as it came
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-
-
-def tell(news: list) -> None:
-    """One warning line per kind of news, naming the first file and the count."""
-    kinds: dict[str, list] = {}
-    for source, text in news:
-        kinds.setdefault(re.sub(r"[\d.]+", "#", text), []).append((source, text))
-    for items in kinds.values():
-        source, text = items[0]
-        more = ""
-        if len(items) > 1:
-            others = [s for s, _ in items[1:]]
-            shown = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
-            more = f" (likewise in {len(others)} more: {shown})"
-        warnings.warn(f"{source}: {text}{more}", NdlfdWarning, stacklevel=2)
 
 
 def _progress(iterable, total: int, desc: str):
@@ -657,10 +569,13 @@ def check_timing(args: argparse.Namespace) -> int | None:
     """
     rate = getattr(args, "rate", None)
     if args.like is not None:
-        if args.duration is not None or args.samples is not None or rate is not None:
+        if args.duration is not None or args.samples is not None:
             raise ValidationError(
-                "pass either --like or --duration/--samples/--rate, not both"
+                "pass either --like or --duration/--samples, not both (--rate with"
+                " --like gives the stamps of a file without a time column)"
             )
+        if rate is not None and not (rate > 0 and math.isfinite(rate)):
+            raise ValidationError(f"--rate must be a finite number > 0; got {rate}")
         return None
     if args.duration is None:
         raise ValidationError("pass --like FILE or --duration SECONDS")
@@ -700,11 +615,40 @@ def read_timing(args: argparse.Namespace, n: int | None, *, times_only=False):
         if getattr(args, "rate", None) is not None:
             return np.arange(n) / args.rate, None
         return np.linspace(0.0, args.duration, n), None
+    rate = getattr(args, "rate", None)
     if times_only:
         got = like_times(args)
         if got is not None:
             return got
-    return read_one(args, args.like, "--like")
+    if rate is None:
+        return read_one(args, args.like, "--like")
+    try:  # a file without time stamps: row k at k / rate
+        return read_one(_with_read_rate(args, rate), args.like, "--like")
+    except DataFileError as exc:
+        if "has a time column" not in str(exc):
+            raise
+    demo, mapping = read_one(args, args.like, "--like")
+    _check_like_rate(args, demo.t, mapping.time)
+    return demo, mapping
+
+
+def _with_read_rate(args: argparse.Namespace, rate) -> argparse.Namespace:
+    """``args`` with ``rate`` as the sample rate of files without time stamps."""
+    return argparse.Namespace(**{**vars(args), "read_rate": rate})
+
+
+def _check_like_rate(args, t: np.ndarray, name) -> None:
+    """Refuse a ``--like`` file whose own stamps disagree with ``--rate``."""
+    want = np.arange(t.size) / args.rate
+    tol = 1e-6 / args.rate
+    if not np.allclose(t - t[0], want, rtol=0, atol=tol):
+        k = int(np.argmax(np.abs(t - t[0] - want) > tol))
+        raise ValidationError(
+            f"--like {args.like} has its own time stamps (column {name!r}), which"
+            f" are not k / {args.rate:g} Hz: {float(t[k] - t[0])!r} s at sample {k},"
+            f" not {float(want[k])!r}; pass --rate only for a file without a time"
+            " column"
+        )
 
 
 def read_one(args: argparse.Namespace, source, flag: str):
@@ -741,8 +685,11 @@ def like_times(args: argparse.Namespace):
     p = paths[0]
     if len(paths) != 1 or not isinstance(p, Path) or not p.is_file():
         return None
-    if p.suffix.lower() in (".npz", ".h5", ".hdf5", ".mcap", ".db3"):
+    if p.suffix.lower() in (".npz", ".npy", ".h5", ".hdf5", ".mcap", ".db3"):
         return None
+    rate = getattr(args, "rate", None)
+    if rate is not None:
+        return _like_times_at_rate(args, p, paths)
     options = column_options(args)
     news: list = []
     try:
@@ -783,3 +730,32 @@ def like_times(args: argparse.Namespace):
         f"--like {p}: expected a time column named {tc!r} (any case); got columns"
         f" {table.columns}; {CLI_HINTS['time_hint']}"
     )
+
+
+def _like_times_at_rate(args, p: Path, paths):
+    """:func:`like_times` with ``--rate``: the file's rows at that rate.
+
+    A file with its own time column keeps its stamps when they are
+    ``k / rate`` (else an error); one whose columns the flags do not map
+    gives its rows' times alone.
+    """
+    options = column_options(_with_read_rate(args, args.rate))
+    news: list = []
+    try:
+        with noting(p, news):
+            pairs = read_file(p, CLI_HINTS, **{**options, "bad_rows": "error"})
+    except DataFileError as exc:
+        if "has a time column" in str(exc):
+            return None  # read with its stamps, checked against the rate
+        pairs = None
+    if pairs and len(pairs) == 1:
+        tell(news)
+        say(args, describe_mappings(Counter([str(pairs[0][1])]), 1, paths))
+        return pairs[0]
+    table = parse_table(p, finite=False)
+    low = [c.casefold() for c in table.columns]
+    if any(name in low for name in TIME_NAMES):
+        return None
+    n = table.data.shape[0]
+    say(args, f"--like {p}: {n} rows at {args.rate:g} Hz (its length only)")
+    return np.arange(n, dtype=np.float64) / args.rate, None
