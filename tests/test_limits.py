@@ -122,9 +122,12 @@ def test_the_peaks_agree_with_toppras_own_trajectory():
     ts = np.linspace(0.0, traj.duration, 4000)
     theirs = np.abs(traj(ts, 1)).max(axis=0)
     ours = path_peaks(out)["velocity"]
-    # both time-optimal under the same limits: the same peak velocities
-    assert np.allclose(ours, theirs, rtol=0.02)
-    assert out.duration == pytest.approx(traj.duration, rel=0.05)
+    # both time-optimal under the same limits, ours also for the curve a
+    # controller follows through the samples (joints: a JointTrajectory's
+    # cubic spline, whose acceleration cannot jump as TOPP-RA's does): up to
+    # 8 % lower peak velocities, at most 8 % longer (measured 7.6 %, 7 %)
+    assert np.all(ours <= theirs * 1.001) and np.all(ours >= theirs * 0.92)
+    assert traj.duration <= out.duration <= traj.duration * 1.08
 
 
 def test_generate_with_limits_on_joint_and_cartesian_data():

@@ -30,6 +30,11 @@ carried along on the same clock (a normalized cubic spline of them), as are
 two-valued grippers (held between samples) and a ``velocity`` group derived
 from ``position`` (derived again).
 
+The limits hold on the samples (their finite differences, :func:`path_peaks`)
+and, for the joints (and a gripper), on the curve a controller follows
+through them: the cubic spline at rest at the ends whose derivatives a
+JointTrajectory carries (:mod:`ndlfd._trajectory`).
+
 TOPP-RA bounds velocity and acceleration; a jerk limit is met by slowing the
 TOPP-RA timing down uniformly until the samples' jerk is within it (not
 time-optimal: ruckig bounds jerk optimally but plans point to point and would
@@ -52,6 +57,7 @@ from ._norm_limits import (
     angular_rates,
     norm_constraints,
 )
+from ._trajectory import curve_peaks, rest_curve
 from ._validation import check_positive_int
 from .demonstration import Demonstration
 
@@ -533,7 +539,7 @@ def _scaled(path, lim, rate, moving):
         clock = np.clip(np.maximum.accumulate(clock), 0.0, path.t[-1] - path.t[0])
         clock[0], clock[-1] = 0.0, path.t[-1] - path.t[0]
         out = _resample(path, clock, new_t, spline, curves, held, derived)
-        peaks = path_peaks(out)
+        peaks = _written_peaks(out, spline, moving)
         if _within(peaks, lim):
             return out
         for k in ("velocity", "acceleration", *NORM_KINDS):
@@ -549,6 +555,31 @@ def _scaled(path, lim, rate, moving):
         f"attempts: at most {float(np.max(peaks[worst] / lim[worst])):.3g} times "
         "the limit; the path may be too rough (noise) for the sample rate"
     )
+
+
+#: The groups a JointTrajectory carries with their velocities and accelerations.
+_TRAJECTORY_GROUPS = ("joints", "gripper")
+
+
+def _written_peaks(out, spline, moving):
+    """:func:`path_peaks`, and the velocity and acceleration a controller follows.
+
+    The cubic spline through the samples at rest at the ends (moving at the
+    start after a prefix, :func:`ndlfd._trajectory.rest_curve`): what a
+    JointTrajectory writes as velocities and accelerations, of the groups it
+    carries (:data:`_TRAJECTORY_GROUPS`). Where TOPP-RA's acceleration jumps
+    (bang-bang), the curve's, continuous, overshoots the samples' differences
+    by a few per cent: the limits are tightened for it (a path of joints
+    takes a few per cent longer than the bare time-optimal one).
+    """
+    peaks = path_peaks(out)
+    sent = [c for c in spline if out.groups[c] in _TRAJECTORY_GROUPS]
+    if sent and out.n_samples >= 2:
+        curve = rest_curve(out.t, out.X[:, sent], moving_start=moving)
+        cv, ca = curve_peaks(curve, out.t)
+        peaks["velocity"][sent] = np.maximum(peaks["velocity"][sent], cv)
+        peaks["acceleration"][sent] = np.maximum(peaks["acceleration"][sent], ca)
+    return peaks
 
 
 def limited(path, limits, dense: bool, return_std: bool, observed=None):

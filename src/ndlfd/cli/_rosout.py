@@ -49,9 +49,10 @@ def add_ros_output_options(p) -> None:
         "ROS 2 outputs (bags, joint trajectories)",
         "ROS wants joint angles in radians: joints in degrees need --units deg"
         " (LeRobot's SO-100/101 arms need --units: degrees or -100..100)."
-        " The joint trajectory's velocities and"
-        " accelerations are 0 at both ends (they fade over the first and last 5 %"
-        " of the duration), as a joint_trajectory_controller wants.",
+        " The joint trajectory comes to rest at its ends (a path still moving"
+        " there is eased to a stop along its route), and its velocities and"
+        " accelerations are those of the one curve through its positions that"
+        " a joint_trajectory_controller follows.",
     )
     g.add_argument(
         "--frame-id",

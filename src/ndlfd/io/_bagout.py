@@ -30,6 +30,7 @@ import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
 from .._fileformat import atomic_path
+from .._trajectory import come_to_rest, rest_curve
 from ..demonstration import Demonstration
 from ._bag import BAG_SUFFIXES, rosbags_modules, typestore
 
@@ -402,17 +403,6 @@ def _duration(seconds: float) -> str:
     return f"{{sec: {sec}, nanosec: {nanosec}}}"
 
 
-def _fade(t: np.ndarray, fade: float) -> np.ndarray:
-    """The minimum-jerk ramp from 0 at both ends to 1 ``fade`` seconds inside."""
-    x = np.minimum(t - t[0], t[-1] - t) / fade
-    x = np.clip(x, 0.0, 1.0)
-    return x**3 * (10.0 - 15.0 * x + 6.0 * x**2)
-
-
-#: The share of the duration over which the velocities fade to 0 at each end.
-FADE_SHARE = 0.05
-
-
 def joint_trajectory_points(
     demo: Demonstration,
     *,
@@ -420,20 +410,24 @@ def joint_trajectory_points(
     gripper: str | None = "gripper",
     joint_names: Sequence[str] | None = None,
     units: str = "rad",
-    fade: float | None = None,
+    ease: float | None = None,
     moving_start: bool = False,
 ):
     """The joints, positions, velocities and accelerations of a JointTrajectory.
 
-    The positions are the path's (in radians). The velocities are
-    :func:`numpy.gradient` over the real time stamps times a fade: a
-    minimum-jerk ramp from 0 at the first and last points to 1 ``fade``
-    seconds inside (``10 x^3 - 15 x^4 + 6 x^5``, whose slope is 0 at both of
-    its ends). The accelerations are the gradient of those velocities. Both
-    are exactly 0 at the first and last points, as a ROS 2
-    ``joint_trajectory_controller`` wants by default
-    (``allow_nonzero_velocity_at_trajectory_end`` false), and they reach zero
-    without a jump.
+    The positions are the path's (in radians), come to rest: where the path
+    still moves at its first or last sample, its clock is eased to a stop
+    along the same route (:func:`ndlfd._trajectory.come_to_rest`; the
+    trajectory then lasts a little longer, half the easing at each such
+    end). The velocities and accelerations are the derivatives of one curve
+    through those positions, the cubic spline with velocity 0 at the ends
+    (:func:`ndlfd._trajectory.rest_curve`): a ROS 2
+    ``joint_trajectory_controller``, interpolating quintic (positions,
+    velocities, accelerations) or cubic (positions, velocities) Hermite
+    polynomials between the points, follows exactly that curve, and it stops
+    at the last point (``allow_nonzero_velocity_at_trajectory_end`` false).
+    A column switching between two values (a gripper) is held and written
+    with velocity and acceleration 0.
 
     Parameters
     ----------
@@ -449,20 +443,31 @@ def joint_trajectory_points(
         columns' names.
     units : {"rad", "deg"}, default="rad"
         The units of the positions; degrees are converted to radians.
-    fade : float, optional
-        Seconds over which the velocities fade to 0 at each end; default 5 %
-        of the duration (0: only the end points are 0).
+    ease : float, optional
+        The least seconds over which a moving end is eased to rest; default
+        10 % of the duration (longer where that would decelerate harder than
+        the path's own peak).
     moving_start : bool, default=False
         The first point is where a moving robot is now (the continuation of
         an executed prefix): its velocity and acceleration are the path's
-        there, not 0, and only the last point's fade to 0.
+        there, not 0, and only the last end comes to rest.
 
     Returns
     -------
     names : list of str
-    times : ndarray of shape (n,)
-        Seconds from the first point.
-    positions, velocities, accelerations : ndarray of shape (n, n_joints)
+    times : ndarray of shape (m,)
+        Seconds from the first point (``m >= n``: longer when eased).
+    positions, velocities, accelerations : ndarray of shape (m, n_joints)
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> d = Demonstration.from_arrays(t, joints=np.column_stack([t * t * (3 - 2 * t)]))
+    >>> _, s, Q, V, A = joint_trajectory_points(d)  # at rest at both ends already
+    >>> s.size, V[[0, -1], 0].tolist()
+    (101, [0.0, 0.0])
+    >>> bool(np.allclose(V[:, 0], 6 * t * (1 - t), atol=1e-4))  # the curve's own
+    True
     """
     _check_demo(demo)
     if not demo.has_group(group):
@@ -482,23 +487,18 @@ def joint_trajectory_points(
         zeros = np.zeros_like(Q)
         return names, t, Q, zeros, zeros.copy()
     span = float(t[-1])
-    if fade is None:
-        fade = FADE_SHARE * span
-    if not (isinstance(fade, (int, float)) and 0 <= fade <= span / 2):
+    if ease is not None and not (isinstance(ease, (int, float)) and 0 <= ease <= span):
         raise ValidationError(
-            f"fade must be a number of seconds in [0, {span / 2:g}] (half the"
-            f" path's duration); got {fade!r}"
+            f"ease must be a number of seconds in [0, {span:g}] (the path's"
+            f" duration); got {ease!r}"
         )
-    V = np.gradient(Q, demo.t, axis=0)
-    if fade > 0:
-        w = _fade(t, fade)
-        if moving_start:
-            w = np.where(t < span / 2, 1.0, w)
-        V *= w[:, None]
-    ends = [-1] if moving_start else [0, -1]
-    V[ends] = 0.0
-    A = np.gradient(V, demo.t, axis=0)
-    A[ends] = 0.0
+    held = np.array([np.unique(Q[:, j]).size == 2 for j in range(Q.shape[1])])
+    t, Q = come_to_rest(t, Q, moving_start=moving_start, ease=ease, held=held)
+    V, A = np.zeros_like(Q), np.zeros_like(Q)
+    if (~held).any():
+        curve = rest_curve(t, Q[:, ~held], moving_start=moving_start)
+        V[:, ~held], A[:, ~held] = curve(t, 1), curve(t, 2)
+    V[[-1] if moving_start else [0, -1]] = 0.0  # exactly, not up to rounding
     return names, t, Q, V, A
 
 
@@ -545,7 +545,7 @@ def write_joint_trajectory(
     gripper: str | None = "gripper",
     joint_names: Sequence[str] | None = None,
     units: str = "rad",
-    fade: float | None = None,
+    ease: float | None = None,
     topic: str = TRAJECTORY_TOPIC,
     start_time: float = 0.0,
     moving_start: bool = False,
@@ -553,8 +553,10 @@ def write_joint_trajectory(
     r"""Write a ``trajectory_msgs/msg/JointTrajectory``, atomically: YAML or a bag.
 
     One point per sample: the positions of ``group``'s columns (then the
-    gripper's), in radians; velocities and accelerations that are 0 at the
-    first and last points (see :func:`joint_trajectory_points`); and
+    gripper's), in radians, come to rest at the ends; the velocities and
+    accelerations of the one curve through them that a
+    ``joint_trajectory_controller`` follows (see
+    :func:`joint_trajectory_points`); and
     ``time_from_start`` (seconds from the first sample, as ``sec``/
     ``nanosec``). The header's stamp is zero (start now) and its frame empty.
 
@@ -574,7 +576,7 @@ def write_joint_trajectory(
         The path; needs the group ``group``.
     path : str or path-like
         The YAML file or the bag.
-    group, gripper, joint_names, units, fade, moving_start
+    group, gripper, joint_names, units, ease, moving_start
         See :func:`joint_trajectory_points`.
     topic : str, default="/joint_trajectory_controller/joint_trajectory"
         The topic of a bag.
@@ -588,17 +590,20 @@ def write_joint_trajectory(
     Examples
     --------
     >>> import pathlib, tempfile
-    >>> d = Demonstration.from_arrays([0.0, 0.5, 1.0],
-    ...                               joints=[[0.0, 1.0], [0.5, 1.0], [1.0, 1.0]],
-    ...                               columns={"joints": ["a", "b"]})
+    >>> d = Demonstration.from_arrays(  # a smooth step, at rest at both ends
+    ...     [0.0, 0.25, 0.5, 0.75, 1.0],
+    ...     joints=[[0.0, 1.0], [0.15625, 1.0], [0.5, 1.0], [0.84375, 1.0], [1.0, 1.0]],
+    ...     columns={"joints": ["a", "b"]})
     >>> p = write_joint_trajectory(d, pathlib.Path(tempfile.mkdtemp()) / "j.yaml")
     >>> print(p.read_text())
     header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}
     joint_names: ['a', 'b']
     points:
-    - {positions: [0.0, 1.0], velocities: [0.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 0, nanosec: 0}}
-    - {positions: [0.5, 1.0], velocities: [1.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 0, nanosec: 500000000}}
-    - {positions: [1.0, 1.0], velocities: [0.0, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 1, nanosec: 0}}
+    - {positions: [0.0, 1.0], velocities: [0.0, 0.0], accelerations: [6.0, 0.0], time_from_start: {sec: 0, nanosec: 0}}
+    - {positions: [0.15625, 1.0], velocities: [1.125, 0.0], accelerations: [3.0, 0.0], time_from_start: {sec: 0, nanosec: 250000000}}
+    - {positions: [0.5, 1.0], velocities: [1.5, 0.0], accelerations: [0.0, 0.0], time_from_start: {sec: 0, nanosec: 500000000}}
+    - {positions: [0.84375, 1.0], velocities: [1.125, 0.0], accelerations: [-3.0, 0.0], time_from_start: {sec: 0, nanosec: 750000000}}
+    - {positions: [1.0, 1.0], velocities: [0.0, 0.0], accelerations: [-6.0, 0.0], time_from_start: {sec: 1, nanosec: 0}}
     <BLANKLINE>
     """  # noqa: E501
     names, t, Q, V, A = joint_trajectory_points(
@@ -607,7 +612,7 @@ def write_joint_trajectory(
         gripper=gripper,
         joint_names=joint_names,
         units=units,
-        fade=fade,
+        ease=ease,
         moving_start=moving_start,
     )
     final = Path(path)
