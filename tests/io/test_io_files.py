@@ -67,8 +67,8 @@ def test_read_demos_errors(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(
         DataFileError,
-        match=r"empty: expected \.csv, \.tsv, \.npz, \.npy, \.h5, \.hdf5, \.mcap or \.db3"
-        r" files or ROS 2 bag folders in the folder \(any case\); found none",
+        match=r"empty: expected \.csv, \.tsv, \.npz, \.npy, \.h5, \.hdf5, \.mcap or"
+        r" \.db3 files or ROS 2 bag folders in the folder \(any case\); found none",
     ):
         read_demos(tmp_path / "empty")
     with pytest.raises(DataFileError, match=r"\*\.csv: the pattern matched no files"):
