@@ -8,6 +8,7 @@ callers that do not know ndlfd.
 __all__ = [
     "DataFileError",
     "DecodeError",
+    "ExtrapolationWarning",
     "MissingExtraError",
     "ModelFormatError",
     "NdlfdError",
@@ -69,4 +70,14 @@ class NdlfdWarning(UserWarning):
 
     For example quaternions logged with a few decimals (renormalized) or time
     stamps with large jitter (velocity derived over a time window).
+    """
+
+
+class ExtrapolationWarning(NdlfdWarning):
+    """A request far outside what the demonstrations show, accepted as given.
+
+    For example a start or goal many times the demonstrations' spread away
+    from every demonstration's start or goal
+    (:func:`ndlfd.learner._conditioning.warn_far_condition`): the path is
+    made, but it extrapolates.
     """

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from cli_helpers import cli
 
+from ndlfd._errors import ExtrapolationWarning
 from ndlfd.demonstration import Demonstration
 from ndlfd.io import read_csv, write_csv
 from ndlfd.learner import KeypointHMM
@@ -50,10 +51,21 @@ def test_start_and_goal_take_every_learned_group(capsys, tmp_path, pick_model):
                   f"orientation={q}", "--start", "gripper=1", "--goal",
                   "0.5,0.01,0.1", "-o", tmp_path / "p.csv")  # fmt: skip
     assert rc == 0, err
+    # Q0 turns 0.4 rad and the gripper starts closed; every demonstration
+    # starts within 0.05 rad of no turn, the gripper open: notes
+    far = "the start of orientation (qw, qx, qy, qz) = (0.9801, 0, 0, 0.1987) is"
+    shut = "the start of gripper (gripper0) = (1) is 20.0 spreads from"
+    notes = [e for e in err if "warning" in e]
+    assert len(notes) == 2, err
+    assert notes[0].startswith(f"ndlfd generate: warning: {far}")
+    assert notes[1].startswith(f"ndlfd generate: warning: {shut}")
     got = read_csv(tmp_path / "p.csv")
     start = {"position": [0.02, 0.0, 0.31], "orientation": Q0, "gripper": [1.0]}
-    expected = model.generate(T, dense=True, start=start,
-                              goal={"position": [0.5, 0.01, 0.1]})  # fmt: skip
+    with pytest.warns(ExtrapolationWarning) as caught:
+        expected = model.generate(T, dense=True, start=start,
+                                  goal={"position": [0.5, 0.01, 0.1]})  # fmt: skip
+    texts = [str(w.message) for w in caught]
+    assert len(texts) == 2 and texts[0].startswith(far) and texts[1].startswith(shut)
     np.testing.assert_allclose(got.X, expected.X, rtol=5e-10, atol=1e-12)
     np.testing.assert_allclose(got.get("position")[0], [0.02, 0.0, 0.31], atol=1e-9)
     np.testing.assert_allclose(got.get("orientation")[0], Q0, atol=1e-9)

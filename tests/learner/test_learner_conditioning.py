@@ -1,13 +1,21 @@
-"""Conditioning (ndlfd.learner._conditioning): the kernel width."""
+"""Conditioning (ndlfd.learner._conditioning): the kernel width, a far start."""
+
+import re
+import warnings
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ndlfd._errors import ExtrapolationWarning
 from ndlfd.learner._conditioning import (
     BANDWIDTH_FACTOR,
     BRUTE_FORCE_POINTS,
+    FAR_SPREADS,
+    SPREAD_FLOOR,
     condition_bandwidth,
+    envelope_distance,
 )
 
 
@@ -132,10 +140,130 @@ def test_a_start_offset_waits_while_the_robot_waits():
     demos = _waiting()
     model = KeypointHMM().fit(demos)
     t = demos[0].t
-    path = model.generate(t, dense=True, start={"position": [-0.3, 0.2]})
+    # 0.36 from every demonstration's start, which lie within 0.01 of (0, 0)
+    with pytest.warns(ExtrapolationWarning, match="spreads from the nearest"):
+        path = model.generate(t, dense=True, start={"position": [-0.3, 0.2]})
     P = path.get("position")
     np.testing.assert_allclose(P[0], [-0.3, 0.2])
     rest = slice(0, int(0.55 * t.size))
     resting = max(np.linalg.norm(np.diff(d.get("position")[rest], axis=0), axis=1).max()
                   for d in demos)  # fmt: skip
     assert np.linalg.norm(np.diff(P[rest], axis=0), axis=1).max() <= resting
+
+
+# ------------------------------------------------- a start far from every one
+def _reference_distance(target, points, floor):
+    """Loops: per column the population std (at least floor), the nearest row."""
+    n, k = len(points), len(target)
+    spread = []
+    for c in range(k):
+        mean = sum(points[i][c] for i in range(n)) / n
+        var = sum((points[i][c] - mean) ** 2 for i in range(n)) / n
+        spread.append(max(float(np.sqrt(var)), floor))
+    best = None
+    for i in range(n):
+        d = float(np.sqrt(sum(((target[c] - points[i][c]) / spread[c]) ** 2
+                              for c in range(k))))  # fmt: skip
+        if best is None or d < best[0]:
+            best = (d, i)
+    return best[0], best[1], spread
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(1, 12), k=st.integers(1, 5), seed=st.integers(0, 2**31 - 1),
+       same=st.booleans())  # fmt: skip
+def test_envelope_distance_against_loops(n, k, seed, same):
+    rng = np.random.default_rng(seed)
+    scale = rng.uniform(1e-3, 1e3)
+    points = rng.normal(size=(n, k)) * scale
+    if same:  # starts that coincide: the floor is the spread
+        points[:] = points[0]
+    target = rng.normal(size=k) * scale * 3
+    floor = 0.05 * scale
+    d, i, spread = envelope_distance(target, points, floor)
+    want_d, want_i, want_spread = _reference_distance(target, points, floor)
+    np.testing.assert_allclose(spread, want_spread, rtol=1e-12)
+    assert np.isclose(d, want_d, rtol=1e-12)
+    assert i == want_i  # the first of equals, as the loop
+
+
+def _fan(n_demos=5, seed=0):
+    """Reaches fanning out from starts spread along x, in metres."""
+    from ndlfd import Demonstration
+
+    rng = np.random.default_rng(seed)
+    out = []
+    for i in range(n_demos):
+        t = np.linspace(0.0, 2.0, 120)
+        s = t / 2.0
+        x0 = 0.02 * i + rng.normal(0, 0.003)
+        P = np.column_stack([x0 + 0.6 * s, 0.25 * np.sin(np.pi * s) + 0.01 * i])
+        out.append(Demonstration.from_arrays(t, position=P))
+    return out
+
+
+def _outward(demos, row, k):
+    """A point ``k`` spreads past the demonstration farthest along +x.
+
+    By the definition, from the demonstrations (not the model): the spread
+    per column is the std of their ``row`` samples, at least SPREAD_FLOOR of
+    the position's range over every sample. Every other demonstration's
+    sample has a smaller x, so the one farthest along +x is the nearest.
+    """
+    P = np.array([d.get("position")[row] for d in demos])
+    everything = np.concatenate([d.get("position") for d in demos])
+    floor = SPREAD_FLOOR * (everything.max() - everything.min())
+    spread = np.maximum(P.std(axis=0), floor)
+    far = int(np.argmax(P[:, 0]))
+    return P[far] + [k * spread[0], 0.0], far, k * spread[0]
+
+
+@pytest.mark.parametrize("generation", ["blend", "paper"])
+@pytest.mark.parametrize("what", ["start", "goal"])
+def test_a_far_start_or_goal_is_warned_past_the_threshold(what, generation):
+    from ndlfd import KeypointHMM
+
+    demos = _fan()
+    model = KeypointHMM(generation=generation).fit(demos)
+    t = demos[0].t
+    row = 0 if what == "start" else -1
+    inside, _, _ = _outward(demos, row, FAR_SPREADS - 0.1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # not a word inside the threshold
+        model.generate(t, dense=True, **{what: {"position": inside}})
+        if generation == "blend":
+            model.sample(t, 2, random_state=0, **{what: {"position": inside}})
+    k = FAR_SPREADS + 0.1
+    outside, far, metres = _outward(demos, row, k)
+    want = (
+        f"the {what} of position (x, y) = ({outside[0]:.4g}, {outside[1]:.4g}) is"
+        f" {k:.1f} spreads from the nearest demonstration's {what} (demonstration"
+        f" {far}, "
+    )
+    with pytest.warns(ExtrapolationWarning) as got:
+        path = model.generate(t, dense=True, **{what: {"position": outside}})
+    assert len(got) == 1
+    text = str(got[0].message)
+    assert text.startswith(want), text
+    assert f": {metres:.3g} away in the data's units)" in text
+    np.testing.assert_allclose(path.get("position")[row], outside)  # still made
+    if generation == "blend":
+        with pytest.warns(ExtrapolationWarning, match=re.escape(want)):
+            model.sample(t, 2, random_state=0, **{what: {"position": outside}})
+
+
+def test_coinciding_starts_and_one_demonstration_take_the_floor():
+    from ndlfd import Demonstration, KeypointHMM
+
+    t = np.linspace(0.0, 1.0, 80)
+    demos = [Demonstration.from_arrays(t, position=np.column_stack(
+        [t, a * np.sin(np.pi * t)])) for a in (0.2, 0.3, 0.4)]  # fmt: skip
+    everything = np.concatenate([d.get("position") for d in demos])
+    floor = SPREAD_FLOOR * (everything.max() - everything.min())  # std is 0
+    for fitted in (demos, demos[:1]):
+        model = KeypointHMM().fit(fitted)
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            model.generate(t, start={"position": [0.0, -2.9 * floor]})
+        with pytest.warns(ExtrapolationWarning, match=r" is 3\.1 spreads "):
+            model.generate(t, start={"position": [0.0, -3.1 * floor]})
