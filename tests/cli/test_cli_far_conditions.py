@@ -8,7 +8,7 @@ computed from the CSV files themselves (numpy.loadtxt), not from the model.
 import numpy as np
 from cli_helpers import cli
 
-from ndlfd.learner._conditioning import FAR_SPREADS, SPREAD_FLOOR
+from ndlfd.learner._extrapolation import FAR_SPREADS, SPREAD_FLOOR
 
 JOINTS = ("shoulder_pan", "elbow_flex", "wrist_flex")
 FLAGS = ("--time-column", "stamp", "--group", "joints=" + ",".join(JOINTS),

@@ -12,11 +12,9 @@ from ndlfd._errors import ExtrapolationWarning
 from ndlfd.learner._conditioning import (
     BANDWIDTH_FACTOR,
     BRUTE_FORCE_POINTS,
-    FAR_SPREADS,
-    SPREAD_FLOOR,
     condition_bandwidth,
-    envelope_distance,
 )
+from ndlfd.learner._extrapolation import FAR_SPREADS, SPREAD_FLOOR, envelope_distance
 
 
 def _reference_width(points):
@@ -267,3 +265,27 @@ def test_coinciding_starts_and_one_demonstration_take_the_floor():
             model.generate(t, start={"position": [0.0, -2.9 * floor]})
         with pytest.warns(ExtrapolationWarning, match=r" is 3\.1 spreads "):
             model.generate(t, start={"position": [0.0, -3.1 * floor]})
+
+
+def test_a_far_goal_is_warned_once_when_a_prefix_is_completed():
+    # a prefix without the gripper is completed from a first plan (the goal
+    # oriented again): one warning per call, not one per plan
+    from ndlfd import Demonstration, KeypointHMM
+
+    demos = []
+    for i in range(5):
+        t = np.linspace(0.0, 2.0, 120)
+        s = t / 2.0
+        P = np.column_stack([0.6 * s + 0.02 * i, 0.25 * np.sin(np.pi * s)])
+        demos.append(Demonstration.from_arrays(t, position=P, gripper=1.0 * (s > 0.5)))
+    model = KeypointHMM().fit(demos)
+    t = demos[0].t
+    prefix = Demonstration.from_arrays(t[:30], position=demos[1].get("position")[:30])
+    goal = {"position": [3.0, 0.0]}
+    for call in (lambda: model.generate(t, observed=prefix, goal=goal),
+                 lambda: model.sample(t, 2, observed=prefix, goal=goal,
+                                      random_state=0)):  # fmt: skip
+        with pytest.warns(ExtrapolationWarning) as got:
+            call()
+        assert len(got) == 1
+        assert str(got[0].message).startswith("the goal of position (x, y) = (3, 0)")

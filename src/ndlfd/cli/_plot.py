@@ -531,7 +531,13 @@ def add_plot(sub) -> None:
         " have; a missing velocity is derived from position)",
     )
     p.add_argument("--normalization", default="group", choices=NORMALIZATIONS.names)
-    p.add_argument("--path", metavar="FILE.csv", help="a generated path to draw")
+    p.add_argument(
+        "--path",
+        metavar="FILE.csv",
+        help="a generated path to draw, as 'ndlfd generate' writes it (read with"
+        " the column flags, else without --drop and --rate, else by its own"
+        " names; not a model: make a path from one with 'ndlfd generate')",
+    )
     p.add_argument(
         "--std",
         metavar="FILE.csv",

@@ -5,36 +5,33 @@ the distance of its first (last) normalized sample to the requested one
 (:func:`condition_log_weights`, the width from :func:`condition_bandwidth`);
 the generated path is then shifted onto the requested start and goal with an
 offset faded out by a minimum-jerk ramp (:func:`pin`), so it begins and ends
-there up to rounding. A start or goal far from every demonstration's (more
-than :data:`FAR_SPREADS` of their spread) is accepted with an
-:class:`~ndlfd._errors.ExtrapolationWarning` (:func:`warn_far_condition`).
+there up to rounding. A start or goal far from every demonstration's is
+accepted with a warning (:mod:`ndlfd.learner._extrapolation`).
 """
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Mapping
 
 import numpy as np
 
-from .._errors import ExtrapolationWarning, ValidationError
+from .._errors import ValidationError
 from ._blend import moving_average
 from ._discrete import DISCRETE_GROUPS
+from ._extrapolation import warn_far_condition
 
 __all__ = [
     "BANDWIDTH_FACTOR",
     "BRUTE_FORCE_POINTS",
-    "FAR_SPREADS",
     "NO_PROGRESS",
     "SMOOTH_SHARE",
-    "SPREAD_FLOOR",
+    "OrientedCondition",
     "check_condition",
     "condition_bandwidth",
     "condition_log_weights",
     "condition_target",
     "condition_weights",
     "contact_window",
-    "envelope_distance",
     "fade_pieces",
     "group_columns",
     "log_weights_for",
@@ -45,7 +42,6 @@ __all__ = [
     "progress",
     "smoothed",
     "switch_window",
-    "warn_far_condition",
 ]
 
 #: Kernel width in units of the median nearest-neighbour distance between the
@@ -59,18 +55,6 @@ BANDWIDTH_FACTOR = 4.0
 #: random 2-D points (best of 200, numpy and scipy of the venv) the pairs
 #: took 6, 19 and 57 us at 6, 32 and 64 points, a k-d tree 19, 26 and 35 us.
 BRUTE_FORCE_POINTS = 32
-
-#: A requested start (goal) farther than this many spreads from the nearest
-#: demonstration's start (goal) is warned about (:func:`warn_far_condition`):
-#: for starts spread as a Gaussian, a point beyond 3 standard deviations in
-#: one column is rarer than 3 in 1,000, so the path no longer interpolates
-#: demonstrations but extrapolates them.
-FAR_SPREADS = 3.0
-
-#: The least spread of :func:`envelope_distance`, as a share of the group's
-#: range over the demonstrations: one demonstration, or starts that coincide,
-#: have a spread of 0, and any other start would be infinitely far.
-SPREAD_FLOOR = 0.05
 
 
 def minimum_jerk(s: np.ndarray) -> np.ndarray:
@@ -298,6 +282,15 @@ def check_condition(values, what: str, column_groups, groups) -> dict | None:
     return out
 
 
+class OrientedCondition(dict):
+    """A start or goal :func:`orient_condition` returned (a plain ``dict`` else).
+
+    Orienting it again returns it as it is: a generation that plans twice
+    (an executed prefix completed from a first plan) warns of a far goal
+    once.
+    """
+
+
 def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | None:
     """A requested orientation as a unit quaternion on the demonstrations' side.
 
@@ -306,7 +299,7 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
     (first or last) orientations, negated, so the kernel weights and the
     offset pinned onto the path compare it with the same sign. A start or
     goal far outside the demonstrations' is then warned about
-    (:func:`warn_far_condition`).
+    (:func:`~ndlfd.learner._extrapolation.warn_far_condition`).
 
     Parameters
     ----------
@@ -323,7 +316,7 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
 
     Returns
     -------
-    condition : dict of str to ndarray, or None
+    condition : OrientedCondition or None
 
     Examples
     --------
@@ -334,8 +327,10 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
     ...                  np.array([[1.0, 0, 0, 0]]), sc, cg, "start")
     {'orientation': array([ 0.99503719, -0.09950372, -0.        , -0.        ])}
     """
+    if cond is None or isinstance(cond, OrientedCondition):
+        return cond
     cols = group_columns(column_groups, "orientation")
-    if cond is not None and "orientation" in cond and len(cols) == 4:
+    if "orientation" in cond and len(cols) == 4:
         q = cond["orientation"]
         norm = float(np.linalg.norm(q))
         if not norm > 1e-12:
@@ -350,109 +345,7 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
         cond = {**cond, "orientation": q}
     if what in ("start", "goal"):  # a via point's values are another matter
         warn_far_condition(cond, points, scaler, column_groups, what)
-    return cond
-
-
-def envelope_distance(target, points, floor) -> tuple[float, int, np.ndarray]:
-    """How far ``target`` lies from the nearest of ``points``, in their spread.
-
-    The spread of each column is the standard deviation of ``points`` there
-    (over the rows, ``ddof=0``), at least ``floor``; the distance to each
-    point is the Euclidean norm of the difference divided column by column by
-    the spread, and the nearest point's is returned.
-
-    Parameters
-    ----------
-    target : array-like of shape (n_columns,)
-    points : array-like of shape (n_points, n_columns)
-        E.g. every demonstration's start, physical units.
-    floor : float or array-like of shape (n_columns,)
-        The least spread, > 0.
-
-    Returns
-    -------
-    spreads : float
-        The distance to the nearest point, in spreads.
-    nearest : int
-        Its row.
-    spread : ndarray of shape (n_columns,)
-
-    Examples
-    --------
-    >>> pts = np.array([[0.0, 0.0], [2.0, 0.0]])  # spread 1 and 0 (floored)
-    >>> d, i, s = envelope_distance([5.0, 0.5], pts, floor=0.25)
-    >>> float(d), i, s.tolist()
-    (3.605551275463989, 1, [1.0, 0.25])
-    """
-    P = np.asarray(points, dtype=np.float64)
-    spread = np.maximum(P.std(axis=0), floor)
-    d = np.linalg.norm((P - np.asarray(target, dtype=np.float64)) / spread, axis=1)
-    i = int(np.argmin(d))
-    return float(d[i]), i, spread
-
-
-def warn_far_condition(cond, points, scaler, column_groups, what: str) -> None:
-    """Warn of a start or goal far outside the demonstrations' starts or goals.
-
-    For each group of ``cond``: its :func:`envelope_distance` to the
-    demonstrations' first (start) or last (goal) samples, with a spread of at
-    least :data:`SPREAD_FLOOR` of the group's range over the demonstrations
-    (1 in its units if the group never changes). Past :data:`FAR_SPREADS`,
-    an :class:`~ndlfd._errors.ExtrapolationWarning` names the group and its
-    columns and gives the distance in spreads and in the data's units. The
-    path is made as asked; the warning says it extrapolates.
-
-    Parameters
-    ----------
-    cond : dict of str to ndarray, or None
-        A checked start or goal (:func:`check_condition`), its orientation
-        on the demonstrations' side (:func:`orient_condition`).
-    points : ndarray of shape (n_demos, n_columns) or None
-        The demonstrations' first or last normalized samples (``None``, a
-        model without them: no check).
-    scaler : GroupScaler
-        The fitted normalization.
-    column_groups : sequence of str
-    what : str
-        ``"start"`` or ``"goal"``.
-
-    Examples
-    --------
-    >>> from ndlfd import GroupScaler
-    >>> sc = GroupScaler(("position",), mode="none").fit(np.array([[0.0], [1.0]]))
-    >>> starts = np.array([[0.0], [0.1]])  # spread 0.05, the floor 0.05
-    >>> warn_far_condition({"position": np.array([0.2])}, starts, sc,
-    ...                    ("position",), "start")  # 2 spreads: no warning
-    """
-    if cond is None or points is None or len(points) == 0:
-        return
-    P = scaler.inverse_transform(points, weighted=False)
-    names = getattr(scaler, "columns_", None)
-    for g, v in cond.items():
-        cols = group_columns(column_groups, g)
-        span = scaler.group_max_[g] - scaler.group_min_[g]
-        floor = SPREAD_FLOOR * (span if span > 0 else 1.0)
-        spreads, i, spread = envelope_distance(v, P[:, cols], floor)
-        if not spreads > FAR_SPREADS:
-            continue
-        label = ", ".join(names[c] for c in cols) if names else f"{len(cols)} columns"
-        units = float(np.linalg.norm(v - P[i, cols]))
-        warnings.warn(
-            f"the {what} of {g} ({label}) = {_numbers(v)} is {spreads:.1f}"
-            f" spreads from the nearest demonstration's {what} (demonstration"
-            f" {i}, {_numbers(P[i, cols])}: {units:.3g} away in the data's"
-            f" units); the demonstrations' {what}s spread {_numbers(spread)}"
-            f" (standard deviation per column, at least {SPREAD_FLOOR:.0%} of"
-            f" the group's range). Beyond {FAR_SPREADS:g} spreads the path"
-            " extrapolates what was demonstrated",
-            ExtrapolationWarning,
-            stacklevel=2,
-        )
-
-
-def _numbers(values) -> str:
-    """``(a, b, c)`` with 4 significant digits each."""
-    return "(" + ", ".join(f"{float(x):.4g}" for x in values) + ")"
+    return OrientedCondition(cond)
 
 
 def condition_target(
