@@ -50,6 +50,7 @@ __all__ = [
     "QuaternionCurve",
     "angular_rates",
     "norm_constraints",
+    "row_norm",
 ]
 
 #: The limits on a group's norm.
@@ -138,6 +139,38 @@ class QuaternionCurve:
         return 2.0 * _qmul_conj(q, self(s, 1)), 2.0 * _qmul_conj(q, self(s, 2))
 
 
+def row_norm(M: np.ndarray) -> np.ndarray:
+    """The Euclidean norm of each row, without overflow on huge values.
+
+    Scaled by the row's largest magnitude before squaring (``numpy.linalg.norm``
+    squares first: rows past about ``1e154`` overflow); a row whose norm is past
+    the largest float is ``inf``.
+
+    Parameters
+    ----------
+    M : ndarray of shape (n, k)
+
+    Returns
+    -------
+    norms : ndarray of shape (n,)
+
+    Examples
+    --------
+    >>> row_norm(np.array([[3.0, -4.0], [0.0, 0.0]])).tolist()
+    [5.0, 0.0]
+    >>> f"{row_norm(np.array([[3e200, 4e200]]))[0]:.6g}"  # numpy.linalg.norm: inf
+    '5e+200'
+    """
+    A = np.abs(np.asarray(M, dtype=np.float64))
+    if A.shape[1] == 0:
+        return np.zeros(A.shape[0])
+    top = A.max(axis=1)
+    safe = np.where((top > 0) & np.isfinite(top), top, 1.0)
+    with np.errstate(over="ignore"):
+        norms = top * np.sqrt(np.sum((A / safe[:, None]) ** 2, axis=1))
+    return np.where(np.isfinite(top), norms, top)
+
+
 def angular_rates(Q: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Angular velocity and acceleration norms of sampled quaternions.
 
@@ -167,8 +200,8 @@ def angular_rates(Q: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     C = make_continuous(Q)
     d1 = np.gradient(C, t, axis=0, edge_order=2)
     d2 = np.gradient(d1, t, axis=0, edge_order=2)
-    w = 2.0 * np.linalg.norm(_qmul_conj(C, d1), axis=1)
-    a = 2.0 * np.linalg.norm(_qmul_conj(C, d2), axis=1)
+    w = 2.0 * row_norm(_qmul_conj(C, d1))
+    a = 2.0 * row_norm(_qmul_conj(C, d2))
     return w, a
 
 
@@ -228,11 +261,11 @@ def norm_constraints(toppra, interp, norm: dict) -> list:
 
     for cols, v in norm.get("speed", []):
         out.append(_RateBound(
-            lambda path, s, c=cols: np.linalg.norm(path(s, 1)[:, c], axis=1), v
+            lambda path, s, c=cols: row_norm(path(s, 1)[:, c]), v
         ))  # fmt: skip
     for curve, w in norm.get("angular_velocity", []):
         out.append(_RateBound(
-            lambda path, s, c=curve: np.linalg.norm(c.rates(s)[0], axis=1), w
+            lambda path, s, c=curve: row_norm(c.rates(s)[0]), w
         ))  # fmt: skip
     for curve, a in norm.get("angular_acceleration", []):
         out.append(_AngularAcceleration(curve, a))

@@ -56,6 +56,7 @@ from ._norm_limits import (
     QuaternionCurve,
     angular_rates,
     norm_constraints,
+    row_norm,
 )
 from ._trajectory import curve_peaks, rest_curve
 from ._validation import check_positive_int
@@ -310,7 +311,7 @@ def path_peaks(path: Demonstration) -> dict[str, np.ndarray]:
     out.update({k: np.zeros(path.n_dims) for k in NORM_KINDS})
     for g in _position_groups(path):
         cols = path.columns_of(g)
-        out["speed"][cols] = np.linalg.norm(V[:, cols], axis=1).max()
+        out["speed"][cols] = row_norm(V[:, cols]).max()
     for g in _quaternion_groups(path):
         cols = path.columns_of(g)
         w, a = angular_rates(path.X[:, cols], path.t)
