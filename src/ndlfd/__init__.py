@@ -22,6 +22,7 @@ from . import (
 from ._errors import (
     DataFileError,
     DecodeError,
+    ExtrapolationWarning,
     MissingExtraError,
     ModelFormatError,
     NdlfdError,
@@ -50,6 +51,7 @@ __all__ = [
     "DecodeError",
     "Demonstration",
     "DiscreteHMM",
+    "ExtrapolationWarning",
     "GroupScaler",
     "KeypointHMM",
     "MissingExtraError",

@@ -227,6 +227,7 @@ def test_a_refit_forgets_the_conditioning_widths_of_the_last_fit():
 
 
 @pytest.mark.parametrize("offset", [0.02, 0.5, 30.0])
+@pytest.mark.filterwarnings("ignore::ndlfd.ExtrapolationWarning")  # far on purpose
 def test_a_start_nearest_to_a_demonstration_that_is_no_template(offset):
     # the kernel weight of every kept template underflows to 0 when the start
     # lies beyond a demonstration that is not among them: a path all the same
@@ -289,6 +290,7 @@ def _picks(n_demos=8, seed=4):
     return demos, grasp
 
 
+@pytest.mark.filterwarnings("ignore::ndlfd.ExtrapolationWarning")  # far on purpose
 def test_a_start_offset_is_gone_by_the_grasp():
     demos, grasp = _picks()
     model = KeypointHMM().fit(demos)
@@ -359,6 +361,7 @@ def carries(n_demos=6, seed=0, noise=2e-3):
 
 
 @pytest.mark.parametrize("generation", ["blend", "paper"])
+@pytest.mark.filterwarnings("ignore::ndlfd.ExtrapolationWarning")  # far on purpose
 def test_a_start_orientation_and_gripper_keep_the_path_valid(generation):
     # a requested orientation is pinned as a unit quaternion, -q as q (one
     # rotation); a requested gripper value leaves the gripper on its two values

@@ -200,6 +200,7 @@ def _same_phase_steps(demos, tau, window=0.03):
 
 
 @pytest.mark.parametrize("offset", [1.0, 5.0, 20.0])
+@pytest.mark.filterwarnings("ignore::ndlfd.ExtrapolationWarning")  # far on purpose
 def test_a_start_or_goal_off_a_robot_at_rest_is_absorbed_without_a_jump(offset):
     # before: a continuous gripper counted as switching at its first sample,
     # so a start 5 deg off was gone in one sample (7 deg in 33 ms)

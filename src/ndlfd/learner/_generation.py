@@ -257,8 +257,9 @@ def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:
         Sums to 1 (ties of ``argmax``: the lowest route number).
     """
     U = est.scaler_.transform(prefix.X, weighted=False)
-    ok = allowed_routes(est, U, prefix_stride(n_times), cache)
-    p = np.where(ok, route_probabilities(routes, logw), 0.0)
+    prior = route_probabilities(routes, logw)
+    ok = allowed_routes(est, U, prefix_stride(n_times), cache, prior)
+    p = np.where(ok, prior, 0.0)
     if not p.sum() > 0:  # every allowed route's weight underflowed: the allowed
         p = ok.astype(np.float64)
     return p / p.sum()
