@@ -2,6 +2,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline
 
 pytest.importorskip("rosbags")
 
@@ -11,6 +12,7 @@ from rosbags.rosbag2 import StoragePlugin, Writer
 from bag_samples import STORE, joint_state, pose_stamped
 from bag_samples import rosbags_read as messages
 from ndlfd.io import read_bag
+from ndlfd.io._bagout import joint_trajectory_points
 from ndlfd.learner import KeypointHMM
 
 
@@ -38,6 +40,28 @@ def reach_bag(path, seed=0, storage=StoragePlugin.MCAP, gaps=0):
             m = joint_state(int(k), ["shoulder", "elbow"], j)
             w.write(cj, int(k), STORE.serialize_cdr(m, m.__msgtype__))
     return path
+
+
+def assert_at_rest_on_the_path(t, Q, V, A, path, units="rad"):
+    """A JointTrajectory's points are ``path`` come to rest, as the writer says.
+
+    The positions those of :func:`joint_trajectory_points` (the path eased
+    to rest at its moving ends), beginning and ending on the path's own;
+    the velocities and accelerations the clamped cubic spline's through the
+    written positions, the end velocities exactly 0.
+    """
+    factor = np.pi / 180.0 if units == "deg" else 1.0
+    _, s, P, _, _ = joint_trajectory_points(path, units=units)
+    np.testing.assert_allclose(t, s, rtol=0, atol=1e-9)  # nanoseconds
+    # up to the rounding of the path's time stamps, computed again here
+    np.testing.assert_allclose(Q, P, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(
+        Q[[0, -1]], path.get("joints")[[0, -1]] * factor, rtol=1e-12, atol=1e-15
+    )
+    curve = CubicSpline(s, Q, axis=0, bc_type="clamped")  # s: unrounded
+    assert not np.any(V[[0, -1]])
+    np.testing.assert_allclose(V, curve(s, 1), rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(A, curve(s, 2), rtol=1e-9, atol=1e-12)
 
 
 def bags(folder):
@@ -180,10 +204,14 @@ def test_joint_trajectory_yaml_from_a_joint_model(tmp_path, capsys):
     want = KeypointHMM.load(model).generate(np.linspace(0.0, 2.0, 30), dense=True)
     msg = yaml.safe_load(out.read_text())
     assert msg["joint_names"] == ["shoulder", "elbow"]
-    positions = [p["positions"] for p in msg["points"]]
-    assert np.array_equal(positions, want.get("joints"))
-    stamps = [p["time_from_start"] for p in msg["points"]]
-    assert stamps[-1] == {"sec": 2, "nanosec": 0}
+    pts = msg["points"]
+    t = np.array([p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"]
+                  for p in pts])  # fmt: skip
+    Q, V, A = (np.array([p[k] for p in pts])
+               for k in ("positions", "velocities", "accelerations"))  # fmt: skip
+    # the path moves at its ends: eased to rest there, a little longer
+    assert len(pts) > 30 and t[-1] > 2.0
+    assert_at_rest_on_the_path(t, Q, V, A, want)
     # replanning: the first 12 samples executed; the trajectory sent is the
     # rest, from where the robot is now (the last observed sample, moving)
     prefix = want.take(np.arange(12)).select("joints")
@@ -196,8 +224,17 @@ def test_joint_trajectory_yaml_from_a_joint_model(tmp_path, capsys):
     assert rc == 0, err
     assert "the trajectory starts at the last observed sample" in " ".join(err)
     cont = yaml.safe_load((tmp_path / "cont.yaml").read_text())["points"]
-    assert len(cont) == 30 - 11
     np.testing.assert_allclose(cont[0]["positions"], prefix.X[-1], rtol=1e-12)
+    # the path's 30 - 11 samples from there, its moving end eased to rest
+    path = KeypointHMM.load(model).generate(np.linspace(0.0, 2.0, 30),
+                                            observed=prefix)  # fmt: skip
+    _, s, P, W, _ = joint_trajectory_points(path.take(np.arange(11, 30)),
+                                            moving_start=True)  # fmt: skip
+    assert len(cont) == s.size > 30 - 11
+    np.testing.assert_allclose([p["positions"] for p in cont], P, rtol=1e-12)
+    assert np.any(cont[0]["velocities"]) and not np.any(cont[-1]["velocities"])
+    np.testing.assert_allclose([p["velocities"] for p in cont], W, rtol=1e-9,
+                               atol=1e-12)  # fmt: skip
     assert cont[0]["time_from_start"] == {"sec": 0, "nanosec": 0}
     assert np.abs(cont[0]["velocities"]).max() > 0.0  # moving, not from rest
     assert np.all(np.array(cont[-1]["velocities"]) == 0.0)
@@ -379,10 +416,11 @@ def test_joint_trajectory_bag_with_urdf_names_in_radians(tmp_path, capsys):
     ((ns, msg),) = messages(out, "/joint_trajectory_controller/joint_trajectory")
     want = KeypointHMM.load(model).generate(np.linspace(0.0, 2.0, 30), dense=True)
     assert ns == 0 and msg.joint_names == ["joint_1", "joint_2"]
-    got = np.array([p.positions for p in msg.points])
-    assert np.array_equal(got, np.deg2rad(want.get("joints")))
-    for end in (msg.points[0], msg.points[-1]):
-        assert not np.any(end.velocities) and not np.any(end.accelerations)
+    t = np.array([p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec
+                  for p in msg.points])  # fmt: skip
+    Q, V, A = (np.array([getattr(p, k) for p in msg.points])
+               for k in ("positions", "velocities", "accelerations"))  # fmt: skip
+    assert_at_rest_on_the_path(t, Q, V, A, want, units="deg")
     rc, err = cli(capsys, "generate", model, "--duration", 2, "--joint-names", "a",
                   "-o", tmp_path / "t.yaml")  # fmt: skip
     assert rc == 2 and err[-1] == (
@@ -436,8 +474,17 @@ def test_readme_joint_trajectory_commands_run(tmp_path, capsys, monkeypatch):
     out = tmp_path / "traj_bag"
     ((ns, msg),) = messages(out, "/joint_trajectory_controller/joint_trajectory")
     assert ns == 0 and msg.joint_names == ["joint_1", "joint_2"]
-    assert len(msg.points) == 601
+    # 601 samples over 6 s, moving at both ends: eased to rest over 10 % of
+    # the duration at each, which covers half of it (0.3 s, 30 more points)
+    assert len(msg.points) == 661
     last = msg.points[-1].time_from_start
-    assert (last.sec, last.nanosec) == (6, 0)
-    for end in (msg.points[0], msg.points[-1]):
-        assert not np.any(end.velocities) and not np.any(end.accelerations)
+    assert (last.sec, last.nanosec) == (6, 600_000_000)
+    t = np.array([p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec
+                  for p in msg.points])  # fmt: skip
+    Q, V, A = (np.array([getattr(p, k) for p in msg.points])
+               for k in ("positions", "velocities", "accelerations"))  # fmt: skip
+    want = KeypointHMM.load(tmp_path / "arm.ndlfd").generate(
+        np.linspace(0.0, 6.0, 601), dense=True
+    )
+    assert_at_rest_on_the_path(t, Q, V, A, want)
+    assert np.any(A[[0, -1]])  # the curve's own accelerations at rest, not 0

@@ -2,6 +2,7 @@ import pickle
 
 import numpy as np
 import pytest
+from scipy.interpolate import CubicSpline
 
 pytest.importorskip("rosbags")
 
@@ -28,6 +29,7 @@ from ndlfd.io import (
     write_joint_trajectory,
 )
 from ndlfd.io import write_bag as ndlfd_write_bag
+from ndlfd.io._bagout import joint_trajectory_points
 
 
 def seconds(ns):
@@ -336,20 +338,33 @@ def test_joint_trajectory_yaml_parses_back_exactly(tmp_path):
     X = demo.X.copy()
     X[:, 7:9] *= 1e-5  # the joints: floats written with an exponent
     demo = Demonstration(demo.t + 2.0, X, demo.columns, demo.groups)
-    p = write_joint_trajectory(demo, tmp_path / "traj.yaml", gripper=None, fade=0)
+    p = write_joint_trajectory(demo, tmp_path / "traj.yaml", gripper=None)
     msg = yaml.safe_load(p.read_text())
     assert msg["joint_names"] == ["j1", "j2"]
     assert msg["header"] == {"stamp": {"sec": 0, "nanosec": 0}, "frame_id": ""}
     pts = msg["points"]
-    assert np.array_equal([x["positions"] for x in pts], demo.get("joints"))
-    V = np.gradient(demo.get("joints"), demo.t, axis=0)
-    V[0] = V[-1] = 0.0  # a controller wants the ends at rest
-    assert np.array_equal([x["velocities"] for x in pts], V)
+    Q, V, A = (np.array([x[k] for x in pts])
+               for k in ("positions", "velocities", "accelerations"))  # fmt: skip
     ns = [
         x["time_from_start"]["sec"] * 10**9 + x["time_from_start"]["nanosec"]
         for x in pts
     ]
-    assert ns == [round((t - 2.0) * 1e9) for t in demo.t]
+    # every float reads back as the points computed, bit for bit
+    _, t, *want = joint_trajectory_points(demo, gripper=None)
+    for got, w in zip((Q, V, A), want, strict=True):
+        assert np.array_equal(got, w)
+    assert ns == [round(s * 1e9) for s in t]
+    # the noisy joints move at both ends: eased to rest along their route,
+    # the samples a step (1/64 s) apart from 0, the ends the path's own
+    assert np.array_equal(ns, np.arange(len(pts)) * 15_625_000)
+    assert len(pts) > demo.n_samples
+    assert np.array_equal(Q[[0, -1]], demo.get("joints")[[0, -1]])
+    # velocities and accelerations: the clamped cubic spline's through the
+    # written positions, at rest at the ends exactly
+    curve = CubicSpline(t, Q, axis=0, bc_type="clamped")
+    np.testing.assert_allclose(V, curve(t, 1), rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(A, curve(t, 2), rtol=1e-9, atol=1e-12)
+    assert not np.any(V[[0, -1]])
     plain = Demonstration.from_arrays([0.0, 1.0], position=[[0, 0], [1, 1]])
     with pytest.raises(
         ValidationError, match=r"needs the group 'joints'.* has position"
