@@ -300,6 +300,38 @@ def test_the_junction_leaves_at_the_prefix_velocity(n, speed, offset):
     assert leave == pytest.approx(speed, abs=1e-4)
 
 
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(
+    n=st.integers(902, 999),
+    speed=st.floats(-3.0, 3.0),
+    offset=st.floats(-1.0, 1.0),
+)
+def test_a_junction_near_the_end_keeps_what_it_cannot_fade(n, speed, offset):
+    # as above, but less than JUNCTION_FADE (0.1) of the motion left: only
+    # (rest / 0.1)^2 of the offset is faded over the rest, the remainder
+    # kept to the end (before: all of it, an offset of 1 gone in 2 samples);
+    # by hand, with the velocity offset still faded within the rest
+    tq = np.linspace(0.0, 1.0, 1001)
+    X = np.zeros((tq.size, 1))
+    P = offset + speed * tq[:n, None]
+    out = continue_from(X, tq, Demonstration(tq[:n], P, ("p",), ("p",)), ("p",))
+    np.testing.assert_array_equal(out[:n], P)
+    last = tq[n - 1]
+    rest = 1.0 - last
+    s = tq - last
+    share = (rest / 0.1) ** 2
+    ramp = 1.0 - minimum_jerk(s / rest)
+    ref = P[-1, 0] * (1.0 - share) + (P[-1, 0] * share + speed * s) * ramp
+    np.testing.assert_allclose(out[n:, 0], ref[n:], atol=1e-12)
+    # the end: beside the path's, by the part kept; the offset's own fade
+    # accelerates no more than fading it all over 0.1 would (5.774 / 0.1^2)
+    assert out[-1, 0] == pytest.approx(P[-1, 0] * (1.0 - share), abs=1e-12)
+    h = tq[1] - tq[0]
+    faded = P[-1, 0] * share * ramp[n - 1 :]
+    bend = np.abs(np.diff(faded, 2)).max() / h**2
+    assert bend <= 5.774 * abs(P[-1, 0]) / 0.1**2 * 1.01 + 1e-9
+
+
 def test_an_observed_prefix_as_minus_q_is_the_same_rotation():
     # a recorded stream may give -q for q: the path is the same rotations,
     # its first samples the observed ones as given, and it continues them

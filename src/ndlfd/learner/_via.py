@@ -60,6 +60,11 @@ the robot executed so far, at the first time stamps of ``times``:
   as :func:`~ndlfd.learner._conditioning.pin` does for a start; and by the
   offset of the prefix's velocity at its end to the path's, faded within
   :data:`JUNCTION_FADE`, so the path leaves at the velocity the robot has.
+  With less than :data:`JUNCTION_FADE` of the motion left before the end
+  (a late robot's last replans), only ``(left / JUNCTION_FADE)^2`` of the
+  offset is faded and the rest kept to the end: the plan ends beside the
+  route's end pose rather than snapping onto it (before: 5-13 deg in the
+  last 33 ms, SO-101-like joints replanned at 10 Hz).
 """
 
 from __future__ import annotations
@@ -592,6 +597,11 @@ def observed_log_weights(est, prefix, tq: np.ndarray, cache: dict) -> np.ndarray
 def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
     """The observed samples, then the path shifted onto the last one, faded.
 
+    The offset at the last observed sample fades by a minimum-jerk ramp up to
+    the path's next slow-down or gripper switch (else its end); over less
+    than :data:`JUNCTION_FADE` of the motion, only the share
+    :func:`_fade_share` of it, the rest kept to the end.
+
     Parameters
     ----------
     X : ndarray of shape (n_samples, n_columns)
@@ -633,9 +643,28 @@ def continue_from(X, tq, prefix, column_groups) -> np.ndarray:
         width = np.minimum(_junction_width(X[n - 1 :], tq[n - 1 :], dv), first - last)
         s = np.maximum(tq - last, 0.0)[:, None]
         X += dv * s * (1.0 - minimum_jerk(s / width))
-    X += (prefix.X[n - 1] - X[n - 1]) * fade[:, None]
+    offset = prefix.X[n - 1] - X[n - 1]
+    faded = offset * _fade_share(first - last)
+    X += faded * fade[:, None] + (offset - faded)  # the rest kept to the end
     X[:n] = prefix.X
     return X
+
+
+def _fade_share(span: float) -> float:
+    """The share of the offset at the junction a ramp over ``span`` fades.
+
+    All of it when ``span`` (normalized time) is at least
+    :data:`JUNCTION_FADE`; over a shorter span (a junction close to the
+    plan's end or to a contact), ``(span / JUNCTION_FADE)^2``: the ramp then
+    moves and accelerates no more than fading the whole offset over
+    :data:`JUNCTION_FADE` would. The rest is kept to the end.
+
+    Examples
+    --------
+    >>> _fade_share(0.5), _fade_share(0.05)
+    (1.0, 0.25)
+    """
+    return min(1.0, span / JUNCTION_FADE) ** 2
 
 
 def _junction_width(X: np.ndarray, tq: np.ndarray, dv: np.ndarray) -> np.ndarray:
