@@ -24,7 +24,14 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-__all__ = ["EASE_SHARE", "REST", "come_to_rest", "curve_peaks", "rest_curve"]
+__all__ = [
+    "EASE_SHARE",
+    "REST",
+    "come_to_rest",
+    "curve_peaks",
+    "rest_curve",
+    "rest_points",
+]
 
 #: An end whose velocity is at most this share of the path's peak is at rest.
 REST = 1e-3
@@ -178,6 +185,43 @@ def come_to_rest(t, X, *, moving_start: bool = False, ease=None, held=None):
     out[:, held] = X[np.clip(before, 0, t.size - 1)][:, held]
     out[[0, -1]] = X[[0, -1]]
     return t[0] + tau, out
+
+
+def rest_points(t, X, *, moving_start: bool = False, ease=None, held=None):
+    """The points a controller is sent: come to rest, with the curve's derivatives.
+
+    :func:`come_to_rest`, then the velocities and accelerations of
+    :func:`rest_curve` through the result at its samples (0 for ``held``
+    columns), the velocity at a rest end exactly 0.
+
+    Parameters
+    ----------
+    t : ndarray of shape (n,)
+        Increasing times, ``n >= 2``.
+    X : ndarray of shape (n, k)
+    moving_start, ease, held
+        As for :func:`come_to_rest`.
+
+    Returns
+    -------
+    t, X, V, A : ndarray of shape (m,), and (m, k) each
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> t2, X2, V, A = rest_points(t, t[:, None])  # a line at 1 /s, eased
+    >>> t2.size, V[[0, -1], 0].tolist(), round(float(V[:, 0].max()), 2)
+    (111, [0.0, 0.0], 1.0)
+    """
+    held = None if held is None else np.asarray(held, bool)
+    t, X = come_to_rest(t, X, moving_start=moving_start, ease=ease, held=held)
+    smooth = np.ones(X.shape[1], bool) if held is None else ~held
+    V, A = np.zeros_like(X), np.zeros_like(X)
+    if smooth.any():
+        curve = rest_curve(t, X[:, smooth], moving_start=moving_start)
+        V[:, smooth], A[:, smooth] = curve(t, 1), curve(t, 2)
+    V[[-1] if moving_start else [0, -1]] = 0.0  # exactly, not up to rounding
+    return t, X, V, A
 
 
 def curve_peaks(curve: CubicSpline, t: np.ndarray, per_step: int = 8):

@@ -212,6 +212,13 @@ def test_joint_trajectory_yaml_from_a_joint_model(tmp_path, capsys):
     # the path moves at its ends: eased to rest there, a little longer
     assert len(pts) > 30 and t[-1] > 2.0
     assert_at_rest_on_the_path(t, Q, V, A, want)
+    # the peaks said are those written (before: of the path before easing)
+    v, a = np.abs(V).max(axis=0), np.abs(A).max(axis=0)
+    names = ("shoulder", "elbow")
+    assert (
+        f"peaks: joints velocity {v.max():.3g} /s ({names[v.argmax()]}),"
+        f" acceleration {a.max():.3g} /s^2 ({names[a.argmax()]})"
+    ) in err
     # replanning: the first 12 samples executed; the trajectory sent is the
     # rest, from where the robot is now (the last observed sample, moving)
     prefix = want.take(np.arange(12)).select("joints")

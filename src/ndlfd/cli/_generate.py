@@ -103,7 +103,8 @@ def _cmd_generate(args: argparse.Namespace) -> int:
     exact_time = (
         (args.like is not None or args.rate is not None) and dense
     ) or prefix is not None
-    scaled = apply_limits(args, path, dense=dense, std=std, prefix=prefix)
+    scaled = apply_limits(args, path, dense=dense, std=std, prefix=prefix,
+                          trajectory=fmt == "joint-trajectory")  # fmt: skip
     exact_time = exact_time and (
         scaled is path or args.rate is not None or prefix is not None
     )

@@ -13,11 +13,18 @@ import argparse
 import numpy as np
 
 from .._errors import ValidationError
+from .._trajectory import rest_points
 from ..demonstration import Demonstration
 from ..limits import KINDS, NORM_KINDS, path_peaks, time_scale
 from ._options import parse_floats, say
 
-__all__ = ["add_limit_options", "apply_limits", "parse_limits", "peaks_line"]
+__all__ = [
+    "add_limit_options",
+    "apply_limits",
+    "parse_limits",
+    "peaks_line",
+    "trajectory_peaks",
+]
 
 
 #: The norm flags: the kind each sets, its metavar, example and help.
@@ -128,13 +135,14 @@ def _norm_value(text: str, flag: str, name: str, kind: str) -> float:
     return values[0] * factor
 
 
-def peaks_line(path: Demonstration) -> str:
+def peaks_line(path: Demonstration, peaks: dict | None = None) -> str:
     """The largest velocity and acceleration of each group, and where.
 
     A position group's speed too (the norm of its velocity); an orientation
     (quaternions) by its angular velocity and acceleration. Not a velocity
     derived from the position, or a gripper on two values (it switches in one
-    sample).
+    sample). ``peaks``: the path's (:func:`~ndlfd.limits.path_peaks`) unless
+    given (:func:`trajectory_peaks`).
 
     Examples
     --------
@@ -143,7 +151,7 @@ def peaks_line(path: Demonstration) -> str:
     >>> peaks_line(d)
     'peaks: position velocity 2 /s (x), acceleration 2 /s^2 (y), speed 2.83 /s'
     """
-    peaks = path_peaks(path)
+    peaks = path_peaks(path) if peaks is None else peaks
     parts = []
     for g in path.group_names:
         cols = path.columns_of(g)
@@ -173,13 +181,64 @@ def peaks_line(path: Demonstration) -> str:
     return "peaks: " + "; ".join(parts)
 
 
-def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=True):
+def trajectory_peaks(path: Demonstration, *, moving_start: bool = False):
+    """What a JointTrajectory of ``path`` carries, in the path's units, and its peaks.
+
+    The groups ``joints`` and ``gripper`` as
+    :func:`~ndlfd.io.write_joint_trajectory` writes them: eased to rest
+    where they move at an end (the first one left moving after a prefix),
+    with the velocities and accelerations of the curve through them
+    (:func:`ndlfd._trajectory.rest_points`). Those are the peaks, not the
+    samples' differences.
+
+    Parameters
+    ----------
+    path : Demonstration
+        With the group ``joints``.
+    moving_start : bool, default=False
+
+    Returns
+    -------
+    sent : Demonstration
+    peaks : dict of str to ndarray
+        As :func:`~ndlfd.limits.path_peaks` of ``sent``, its velocity and
+        acceleration those written.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> d = Demonstration.from_arrays(t, joints=np.column_stack([t, 2 * t]))
+    >>> sent, peaks = trajectory_peaks(d)  # moving at both ends: eased
+    >>> sent.n_samples, peaks["velocity"].round(2).tolist()
+    (111, [1.0, 2.0])
+    """
+    groups = [g for g in ("joints", "gripper") if path.has_group(g)]
+    cols = np.concatenate([path.columns_of(g) for g in groups])
+    Q = path.X[:, cols]
+    held = np.array([np.unique(Q[:, j]).size == 2 for j in range(Q.shape[1])])
+    t, Q, V, A = rest_points(path.t - path.t[0], Q, moving_start=moving_start,
+                             held=held)  # fmt: skip
+    sent = Demonstration(
+        path.t[0] + t, Q, tuple(path.columns[c] for c in cols),
+        tuple(path.groups[c] for c in cols),
+    )  # fmt: skip
+    peaks = path_peaks(sent)
+    peaks["velocity"], peaks["acceleration"] = np.abs(V).max(0), np.abs(A).max(0)
+    return sent, peaks
+
+
+def apply_limits(
+    args, path: Demonstration, *, dense: bool, std, prefix, report=True,
+    trajectory=False,
+):  # fmt: skip
     """The path time-scaled to the flags' limits (as it is without them).
 
     Says (``report``) the peaks, and the new duration when the path was slowed
     down. After an observed ``prefix`` the peaks are of what follows it (from
     its last sample, what a JointTrajectory sends): the executed samples are
-    history, their peaks the robot's.
+    history, their peaks the robot's. For a JointTrajectory (``trajectory``),
+    the peaks of what it is written with: its joints and gripper eased to
+    rest, the curve's velocities and accelerations (:func:`trajectory_peaks`).
     """
     limits = parse_limits(args)
     if limits is not None and (not dense or std is not None):
@@ -202,7 +261,10 @@ def apply_limits(args, path: Demonstration, *, dense: bool, std, prefix, report=
     # of what is sent on: after an executed prefix, from its last sample
     sent = out if keep <= 1 else out.take(np.arange(keep - 1, out.n_samples))
     if sent.n_samples >= 3:
-        line = peaks_line(sent)
+        peaks = None
+        if trajectory and sent.has_group("joints"):
+            sent, peaks = trajectory_peaks(sent, moving_start=keep > 0)
+        line = peaks_line(sent, peaks)
         if keep > 1:
             line += f" (from the last of the {keep} observed samples on)"
         say(args, line)

@@ -30,7 +30,7 @@ import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
 from .._fileformat import atomic_path
-from .._trajectory import come_to_rest, rest_curve
+from .._trajectory import rest_points
 from ..demonstration import Demonstration
 from ._bag import BAG_SUFFIXES, rosbags_modules, typestore
 
@@ -493,12 +493,7 @@ def joint_trajectory_points(
             f" duration); got {ease!r}"
         )
     held = np.array([np.unique(Q[:, j]).size == 2 for j in range(Q.shape[1])])
-    t, Q = come_to_rest(t, Q, moving_start=moving_start, ease=ease, held=held)
-    V, A = np.zeros_like(Q), np.zeros_like(Q)
-    if (~held).any():
-        curve = rest_curve(t, Q[:, ~held], moving_start=moving_start)
-        V[:, ~held], A[:, ~held] = curve(t, 1), curve(t, 2)
-    V[[-1] if moving_start else [0, -1]] = 0.0  # exactly, not up to rounding
+    t, Q, V, A = rest_points(t, Q, moving_start=moving_start, ease=ease, held=held)
     return names, t, Q, V, A
 
 
