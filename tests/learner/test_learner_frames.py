@@ -259,7 +259,13 @@ def test_frames_with_a_prefix_via_point_or_goal_keep_following_the_frames(turned
     ):
         path = model.generate(t, dense=True, frames=f, **kw)
         err = np.linalg.norm(path.get("position") - P, axis=1)
-        assert err.max() < 0.03, (list(kw), err.max())  # measured 0.021-0.023
+        # measured 0.021 (prefix, goal) and 0.030 (via): the via point lies in
+        # the grasp's rest, where the closest pass the blend's clock is warped
+        # to (._phase.via_clock) is a near tie between the rest's ends (0.2 mm
+        # apart); the end chosen shifts the clock by 0.09 s (0.021 before the
+        # views' covariances were shrunk, the tie on the other side)
+        bound = 0.035 if "via" in kw else 0.025
+        assert err.max() < bound, (list(kw), err.max())
         assert _largest_step(path) < 1.1 * _largest_step(test)
 
 

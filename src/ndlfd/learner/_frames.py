@@ -52,6 +52,7 @@ __all__ = [
     "frame_mixer",
     "frame_parts",
     "quat_multiply",
+    "shrunk_covariance",
     "split_frames",
 ]
 
@@ -251,14 +252,63 @@ def quat_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
+def shrunk_covariance(S: np.ndarray, n: float) -> np.ndarray:
+    """Covariances of ``n`` samples shrunk toward their mean variance (OAS).
+
+    The oracle approximating shrinkage of Chen, Wiesel, Eldar and Hero
+    (2010): ``(1 - rho) S + rho tr(S) / k I`` with ``rho = min(1, ((1 - 2/k)
+    tr(S^2) + tr(S)^2) / ((n + 1 - 2/k) (tr(S^2) - tr(S)^2 / k)))``, the
+    closed form near the least mean squared error for Gaussian samples. A
+    sample covariance of few points has directions of near-zero variance by
+    chance (three templates in 3-D: a plane), which would claim certainty a
+    product of Gaussians follows; shrunk, a view's certainty is its spread
+    where the samples cannot tell directions apart, and the sample
+    covariance where they can.
+
+    Parameters
+    ----------
+    S : ndarray of shape (..., k, k)
+        Sample covariances (normalized by the weights, not ``n - 1``).
+    n : float
+        The number of samples (effective, for weighted ones), at least 1.
+
+    Returns
+    -------
+    ndarray of shape (..., k, k)
+
+    Examples
+    --------
+    Two points in the plane give a covariance of rank one; shrunk, it is
+    the isotropic mean variance:
+
+    >>> shrunk_covariance(np.array([[1.0, 0.0], [0.0, 0.0]]), 2.0)
+    array([[0.5, 0. ],
+           [0. , 0.5]])
+    """
+    k = S.shape[-1]
+    tr = np.trace(S, axis1=-2, axis2=-1)
+    tr2 = np.einsum("...ab,...ba->...", S, S)
+    num = (1.0 - 2.0 / k) * tr2 + tr**2
+    den = (n + 1.0 - 2.0 / k) * (tr2 - tr**2 / k)
+    # den is 0 where S is already isotropic (or zero): nothing to shrink
+    rho = np.ones_like(tr)
+    ok = den > 1e-12 * np.maximum(tr2, 1e-300)
+    rho[ok] = np.minimum(1.0, num[ok] / den[ok])
+    iso = (rho * tr / k)[..., None, None] * np.eye(k)
+    return (1.0 - rho)[..., None, None] * S + iso
+
+
 def _gauss(C: np.ndarray, w: np.ndarray, floor: float):
     """The precision of the templates ``C`` (n_templates, n_out, k) at every row.
 
-    The inverse of their weighted covariance plus ``floor`` on the diagonal.
+    The inverse of their weighted covariance, shrunk
+    (:func:`shrunk_covariance`, with the weights' effective number), plus
+    ``floor`` on the diagonal.
     """
     mu = np.tensordot(w, C, axes=1)  # (n_out, k)
     D = C - mu[None]
     S = np.einsum("j,jta,jtb->tab", w, D, D)
+    S = shrunk_covariance(S, 1.0 / float(np.sum(w * w)))
     S += floor * np.eye(C.shape[2])[None]
     return np.linalg.inv(S)
 
