@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._errors import MissingExtraError
+from .._errors import MissingExtraError, ValidationError
 from .._registry import Registry
 
 __all__ = [
@@ -236,7 +236,7 @@ class Scene:
     def __init__(self, task: str, control: str = "joint") -> None:
         spec = TASKS.get(task)
         if control not in ("joint", "ee"):
-            raise ValueError(f"control must be 'joint' or 'ee'; got {control!r}")
+            raise ValidationError(f"control must be 'joint' or 'ee'; got {control!r}")
         dm_mujoco, constants, sim, sim_ee = require_sim()
         stem = spec.model if control == "joint" else f"end_effector_{spec.model}"
         path = constants.ASSETS_DIR / f"bimanual_viperx_{stem}.xml"
