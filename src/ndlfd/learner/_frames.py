@@ -3,22 +3,26 @@
 A demonstration may carry task frames (:class:`~ndlfd.Demonstration`'s
 ``frames``: where the object and the place were). Given new poses of those
 frames (``generate(t, frames={"object": pose})``), the blended templates are
-taken on their own clocks (:func:`clock_aligned`) and each is seen from every
-frame: as demonstrated (the *world*), and carried rigidly from its own pose
-of the frame to the new one (:func:`ndlfd._poses.frame_maps`; a frame with
-an orientation gives two views, moved and turned or moved only, of which
-the tighter counts, :func:`_pick_weight`). At every phase each view gives a
-Gaussian over the position, the templates' weighted mean and covariance
-there; the views are combined as a product of Gaussians (as
-task-parameterized mixtures do, Calinon 2016), so where the demonstrations
-agree in the object's frame (near the grasp the hand is rigid in it) the
-object's frame decides, and where they agree in the world (the start) the
-world does. No time is needed: the phase comes from the templates. Then each
-combined template is moved along a ridge regression of the templates on
-their frames' origins (:func:`_slopes`): a part of the motion between two
-frames (the carry from the object to the place) moves with both, which no
-one view gives, and the regression finds how much. The weights and slopes
-are computed on a phase grid and smoothed along it (:data:`FRAME_SMOOTH`).
+taken on their own clocks (:func:`clock_aligned`) and each is seen from
+every frame: as demonstrated (the *world*), and carried rigidly from its own
+pose of the frame to the new one (:func:`ndlfd._poses.frame_maps`; a frame
+with an orientation gives two views, moved and turned or moved only, of
+which the tighter counts, :func:`_pick_weight`). At every phase each view
+gives a Gaussian over the position, the templates' weighted mean and
+covariance there, the covariance shrunk toward its mean variance
+(:func:`shrunk_covariance`: a few templates, as on a minor route, have
+directions of no spread by chance, which the product would follow through an
+obstacle the demonstrations went around); the views are combined as a
+product of Gaussians (as task-parameterized mixtures do, Calinon 2016), so
+where the demonstrations agree in the object's frame (near the grasp the
+hand is rigid in it) the object's frame decides, and where they agree in the
+world (the start, around a fixed obstacle) the world does. No time is
+needed: the phase comes from the templates. Then each combined template is
+moved along a ridge regression of the templates on their frames' origins
+(:func:`_slopes`): a part of the motion between two frames (the carry from
+the object to the place) moves with both, which no one view gives, and the
+regression finds how much. The weights and slopes are computed on a phase
+grid and smoothed along it (:data:`FRAME_SMOOTH`).
 
 :func:`frame_mixer` returns the step :func:`~ndlfd.learner._blend.warped`
 applies to the time-warped templates: each template becomes the combination
