@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: all venv test test-portable test-explore lint format demo bench reproduce clean
+.PHONY: all venv test test-portable test-explore lint format docs demo bench reproduce clean
 
 all: test
 
@@ -20,12 +20,12 @@ $(STAMP): pyproject.toml | $(BIN)/python
 venv: $(STAMP)
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests benchmarks
-	$(BIN)/ruff format --check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks examples
+	$(BIN)/ruff format --check src tests benchmarks examples
 
 format: $(STAMP)
-	$(BIN)/ruff check --fix src tests benchmarks
-	$(BIN)/ruff format src tests benchmarks
+	$(BIN)/ruff check --fix src tests benchmarks examples
+	$(BIN)/ruff format src tests benchmarks examples
 
 # `make test` is deterministic: hypothesis replays the same derandomized examples
 # on every run (tests/conftest.py), so the result depends only on the code.
@@ -53,6 +53,15 @@ test-portable: $(STAMP)
 test-explore: $(STAMP)
 	NDLFD_HYPOTHESIS=explore $(BIN)/python -m pytest -q
 
+# The documentation site, offline, warnings as errors: Sphinx + numpydoc, one
+# page per public name (docs/generated/, rewritten each time so a removed name
+# leaves no stale page), the gallery of examples/plot_*.py run and drawn
+# (docs/auto_examples/), into docs/_build/html.
+docs: $(STAMP)
+	rm -rf docs/generated
+	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
+	@echo "docs: open docs/_build/html/index.html"
+
 demo: $(STAMP)
 	$(BIN)/ndlfd demo --out demo-output
 
@@ -64,4 +73,5 @@ reproduce: $(STAMP)
 	$(BIN)/ndlfd reproduce --out docs/reproduction
 
 clean:
-	rm -rf $(VENV) build dist *.egg-info src/*.egg-info .pytest_cache .ruff_cache demo-output
+	rm -rf $(VENV) build dist *.egg-info src/*.egg-info .pytest_cache .ruff_cache demo-output \
+	  docs/_build docs/generated docs/auto_examples docs/sg_execution_times.rst
