@@ -34,7 +34,8 @@ blend = ndlfd.KeypointHMM(**settings).fit(train)
 # %%
 # Key points of the demonstrations
 # --------------------------------
-# As the model found them, on the group-normalized channels.
+# As the model finds them, on the group-normalized channels (five of the
+# demonstrations are drawn, with their key points as dots).
 scaler = ndlfd.GroupScaler(mode="group").fit(train)
 keys = [ndlfd.simplify(scaler.transform(d), 0.05) for d in train]
 print("key points per demonstration:", [len(k) for k in keys])
@@ -47,12 +48,11 @@ for ax, model, name in ((axes[0], paper, '"paper"'), (axes[1], blend, '"blend"')
     path = model.generate(test, dense=True)
     error = ndlfd.metrics.dtw_distance(path.get("position"), test.get("position"))
     plot_demos(
-        train,
-        keypoints=keys,
+        train[:5],
+        keypoints=keys[:5],
         generated=path,
         test=test,
         ax=ax,
-        max_demos=10,
         title=f"generation={name}: DTW {error:.3g}",
     )
     ax.set_aspect("equal")
