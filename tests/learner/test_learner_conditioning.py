@@ -60,7 +60,7 @@ def _mean_around(x, share=0.01):
 
 
 def test_contact_window_is_judged_while_moving_not_at_rest():
-    from ndlfd.learner._conditioning import SMOOTH_SHARE, contact_window
+    from ndlfd.learner._rests import SMOOTH_SHARE, contact_window
 
     # a brute-force reference: the typical speed is the median of the speeds
     # of at least a tenth of the 95th percentile; the first slow step after
@@ -90,7 +90,8 @@ def test_contact_window_is_judged_while_moving_not_at_rest():
 
 
 def test_progress_against_a_loop_over_the_rows():
-    from ndlfd.learner._conditioning import SMOOTH_SHARE, progress
+    from ndlfd.learner._conditioning import progress
+    from ndlfd.learner._rests import SMOOTH_SHARE
 
     rng = np.random.default_rng(3)
     X = np.column_stack([np.cumsum(rng.normal(size=40)), 100 * rng.normal(size=40),

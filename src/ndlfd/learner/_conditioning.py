@@ -16,22 +16,19 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import ValidationError
-from ._blend import moving_average
 from ._discrete import DISCRETE_GROUPS
 from ._extrapolation import warn_far_condition
+from ._rests import NO_PROGRESS, contact_window, path_rests, smoothed
 
 __all__ = [
     "BANDWIDTH_FACTOR",
     "BRUTE_FORCE_POINTS",
-    "NO_PROGRESS",
-    "SMOOTH_SHARE",
     "OrientedCondition",
     "check_condition",
     "condition_bandwidth",
     "condition_log_weights",
     "condition_target",
     "condition_weights",
-    "contact_window",
     "fade_pieces",
     "group_columns",
     "log_weights_for",
@@ -40,7 +37,6 @@ __all__ = [
     "pin",
     "pin_offset",
     "progress",
-    "smoothed",
     "switch_window",
 ]
 
@@ -410,87 +406,6 @@ def log_weights_for(cond, points, scaler, column_groups, cache, key) -> np.ndarr
     return condition_log_weights(pts, target, cache[ckey])
 
 
-#: A path is *slow* where its speed is below this fraction of its typical
-#: speed while moving: where the demonstrations slow down for a contact (a
-#: grasp, a placement) the offset to a requested start must be gone.
-SLOW_FRACTION = 0.2
-
-#: Speeds below this fraction of the path's 95th-percentile speed are rest
-#: (noise, or a robot waiting before and after its motion), not motion.
-REST_FRACTION = 0.1
-
-
-#: Half-width of the moving average the speeds of :func:`contact_window` and
-#: the lengths of :func:`progress` are measured on, as a share of the rows:
-#: noise as large as the motion's steps (a robot at rest, sampled fast) is
-#: neither motion nor a stop.
-SMOOTH_SHARE = 0.01
-
-
-def smoothed(P: np.ndarray) -> np.ndarray:
-    """``P`` averaged over :data:`SMOOTH_SHARE` of its rows each side (at least 1)."""
-    return moving_average(P, max(1, round(SMOOTH_SHARE * P.shape[0])))
-
-
-def contact_window(P: np.ndarray, tq: np.ndarray) -> tuple[float, float]:
-    """Normalized times of the path's first and last slow-down while moving.
-
-    Speeds are measured on the path's moving average (:func:`smoothed`). The
-    path's typical speed is the median of its speeds while it moves (at
-    least :data:`REST_FRACTION` of its 95th-percentile speed: a robot at rest
-    before and after the motion does not count). The first: after the path
-    first moves at that typical speed or faster, the
-    first sample slower than :data:`SLOW_FRACTION` of it (a stop for a contact
-    event); the last: the same from the end backwards. A path that never slows
-    down between its ends gives ``(1, 0)``: the whole motion.
-
-    Parameters
-    ----------
-    P : ndarray of shape (n_samples, n_dims)
-        Positions along the path (any units).
-    tq : ndarray of shape (n_samples,)
-        Their normalized times, increasing.
-
-    Returns
-    -------
-    first, last : float
-
-    Examples
-    --------
-    Moving, a stop at tau = 0.5, moving again:
-
-    >>> tq = np.linspace(0.0, 1.0, 21)
-    >>> x = np.concatenate([np.arange(8.0), np.full(5, 8.0), np.arange(9.0, 17.0)])
-    >>> [round(v, 9) for v in contact_window(x[:, None], tq)]
-    [0.45, 0.55]
-    """
-    n = P.shape[0]
-    if n < 3:
-        return 1.0, 0.0
-    dt = np.diff(tq)
-    big = float(np.abs(P).max())  # scaled first: steps of 1e300 square to inf
-    steps = np.diff(smoothed(P / big if big > 0 else P), axis=0)
-    speed = np.linalg.norm(steps, axis=1) / np.where(dt > 0, dt, np.inf)
-    # the typical speed while moving: a robot that rests longer than it moves
-    # has a median speed of its noise at rest, and any sample would "slow"
-    fast = float(np.quantile(speed, 0.95)) if np.isfinite(speed).all() else 0.0
-    moving_speeds = speed[speed >= REST_FRACTION * fast]
-    typical = float(np.median(moving_speeds)) if moving_speeds.size else 0.0
-    if not typical > 0:
-        return 1.0, 0.0
-    moving = speed >= typical
-    slow = speed < SLOW_FRACTION * typical
-    first, last = 1.0, 0.0
-    go = np.flatnonzero(moving)
-    after = np.flatnonzero(slow[go[0] :]) if go.size else np.zeros(0, int)
-    if after.size:
-        first = float(tq[go[0] + after[0]])  # the step into the stop
-    before = np.flatnonzero(slow[: go[-1] + 1]) if go.size else np.zeros(0, int)
-    if before.size:
-        last = float(tq[before[-1] + 1])  # the step out of the stop
-    return first, last
-
-
 def switch_window(X, tq, column_groups) -> tuple[float, float]:
     """Normalized times around the first and last switch of a gripper.
 
@@ -539,17 +454,13 @@ def switch_window(X, tq, column_groups) -> tuple[float, float]:
     return first, last
 
 
-#: Groups that do not count towards a path's progress (:func:`progress`):
-#: quaternions, a velocity derived from the position, a gripper.
-NO_PROGRESS = ("orientation", "velocity", *DISCRETE_GROUPS)
-
-
 def progress(X, tq, column_groups, n_dense=None) -> np.ndarray:
     """How far the path has moved by each row: its cumulative length.
 
-    Measured on the moving average (:func:`smoothed`) of the columns of every
-    group but :data:`NO_PROGRESS`, each scaled by its range over the path (so
-    joints in degrees and a position in metres both count), between
+    Measured on the moving average (:func:`~ndlfd.learner._rests.smoothed`)
+    of the columns of every group but
+    :data:`~ndlfd.learner._rests.NO_PROGRESS`, each scaled by its range over
+    the path (so joints in degrees and a position in metres both count), between
     consecutive rows of the first ``n_dense`` (the path in time order); the
     other rows are interpolated at their normalized times. A path at rest
     makes no progress, however long it rests.
@@ -591,21 +502,44 @@ def progress(X, tq, column_groups, n_dense=None) -> np.ndarray:
     return np.concatenate([length, np.interp(tq[n:], tq[:n], length)])
 
 
+def _held_in_rests(c: np.ndarray, tq: np.ndarray, n: int, rests) -> np.ndarray:
+    """Progress ``c`` that stands still within the ``rests``: their noise is no motion.
+
+    Examples
+    --------
+    >>> c = np.array([0.0, 1.0, 1.1, 1.2, 2.2])
+    >>> _held_in_rests(c, np.linspace(0.0, 1.0, 5), 5, np.array([[0.25, 0.75]]))
+    array([0., 1., 1., 1., 2.])
+    """
+    if not len(rests):
+        return c
+    mid = (tq[1:n] + tq[: n - 1]) / 2.0
+    still = np.zeros(n - 1, dtype=bool)
+    for a, b in rests:
+        still |= (mid > a) & (mid < b)
+    dense = np.concatenate([[0.0], np.cumsum(np.where(still, 0.0, np.diff(c[:n])))])
+    return np.concatenate([dense, np.interp(tq[n:], tq[:n], dense)])
+
+
 def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     """Shift a path onto ``start`` and ``goal`` with an offset faded before contact.
 
     The offsets are measured on the first and last of the first ``n_dense``
     rows (the path at normalized times 0 and 1) and applied to every row at
     its normalized time ``tq``, faded by :func:`minimum_jerk`: the start's
-    offset is gone by the path's first slow-down (:func:`contact_window`, on
-    the position columns; the whole motion if it has none) or its first
-    gripper switch if that comes earlier (:func:`switch_window`), the goal's
-    offset comes in after the last of them, so the path reaches a grasp or
-    placement where the demonstrations do, not shifted by a start elsewhere.
+    offset is gone by the path's first slow-down
+    (:func:`~ndlfd.learner._rests.contact_window`, on the position columns;
+    the whole motion if it has none) or its first gripper switch if that
+    comes earlier (:func:`switch_window`), the goal's offset comes in after
+    the last of them, so the path reaches a grasp or placement where the
+    demonstrations do, not shifted by a start elsewhere.
     The ramp runs on the path's :func:`progress`, not its clock: the offset
     is absorbed as the path moves, in proportion, and a path at rest (a robot
-    waiting before it moves) stays at rest; a window without motion fades by
-    time.
+    waiting before it moves) stays at rest, as it does in its rests
+    (:func:`~ndlfd.learner._rests.path_rests`: a grasp in a joint-space
+    path, which has no position to find the contact by, holds the share of
+    the offset it has);
+    a window without motion fades by time.
 
     Parameters
     ----------
@@ -641,7 +575,8 @@ def pin(X, tq, start, goal, column_groups, n_dense=None) -> np.ndarray:
     first, last = contact_window(X[:n, pos], tq[:n]) if pos else (1.0, 0.0)
     switch_first, switch_last = switch_window(X[:n], tq[:n], column_groups)
     first, last = min(first, switch_first), max(last, switch_last)
-    c = progress(X, tq, column_groups, n)
+    c = _held_in_rests(progress(X, tq, column_groups, n), tq, n,
+                       path_rests(X[:n], tq[:n], column_groups))  # fmt: skip
     c_first, c_last = np.interp([first, last], tq[:n], c[:n])
     if c_first > 0.0:
         to_start = 1.0 - minimum_jerk(c / c_first)

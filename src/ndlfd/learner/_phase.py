@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._conditioning import fade_pieces
+from ._rests import rest_windows
 
 __all__ = [
     "MAX_BEND",
@@ -168,12 +169,73 @@ def via_clock(mean, via_taus, targets) -> tuple[np.ndarray, np.ndarray]:
                 curv = a - 2.0 * b + c
                 if curv > 0.0:
                     p += 0.5 * (a - c) / curv * (grid[1] - grid[0])
+        p = _rest_start(p, tau, U[:, cols], grid, tau + lo, tau + hi)
         taus.append(float(tau))
         # soft-thresholded: a phase within the search's noise is left alone
         deltas.append(float(np.sign(p - tau) * max(abs(p - tau) - SLACK, 0.0)))
     taus.append(1.0)
     deltas.append(0.0)
     return np.array(taus), np.array(deltas)
+
+
+def _rest_start(p: float, tau: float, U: np.ndarray, grid: np.ndarray, lo, hi):
+    """The phase a via point is read at when the blend rests near it.
+
+    Where the blend holds still (a grasp) every phase of the rest passes the
+    via point equally close, and a via point at a grasp off the
+    demonstrations' places passes closer to their approach (above or beside
+    the object) than to their rest: read there, the path went on with the
+    approach after the via point and sank below it. So a rest of the blend
+    (:func:`~ndlfd.learner._rests.rest_windows`) that holds the
+    closest pass ``p``, or that is at least as near the via point's time
+    ``tau`` as ``p`` is, is where the via point is read, at the rest's
+    start: the path holds it over the whole rest as the demonstrations do.
+    The start is the rest's first phase as close to its place (its median)
+    as its phases are in the median (the slow end of the approach is not yet
+    the rest: read there, the path sank with the blend's last millimetres of
+    approach), or the earliest allowed one from ``lo`` to ``hi``.
+
+    Parameters
+    ----------
+    p : float
+        The closest pass.
+    tau : float
+        The via point's time.
+    U : ndarray of shape (n_grid, n_cols)
+        The blend at the phases ``grid``, the via point's columns.
+    grid : ndarray of shape (n_grid,)
+    lo, hi : float
+        The allowed phases.
+
+    Returns
+    -------
+    phase : float
+
+    Examples
+    --------
+    Moving, a rest from 0.45 to 0.55, moving again:
+
+    >>> grid = np.linspace(0.0, 1.0, 21)
+    >>> U = np.r_[np.arange(8.0), np.full(5, 8.0), np.arange(9.0, 17.0)][:, None]
+    >>> _rest_start(0.5, 0.5, U, grid, 0.0, 1.0)  # in the rest: its start
+    0.45
+    >>> _rest_start(0.5, 0.5, U, grid, 0.48, 1.0)  # the earliest allowed
+    0.48
+    >>> _rest_start(0.35, 0.42, U, grid, 0.0, 1.0)  # the rest is nearer in time
+    0.45
+    >>> _rest_start(0.3, 0.32, U, grid, 0.0, 1.0)  # the closest pass is nearer
+    0.3
+    """
+    for a, b in rest_windows(U, grid):
+        if b < lo or a > hi:
+            continue
+        if not (a <= p <= b or max(a - tau, tau - b, 0.0) <= abs(p - tau)):
+            continue
+        rows = np.flatnonzero((grid >= a) & (grid <= b))
+        d = np.linalg.norm(U[rows] - np.median(U[rows], axis=0), axis=1)
+        start = float(grid[rows[np.argmax(d <= np.median(d))]])
+        return float(min(max(start, lo, 0.0), hi))
+    return p
 
 
 def prefix_clock(mean, prefix_taus, values, cols) -> float:

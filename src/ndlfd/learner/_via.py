@@ -55,7 +55,7 @@ the robot executed so far, at the first time stamps of ``times``:
 * *the junction* (:func:`continue_from`): the path is the observed samples
   where observed; after them, the generated path shifted by the offset at the
   last observed sample, faded out by a minimum-jerk ramp that ends at the
-  path's next slow-down (:func:`~ndlfd.learner._conditioning.contact_window`)
+  path's next slow-down (:func:`~ndlfd.learner._rests.contact_window`)
   or gripper switch (:func:`~ndlfd.learner._conditioning.switch_window`),
   as :func:`~ndlfd.learner._conditioning.pin` does for a start; and by the
   offset of the prefix's velocity at its end to the path's, faded within
@@ -82,7 +82,6 @@ from ._conditioning import (
     condition_bandwidth,
     condition_log_weights,
     condition_target,
-    contact_window,
     fade_pieces,
     group_columns,
     minimum_jerk,
@@ -90,6 +89,7 @@ from ._conditioning import (
     switch_window,
 )
 from ._filtering import path_log_likelihoods
+from ._rests import contact_window, path_rests, rest_clock
 from ._routes import segment_paths
 from ._spec import negated_orientation, prepare
 
@@ -410,6 +410,7 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
     if via is None:
         return X
     tq = at[:n_dense]
+    rests = path_rests(X[:n_dense], tq, column_groups)
     for g in dict.fromkeys(g for _, cond in via for g in cond):
         cols = group_columns(column_groups, g)
         taus, offsets = [0.0], [np.zeros(len(cols))]
@@ -424,7 +425,10 @@ def apply_via(X, at, via, column_groups, n_dense) -> np.ndarray:
             taus.append(1.0)
             offsets.append(np.zeros(len(cols)))
         taus, offsets = np.array(taus), np.array(offsets)
-        X[:, cols] += fade_pieces(at, taus, offsets)
+        # on a clock that stops where the path rests: an offset is not faded
+        # while the hand holds still (a grasp), it holds with it
+        X[:, cols] += fade_pieces(rest_clock(at, rests), rest_clock(taus, rests),
+                                  offsets)  # fmt: skip
     return X
 
 
