@@ -5,9 +5,12 @@ configured with ``use_degrees=True``, else in -100..100 of each joint's
 calibrated range (its default); ROS reads radians. ``generate`` refuses to
 guess for a LeRobot dataset with those names (``NAME.pos`` or the older
 ``main_NAME``): ``--units deg`` converts, ``--units rad`` keeps them as they
-are. The reference is the model's own path, converted here with
-``numpy.deg2rad``.
+are. The reference is the model's own path as the writer eases it to rest
+(:func:`~ndlfd.io._bagout.joint_trajectory_points` in radians, the path's
+numbers as they are), converted here with ``numpy.deg2rad``.
 """
+
+import warnings
 
 import numpy as np
 import pytest
@@ -25,6 +28,7 @@ from lerobot_writer import (
     write_so101,
 )
 from ndlfd.io import read_lerobot
+from ndlfd.io._bagout import joint_trajectory_points
 from ndlfd.learner import KeypointHMM
 
 
@@ -37,9 +41,26 @@ def _trajectory(out):
 
 
 def _want(model_file):
-    """The model's dense path on the command's timing: joints, then the gripper."""
+    """The model's dense path on the command's timing, eased to rest as written.
+
+    The joints, then the gripper, as :func:`joint_trajectory_points` writes
+    them with the path's numbers taken as radians: the path still moves at
+    its ends, so its clock is eased to a stop there (more points than the
+    30 samples, the first and last the path's own).
+    """
     path = KeypointHMM.load(model_file).generate(np.linspace(0, 2, 30), dense=True)
-    return np.column_stack([path.get("joints"), path.get("gripper")])
+    P = _eased(path)
+    ends = np.column_stack([path.get("joints"), path.get("gripper")])[[0, -1]]
+    assert P.shape[0] > 30
+    np.testing.assert_array_equal(P[[0, -1]], ends)
+    return P
+
+
+def _eased(path):
+    """:func:`joint_trajectory_points`' positions, the path's numbers as radians."""
+    with warnings.catch_warnings():  # degrees, more than a turn: on purpose
+        warnings.filterwarnings("ignore", "the joints .* more than a turn")
+        return joint_trajectory_points(path)[2]
 
 
 GENERATE = ("--duration", 2, "--samples", 30, "--dense")
@@ -68,7 +89,7 @@ def test_so_arm_joints_need_their_units_said(tmp_path, capsys, write, first, joi
     assert rc == 0 and err[-1] == f"generated 30 samples -> {out}"
     names, got = _trajectory(out)
     assert names == list(joints)
-    np.testing.assert_allclose(got, np.deg2rad(want), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(got, np.deg2rad(want), rtol=1e-12, atol=1e-15)
     pytest.importorskip("rosbags")
     from bag_samples import rosbags_read
 
@@ -76,8 +97,10 @@ def test_so_arm_joints_need_their_units_said(tmp_path, capsys, write, first, joi
                   "-o", tmp_path / "j.mcap")  # fmt: skip
     assert rc == 0, err
     got = rosbags_read(tmp_path / "j.mcap", "/ndlfd/path/joint_states")
+    # the path's JointState messages: its 30 samples as they are
+    path = KeypointHMM.load(model).generate(np.linspace(0, 2, 30), dense=True)
     np.testing.assert_allclose(
-        [m.position for _, m in got], np.deg2rad(want[:, :5]), rtol=1e-12
+        [m.position for _, m in got], np.deg2rad(path.get("joints")), rtol=1e-12
     )
     # --units rad: as they are (and the warning that they look like degrees)
     rc, err = cli(capsys, "generate", model, *GENERATE, "--units", "rad",
@@ -121,12 +144,14 @@ def test_like_decides_for_a_model_without_a_mapping(tmp_path, capsys):
     assert rc == 2 and "come from a LeRobot SO-100/101" in err[-1]
     rc, err = cli(capsys, "generate", model, *like, "--units", "deg", "-o", out)
     assert rc == 0, err
-    np.testing.assert_allclose(
-        _trajectory(out)[1][:, :5],
-        np.deg2rad(KeypointHMM.load(model).generate(
-            read_lerobot(root, episodes=[1])[0], dense=True).get("joints")),
-        rtol=1e-12,
-    )  # fmt: skip
+    path = KeypointHMM.load(model).generate(read_lerobot(root, episodes=[1])[0],
+                                            dense=True)  # fmt: skip
+    got = _trajectory(out)[1]
+    assert got.shape[0] > path.n_samples  # eased to rest at its moving ends
+    ends = np.deg2rad(path.get("joints")[[0, -1]])
+    np.testing.assert_allclose(got[[0, -1], :5], ends, rtol=1e-12)
+    np.testing.assert_allclose(got[:, :5], np.deg2rad(_eased(path)[:, :5]), rtol=1e-12,
+                               atol=1e-15)  # fmt: skip
     # without --like, the model has no mapping: radians, with the warning
     rc, err = cli(capsys, "generate", model, *GENERATE, "-o", out)
     assert rc == 0 and any("more than a turn in radians" in e for e in err)
