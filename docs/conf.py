@@ -8,12 +8,18 @@ already in ``docs/``. No extension reaches the network: intersphinx is not
 loaded, the theme ships its assets.
 """
 
+import inspect
 import os
 import re
+import sys
 import warnings
 from pathlib import Path
 
+from sphinx.errors import PycodeError
+from sphinx.pycode import ModuleAnalyzer
+
 import ndlfd
+from ndlfd._registry import Registry
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -63,6 +69,8 @@ numpydoc_show_inherited_class_members = False
 numpydoc_class_members_toctree = False
 numpydoc_attributes_as_param_list = True
 numpydoc_xref_param_type = False
+# every documented object has a docstring (numpydoc GL08)
+numpydoc_validation_checks = {"GL08"}
 
 # -- Gallery -----------------------------------------------------------------
 sphinx_gallery_conf = {
@@ -142,9 +150,50 @@ def _escape_shapes(app, what, name, obj, options, lines):
     lines[:] = [SHAPE.sub(escape, line) for line in lines]
 
 
+def _defining_comment(obj, name):
+    """The ``#:`` comment above ``name = ...`` in the ndlfd module defining it.
+
+    A constant re-exported by a package (``ndlfd.learner.DECODERS`` from a
+    private module) has its comment where it is assigned, which autodoc does
+    not look at; it looks only in the module it documents.
+    """
+    for modname, module in sorted(sys.modules.items()):
+        if not modname.startswith("ndlfd") or getattr(module, name, None) is not obj:
+            continue
+        try:
+            docs = ModuleAnalyzer.for_module(modname).find_attr_docs()
+        except PycodeError:
+            continue
+        if ("", name) in docs:
+            return list(docs[("", name)])
+    return []
+
+
+def _constant_docs(app, what, name, obj, options, lines):
+    """A constant's own words, never its type's docstring.
+
+    Without a ``#:`` comment in the documented module, autodoc shows the
+    docstring of the value's type (``int``'s, or the options registry's); here
+    such a constant gets the comment where it is defined, or for a registry of
+    options the names it holds, or nothing (its value is shown beside it).
+    """
+    if what != "data" or type(obj).__doc__ is None:
+        return
+    inherited = inspect.cleandoc(type(obj).__doc__).splitlines()
+    if [ln for ln in lines if ln.strip()] != [ln for ln in inherited if ln.strip()]:
+        return  # the module's own comment
+    own = _defining_comment(obj, name.rpartition(".")[2])
+    if not own and isinstance(obj, Registry):
+        choices = ", ".join(f"``{n!r}``" for n in obj)
+        own = [f"The choices of the option ``{obj.option}``: {choices}."]
+    lines[:] = own
+
+
 def setup(app):
-    """Connect the Markdown mends and the docstring escapes."""
+    """Connect the Markdown mends and the docstring fixes."""
     app.connect("source-read", _mend_markdown)
+    # before numpydoc (priority 500) reads the docstring
+    app.connect("autodoc-process-docstring", _constant_docs, priority=400)
     app.connect("autodoc-process-docstring", _escape_shapes)
 
 
