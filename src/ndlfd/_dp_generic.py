@@ -123,14 +123,17 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
     Segments longer than ``tree[7]`` points are scanned through the box tree
     ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is filled (by
     :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
-    was filled before). Returns the number of distance evaluations.
+    was filled before). ``tree=None`` (a trajectory of at most
+    :data:`ndlfd._dp_kernels.TREE_NONE_MAX` points) compiles a version
+    without the tree. Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
     if b0 - a0 < 2:
         return 0
     u = np.empty(P.shape[1])
-    ws, ts_stack, flags = tree_workspace(tree, P.shape[1], P.shape[0])
+    if tree is not None:  # pruned at compile time when tree is None
+        ws, ts_stack, flags = tree_workspace(tree, P.shape[1], P.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
@@ -143,28 +146,34 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        if b - a > tree[7] and flags[0] > 0.0:
-            # the tree loop: written out in each dp_* kernel, like the stack
-            far, q, S, bd2 = -1, -1.0, 1.0, eps2
-            w0 = work
-            # the sed and paper keys are bounded exactly (ndlfd._dp_tree)
-            exact = eps2 if mode in (MODE_SED, MODE_PAPER) else -1.0
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, exact)
-            while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
-                if lo < 0:
-                    break
-                f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
-                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
-                work += hi - lo
-            tree_done(tree, flags, work - w0, b - a - 1)
-        else:
+        plain = True
+        if tree is not None:
+            if b - a > tree[7] and flags[0] > 0.0:
+                # the tree loop: written out in each dp_* kernel, like the stack
+                far, q, S, bd2 = -1, -1.0, 1.0, eps2
+                w0 = work
+                # the sed and paper keys are bounded exactly (ndlfd._dp_tree)
+                exact = eps2 if mode in (MODE_SED, MODE_PAPER) else -1.0
+                ts = tree_begin(tree, a, b, utol2, ws, ts_stack, exact)
+                while True:
+                    lo, hi, ts = tree_next(
+                        tree, ws, ts_stack, ts, a + 1, b, bd2, q, far
+                    )
+                    if lo < 0:
+                        break
+                    f, qq, SS = scan_generic(P, t, a, b, mode, utol2, lo, hi, u)
+                    far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                    work += hi - lo
+                tree_done(tree, flags, work - w0, b - a - 1)
+                plain = False
+        if plain:
             far, q, S = scan_generic(P, t, a, b, mode, utol2, a + 1, b, u)
             work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
-            if b - a > tree[7]:
-                tree_split(tree, flags, a, b, far)
+            if tree is not None:
+                if b - a > tree[7]:
+                    tree_split(tree, flags, a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far

@@ -63,6 +63,7 @@ __all__ = [
     "MODE_PAPER",
     "MODE_SED",
     "MODE_SEGMENT",
+    "TREE_NONE_MAX",
     "dp_cols",
     "dp_line",
     "finite_maxabs",
@@ -76,6 +77,17 @@ MODE_LINE = 0
 MODE_SEGMENT = 1
 MODE_SED = 2
 MODE_PAPER = 3
+
+#: The longest trajectory the ``dp_*`` kernels may be given ``tree=None``
+#: for: none of its segments is longer than
+#: :data:`~ndlfd._dp_exact.EXACT_MIN` points, so none would be scanned by
+#: the exact keys, and the caller builds no tree for it
+#: (``ndlfd._simplify.TREE_MIN``). Given ``None``, numba prunes the tree's
+#: and the exact keys' branches before typing, so the kernel compiles
+#: without them: ``dp_cols`` in 2.2 s of CPU instead of 10.1 on its first
+#: run (d = 4, ``benchmarks/bench_firstrun.py``). The points kept are the
+#: same: with no tree those branches are never taken.
+TREE_NONE_MAX = EXACT_MIN + 1
 
 
 _ABS_MASK = np.int64(0x7FFFFFFFFFFFFFFF)
@@ -485,8 +497,9 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
     (:func:`~ndlfd._dp_exact.lopsided`; ``lop0`` for ``(a0, b0)``), but in
     ``"sed"``, are scanned by :func:`~ndlfd._dp_exact.scan_loo` (keys the
     tree bounds exactly). Explicit stack, no recursion; ``tree`` as in
-    :func:`~ndlfd._dp_generic.dp_generic`. Returns the number of distance
-    evaluations.
+    :func:`~ndlfd._dp_generic.dp_generic`: the tree tuple, or ``None`` for a
+    trajectory of at most :data:`TREE_NONE_MAX` points.
+    Returns the number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -497,9 +510,10 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
     bits = buf.view(np.int64)
     u = np.empty(d)
     pa = np.empty(d)
-    lw = loo_workspace(d)
     segment = mode == MODE_SEGMENT
-    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
+    if tree is not None:  # pruned at compile time when tree is None
+        lw = loo_workspace(d)
+        ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
@@ -514,38 +528,47 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        loo = lops[sp] and mode != MODE_SED and b - a > EXACT_MIN
-        if b - a > tree[7] and flags[0] > 0.0:
-            # the tree loop: written out in each dp_* kernel, like the stack
-            far, q, S, bd2 = -1, -1.0, 1.0, eps2
-            w0 = work
-            exact = loo or mode == MODE_SED
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
-            while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
-                if lo < 0:
-                    break
-                if loo:
-                    f, qq, SS = scan_loo(cols, segment, a, b, utol2, lo, hi, lw)
-                else:
-                    f, qq, SS = scan_line_cols(
-                        cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
+        plain = True
+        if tree is not None:
+            loo = lops[sp] and mode != MODE_SED and b - a > EXACT_MIN
+            if b - a > tree[7] and flags[0] > 0.0:
+                # the tree loop: written out in each dp_* kernel, like the stack
+                far, q, S, bd2 = -1, -1.0, 1.0, eps2
+                w0 = work
+                exact = loo or mode == MODE_SED
+                ts = tree_begin(
+                    tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0
+                )
+                while True:
+                    lo, hi, ts = tree_next(
+                        tree, ws, ts_stack, ts, a + 1, b, bd2, q, far
                     )
-                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
-                work += hi - lo
-            tree_done(tree, flags, work - w0, b - a - 1)
-        elif loo:
-            far, q, S = scan_loo(cols, segment, a, b, utol2, a + 1, b, lw)
-            work += b - a - 1
-        else:
+                    if lo < 0:
+                        break
+                    if loo:
+                        f, qq, SS = scan_loo(cols, segment, a, b, utol2, lo, hi, lw)
+                    else:
+                        f, qq, SS = scan_line_cols(
+                            cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa
+                        )
+                    far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                    work += hi - lo
+                tree_done(tree, flags, work - w0, b - a - 1)
+                plain = False
+            elif loo:
+                far, q, S = scan_loo(cols, segment, a, b, utol2, a + 1, b, lw)
+                work += b - a - 1
+                plain = False
+        if plain:
             far, q, S = scan_line_cols(
                 cols, t, mode, a, b, utol2, a + 1, b, buf, bits, u, pa
             )
             work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
-            if b - a > tree[7]:
-                tree_split(tree, flags, a, b, far)
+            if tree is not None:
+                if b - a > tree[7]:
+                    tree_split(tree, flags, a, b, far)
             lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
@@ -595,9 +618,8 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
     :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split (``lop0``
     for ``(a0, b0)``), but in ``"sed"``, are scanned by
     :func:`~ndlfd._dp_exact.scan_loo` (keys the tree bounds exactly).
-    Explicit stack, no recursion; ``tree`` as in
-    :func:`~ndlfd._dp_generic.dp_generic`. Returns the number of distance
-    evaluations.
+    Explicit stack, no recursion; ``tree`` as in :func:`dp_cols`. Returns the
+    number of distance evaluations.
     """
     keep[a0] = 1
     keep[b0] = 1
@@ -609,9 +631,10 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
     vu = np.empty(BLOCK)
     u = np.empty(d)
     pa = np.empty(d)
-    lw = loo_workspace(d)
     segment = mode == MODE_SEGMENT
-    ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
+    if tree is not None:  # pruned at compile time when tree is None
+        lw = loo_workspace(d)
+        ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
     lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
@@ -626,61 +649,71 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
         sp -= 1
         a = stack[2 * sp]
         b = stack[2 * sp + 1]
-        loo = lops[sp] and kind == 0 and mode != MODE_SED and b - a > EXACT_MIN
-        if b - a > tree[7] and flags[0] > 0.0:
-            # the tree loop: written out in each dp_* kernel, like the stack
-            far, q, S, bd2 = -1, -1.0, 1.0, eps2
-            w0 = work
-            exact = kind in (2, 3) or loo or mode == MODE_SED
-            ts = tree_begin(tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0)
-            while True:
-                lo, hi, ts = tree_next(tree, ws, ts_stack, ts, a + 1, b, bd2, q, far)
-                if lo < 0:
-                    break
-                if loo:
-                    f, qq, SS = scan_loo(Pt, segment, a, b, utol2, lo, hi, lw)
+        plain = True
+        if tree is not None:
+            loo = lops[sp] and kind == 0 and mode != MODE_SED and b - a > EXACT_MIN
+            if b - a > tree[7] and flags[0] > 0.0:
+                # the tree loop: written out in each dp_* kernel, like the stack
+                far, q, S, bd2 = -1, -1.0, 1.0, eps2
+                w0 = work
+                exact = kind in (2, 3) or loo or mode == MODE_SED
+                ts = tree_begin(
+                    tree, a, b, utol2, ws, ts_stack, eps2 if exact else -1.0
+                )
+                while True:
+                    lo, hi, ts = tree_next(
+                        tree, ws, ts_stack, ts, a + 1, b, bd2, q, far
+                    )
+                    if lo < 0:
+                        break
+                    if loo:
+                        f, qq, SS = scan_loo(Pt, segment, a, b, utol2, lo, hi, lw)
+                        far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
+                        work += hi - lo
+                        continue
+                    f, qq, SS = _scan_kind(
+                        kind,
+                        x,
+                        y,
+                        z,
+                        Pt,
+                        t,
+                        mode,
+                        a,
+                        b,
+                        utol2,
+                        lo,
+                        hi,
+                        buf,
+                        bits,
+                        vu,
+                        u,
+                        pa,
+                    )
                     far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
                     work += hi - lo
-                    continue
-                f, qq, SS = _scan_kind(
-                    kind,
-                    x,
-                    y,
-                    z,
-                    Pt,
-                    t,
-                    mode,
-                    a,
-                    b,
-                    utol2,
-                    lo,
-                    hi,
-                    buf,
-                    bits,
-                    vu,
-                    u,
-                    pa,
-                )
-                far, q, S, bd2 = tree_keep(far, q, S, f, qq, SS, eps2)
-                work += hi - lo
-            tree_done(tree, flags, work - w0, b - a - 1)
-        else:
+                tree_done(tree, flags, work - w0, b - a - 1)
+                plain = False
+            elif loo:
+                far, q, S = scan_loo(Pt, segment, a, b, utol2, a + 1, b, lw)
+                work += b - a - 1
+                plain = False
+        if plain:
             # the scans called directly: through _scan_kind, 2-D ran 1.5x slower
             work += b - a - 1
             if kind == 2:
                 far, q, S = scan_line2(x, y, a, b, utol2, a + 1, b, buf, bits)
             elif kind == 3:
                 far, q, S = scan_line3(x, y, z, a, b, utol2, a + 1, b, buf, bits)
-            elif loo:
-                far, q, S = scan_loo(Pt, segment, a, b, utol2, a + 1, b, lw)
             else:
                 far, q, S = scan_lineN(
                     Pt, t, mode, a, b, utol2, a + 1, b, buf, bits, vu, u, pa
                 )
         if q > eps2 * S:
             keep[far] = 1
-            if b - a > tree[7]:
-                tree_split(tree, flags, a, b, far)
+            if tree is not None:
+                if b - a > tree[7]:
+                    tree_split(tree, flags, a, b, far)
             lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a

@@ -277,8 +277,15 @@ _TREE_KINDS = {
 
 
 def _tree(job: _Job):
-    """The (unbuilt) box tree for ``job``, built by the kernel when needed."""
+    """The (unbuilt) box tree for ``job``, built by the kernel when needed.
+
+    ``None`` for a trajectory too short for a tree or the exact keys
+    (:data:`ndlfd._dp_kernels.TREE_NONE_MAX`): the kernels then compile
+    without them.
+    """
     n = job.P.shape[0]
+    if n <= min(TREE_MIN, K.TREE_NONE_MAX):
+        return None
     kind = _TREE_KINDS.get(job.mode) if n > TREE_MIN else None
     if kind == TREE_PAPER and job.P.shape[1] == 1:
         kind = TREE_LINE  # in 1-D the paper's distance is the line's
