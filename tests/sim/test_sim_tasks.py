@@ -24,7 +24,7 @@ from ndlfd.sim import (  # noqa: E402
 
 @pytest.fixture(scope="module")
 def cube_scene():
-    return Scene("transfer-cube", "ee")
+    return Scene("transfer-cube", "joint")
 
 
 def _cols(demo, names):
@@ -34,7 +34,9 @@ def _cols(demo, names):
 def _record(scene, seed):
     rng = np.random.default_rng(seed)
     objects = sample_objects(scene.spec.name, rng)
-    return record_expert(scene, expert_episode(scene.spec.name, objects, rng), objects)
+    scene.reset(objects)
+    plan = expert_episode(scene.spec.name, objects, rng, start=scene.hands())
+    return record_expert(scene, plan, objects)
 
 
 def test_objects_over_gym_aloha_ranges():
@@ -100,22 +102,65 @@ def test_expert_plan_varies_timing_within_twenty_percent():
 
 def test_expert_is_deterministic(cube_scene):
     a, b = _record(cube_scene, 7), _record(cube_scene, 7)
-    np.testing.assert_array_equal(a.ee_action, b.ee_action)
+    np.testing.assert_array_equal(a.joint_action, b.joint_action)
     np.testing.assert_array_equal(a.reward, b.reward)
     assert a.joint_action.shape == (a.t.size, 14)
-    # the joint action is the joints reached with the gripper commands
-    np.testing.assert_array_equal(a.joint_action[:, :6], a.state[:, :6])
-    np.testing.assert_array_equal(a.joint_action[:, 13], a.ee_action[:, 15])
+    # the joints commanded are the ones the arm reached, to its servos' lag
+    # (measured: median 1e-3 rad, 0.055 at most while moving fast)
+    arms = [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12]
+    lag = np.abs(a.state[:, arms] - a.joint_action[:, arms])
+    assert np.median(lag) < 0.005 and lag.max() < 0.1
+    # the hands went where the plan (ee_action) asked: tremor-sized misses
+    miss = np.linalg.norm(
+        a.hands[:, :, :3] - a.ee_action[:, [[0, 1, 2], [8, 9, 10]]], axis=2
+    )
+    assert np.median(miss) < 0.005
+    # the wrists' rolls never move faster than the ViperX's limit
+    rolls = a.joint_action[:, [3, 5, 10, 12]]
+    assert np.abs(np.diff(rolls, axis=0)).max() <= np.pi * CONTROL_DT + 1e-9
 
 
-def test_expert_picks_the_cube(cube_scene):
-    # measured: the right hand lifts the cube (reward >= 2) in 9 of these 10
-    # poses and the whole transfer succeeds in 6 (docs/tasks.md)
-    recs = [_record(cube_scene, 1000 + k) for k in range(10)]
-    lifted = sum(r.reward.max() >= 2 for r in recs)
-    done = sum(r.success for r in recs)
-    assert lifted >= 8
-    assert done >= 5
+def test_ik_reaches_poses_the_arm_can_take(cube_scene):
+    """Poses from random joints (forward kinematics by mujoco itself) are solved."""
+    import mujoco
+
+    from ndlfd.sim import TOOL_DEPTH, ArmIK
+
+    ik = ArmIK(cube_scene.physics)
+    m = cube_scene.physics.model.ptr
+    data = mujoco.MjData(m)
+    rng = np.random.default_rng(3)
+    start = np.array([0.0, -0.96, 1.16, 0.0, -0.3, 0.0])
+    for side, adr in (("left", 0), ("right", 8)):
+        body = mujoco.mj_name2id(
+            m, mujoco.mjtObj.mjOBJ_BODY, f"vx300s_{side}/gripper_link"
+        )
+        for _ in range(10):
+            q = start + rng.uniform(-0.4, 0.4, size=6)
+            data.qpos[:] = m.qpos0
+            data.qpos[adr : adr + 6] = q
+            mujoco.mj_forward(m, data)
+            R = data.xmat[body].reshape(3, 3)
+            point = data.xpos[body] + TOOL_DEPTH * R[:, 0]
+            quat = data.xquat[body].copy()
+            got, err = ik.solve(side, point, quat, start, iterations=200)
+            data.qpos[adr : adr + 6] = got
+            mujoco.mj_forward(m, data)
+            R2 = data.xmat[body].reshape(3, 3)
+            assert (
+                np.linalg.norm(data.xpos[body] + TOOL_DEPTH * R2[:, 0] - point) < 1e-3
+            )
+            # the same orientation: the rotation between them under 0.01 rad
+            cos = (np.trace(R.T @ R2) - 1) / 2
+            assert np.arccos(np.clip(cos, -1, 1)) < 0.01
+            assert err < 2e-3
+
+
+def test_experts_succeed_on_a_handful_of_poses(cube_scene):
+    # measured over 100 poses: Transfer Cube and Insertion (docs/tasks.md)
+    assert all(_record(cube_scene, 1000 + k).success for k in range(4))
+    scene = Scene("insertion", "joint")
+    assert sum(_record(scene, 1000 + k).success for k in range(3)) >= 2
 
 
 def test_lerobot_round_trip(cube_scene, tmp_path):

@@ -49,7 +49,43 @@ def add_jobs(sub) -> None:
     p.set_defaults(func=_cmd_reproduce)
 
 
+def _cmd_tasks(args: argparse.Namespace) -> int:
+    from ..jobs._tasks import evaluate_tasks
+
+    try:
+        demos = [int(n) for n in split_names(args.demos, "--demos")]
+    except ValueError:
+        print(f"ndlfd evaluate: --demos must be whole numbers; got {args.demos!r}",
+              file=sys.stderr)  # fmt: skip
+        return 2
+    result = evaluate_tasks(
+        split_names(args.tasks, "--tasks"),
+        demos=demos,
+        episodes=args.episodes,
+        methods=split_names(args.methods, "--methods") if args.methods else None,
+        seed=args.seed,
+        echo=None if args.quiet else (lambda line: print(line, file=sys.stderr)),
+    )
+    plots = not args.no_plot
+    if plots:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            plots = False
+            print('ndlfd evaluate: no figures (install them with: pip install'
+                  ' "ndlfd[plot]")', file=sys.stderr)  # fmt: skip
+    out = "tasks-evaluation" if args.out == "evaluation" else args.out
+    result.write_report(out, plots=plots)
+    print(result.to_markdown())
+    if not args.quiet:
+        print(f"{len(result.rows)} episodes in {result.seconds:.0f} s -> {out}",
+              file=sys.stderr)  # fmt: skip
+    return 0
+
+
 def _cmd_evaluate(args: argparse.Namespace) -> int:
+    if args.tasks:
+        return _cmd_tasks(args)
     protocols = split_names(args.protocols, "--protocols")
     result = evaluate(
         split_names(args.shapes, "--shapes"),
@@ -118,7 +154,36 @@ def add_evaluate(sub) -> None:
     p.add_argument(
         "--n-jobs", type=int, help="worker processes (-1: one per CPU; default 1)"
     )
-    p.add_argument("--out", default="evaluation", help="report folder (evaluation)")
+    p.add_argument(
+        "--tasks",
+        help="comma-separated simulated tasks: transfer-cube, insertion (the"
+        ' ALOHA scenes of gym-aloha, pip install "ndlfd[sim]"): task success'
+        " over held-out object poses instead of the LASA protocols",
+    )
+    p.add_argument(
+        "--demos",
+        default="5,10,20,50",
+        help="with --tasks: comma-separated numbers of demonstrations (5,10,20,50)",
+    )
+    p.add_argument(
+        "--episodes",
+        type=int,
+        default=200,
+        help="with --tasks: held-out object poses per task (200)",
+    )
+    p.add_argument(
+        "--methods",
+        help="with --tasks: comma-separated methods: ndlfd-ee, ndlfd-joint,"
+        " object-mean, promp, nearest (default: all)",
+    )
+    p.add_argument(
+        "--seed", type=int, default=0, help="with --tasks: the seed streams' root (0)"
+    )
+    p.add_argument(
+        "--out",
+        default="evaluation",
+        help="report folder (evaluation; tasks-evaluation with --tasks)",
+    )
     p.add_argument("--no-plot", action="store_true", help="write no figures")
     p.add_argument(
         "-q", "--quiet", action="store_true", help="no progress bar or closing line"

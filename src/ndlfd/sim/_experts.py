@@ -2,27 +2,37 @@
 
 Each expert is a sequence of *phases* shared by the two hands (reach, descend,
 close, carry, ...), each ending at a key pose per hand: a tool point
-(:func:`~ndlfd.sim._scene.tool_point`), an orientation and a gripper opening.
-Between keys a hand moves by a minimum-jerk blend (positions and gripper) and
-a spherical interpolation (orientation), sampled at 50 Hz, and runs in the
-end-effector scene. The keys come from the tasks' geometry:
+(:meth:`~ndlfd.sim._scene.Scene.hands`), the gripper link's orientation and
+a gripper opening. Between keys a hand moves by a minimum-jerk blend
+(positions and gripper) and a spherical interpolation (orientation), sampled
+at 50 Hz. :func:`record_expert` runs a plan in the joint-position scene: at
+every step each hand's pose is turned into the arm's six joints by inverse
+kinematics (:class:`~ndlfd.sim._ik.ArmIK`, warm-started from the step
+before) and those joints are commanded, so the joint paths recorded are what
+the robot did. Like a person the expert watches the objects at a few moments
+and plans the rest from where they actually are (:attr:`ExpertPlan.replan`):
 
 * **Transfer Cube.** The right hand comes down over the cube pitched steeply
-  (40-55 degrees below horizontal, fingers closing on the cube's y faces),
-  closes, lifts the cube to a meeting point above the middle of the table
-  turning to 10-25 degrees below horizontal; the left hand comes in level from
-  the other side rolled a quarter turn (its fingers close on the cube's top and
-  bottom faces, clear of the right hand's), closes, and the right hand opens
-  and leaves.
-* **Insertion.** The right hand takes the peg near its outer (+x) end, the left
-  the socket near its outer (-x) end, both from above; both lift to the
-  meeting height, the peg's axis in line with the socket's, and the right hand
-  pushes the peg into the socket until it meets the pin.
+  (45-60 degrees below horizontal, fingers closing on the cube's y faces),
+  closes and lifts the cube to a meeting point above the middle of the
+  table, keeping its pitch. Once there, the expert looks where the cube
+  actually is and brings the left hand in level from the other side, rolled
+  a quarter turn (its fingers close on the cube's top and bottom faces, clear
+  of the right hand's, on the cube's left half); it closes, and the right
+  hand opens and backs away along its own axis.
+* **Insertion.** The right hand takes the peg near its outer (+x) end, the
+  left the socket near its outer (-x) end, both from above; both lift to the
+  meeting height. The expert then looks at both held objects (their poses
+  after the grasp: each has turned a little in its hand) and moves the right
+  hand so that the peg's axis lies on the socket's, 2.5 cm outside its mouth;
+  looks again, corrects, and pushes the peg along the socket's axis until it
+  meets the pin.
 
 Human-like variation (:func:`expert_episode`, from a ``numpy.random.Generator``):
 every phase's duration times a factor in [0.8, 1.2]; approach heights 5-10
-cm; grasp points +-6 mm along the object and +-4 mm in height; the pitch at the
-grasp and at the handover; the meeting point +-3 cm; and a smooth tremor
+cm; grasp points (+-4 to +-8 mm along the object, +-3 mm across and in
+height); the pitch at the grasp; how far from the cube's middle the left
+hand takes it; the meeting point +-3 cm and its height; and a smooth tremor
 (three sines of 0.3-1.5 Hz, 1.5 mm in all) on every position.
 """
 
@@ -32,7 +42,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._scene import CONTROL_DT, TOOL_DEPTH
+from ._ik import ArmIK
+from ._scene import CONTROL_DT
 
 __all__ = [
     "START_HANDS",
@@ -42,10 +53,13 @@ __all__ = [
     "quat_about",
     "record_expert",
     "render_plan",
+    "run_hands",
 ]
 
 # Where objects rest on the table (their centres' height), once settled.
 _REST_Z = {"cube": 0.02, "peg": 0.01, "socket": 0.022}
+_PEG_HALF = 0.06  # the peg's and the socket's half-length (metres)
+_PIN_END = 0.04  # the pin's end, from the socket's centre along its axis
 
 
 def quat_about(axis: str, angle: float) -> np.ndarray:
@@ -75,14 +89,29 @@ def _mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     )
 
 
-def _pitch(side: str, below: float, roll: float = 0.0) -> np.ndarray:
+#: Where the arms' bases stand (their waists' axes cross the table there).
+BASES = {"left": np.array([-0.469, 0.5]), "right": np.array([0.469, 0.5])}
+
+
+def _pitch(side: str, below: float, roll: float = 0.0, toward=None) -> np.ndarray:
     """A gripper pointing ``below`` radians under horizontal, rolled ``roll``.
 
-    The left arm points along +x, the right along -x (its base turned half a
-    turn about z); the fingers close along the gripper's y axis.
+    Headed from its arm's base toward ``toward`` (x, y, ...), as the waist
+    turns: by default straight across the table (the left arm along +x, the
+    right along -x). A heading off the arm's own would take the wrist's two
+    rolls (the ViperX's wrist is roll-pitch-roll), up to their limits when
+    the wrist is nearly straight. The fingers close along the gripper's y
+    axis.
     """
-    q = _mul(quat_about("y", below), quat_about("x", roll))
-    return q if side == "left" else _mul(quat_about("z", np.pi), q)
+    base = BASES[side]
+    aim = base + ([1.0, 0.0] if side == "left" else [-1.0, 0.0])
+    if toward is not None:
+        aim = np.asarray(toward, dtype=float)[:2]
+    heading = np.arctan2(aim[1] - base[1], aim[0] - base[0])
+    return _mul(
+        quat_about("z", heading),
+        _mul(quat_about("y", below), quat_about("x", roll)),
+    )
 
 
 @dataclass
@@ -98,17 +127,17 @@ class ExpertPlan:
         tool point, orientation (w, x, y, z) and gripper (0 closed, 1 open).
     tremor : ndarray of shape (2, 3, 3, 3)
         Per hand and axis, three (amplitude, frequency, phase) sines.
-    follow : list of (int, int, list of (int, ndarray, float))
-        Where the expert watches an object: from phase ``k`` on, hand ``h``'s
-        targets move by the sum of ``sign * (where object j is - where the
-        plan expected it)``, measured as phase ``k`` begins (the left hand
-        takes the cube where the right hand holds it, not where it should).
+    replan : list of (int, callable)
+        Where the expert looks: as phase ``k`` begins, ``f(scene, keys)``
+        rewrites the keys after boundary ``k`` from what the scene shows
+        (the left hand takes the cube where the right hand holds it, the
+        peg is aligned with the socket as they are held).
     """
 
     durations: np.ndarray
     keys: np.ndarray
     tremor: np.ndarray
-    follow: list
+    replan: list
 
 
 def _key(pos, quat, grip) -> np.ndarray:
@@ -126,87 +155,180 @@ def _tremor(rng: np.random.Generator) -> np.ndarray:
     return np.stack([amp, freq, phase], axis=-1)
 
 
-def _transfer_cube(objects: np.ndarray, start, rng: np.random.Generator) -> list:
+def _conj(q: np.ndarray) -> np.ndarray:
+    return q * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _matrix(q: np.ndarray) -> np.ndarray:
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _quat(R: np.ndarray) -> np.ndarray:
+    from scipy.spatial.transform import Rotation
+
+    x, y, z, w = Rotation.from_matrix(R).as_quat()
+    return np.array([w, x, y, z])
+
+
+def _align(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The smallest rotation (a matrix) turning unit vector ``u`` onto ``v``."""
+    axis = np.cross(u, v)
+    s, c = np.linalg.norm(axis), float(u @ v)
+    if s < 1e-12:
+        return np.eye(3)
+    k = axis / s
+    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
+    return np.eye(3) + s * K + (1 - c) * K @ K
+
+
+def _tips_clear(down: float, centre_z: float, u) -> float:
+    """The tool point's height over an object's centre, finger tips clear.
+
+    The tips are 3 cm past the tool point along the gripper, pitched
+    ``down`` radians: they end 4-7 mm above the table.
+    """
+    return 0.03 * np.sin(down) + u(0.004, 0.007) - centre_z
+
+
+def _transfer_cube(objects: np.ndarray, start, rng: np.random.Generator):
     cube = objects[0].copy()
     cube[2] = _REST_Z["cube"]
     u = rng.uniform
-    grasp = cube + [u(-0.006, 0.006), u(-0.004, 0.004), u(-0.004, 0.004)]
+    down = np.deg2rad(u(45, 60))
+    grasp = cube + [u(-0.004, 0.004), u(-0.003, 0.003), _tips_clear(down, cube[2], u)]
     above = grasp + [0.0, 0.0, u(0.05, 0.10)]
-    pick = _pitch("right", np.deg2rad(u(40, 55)))
+    pick = _pitch("right", down, toward=cube)
     meet = np.array([u(-0.03, 0.03), 0.5 + u(-0.03, 0.03), u(0.22, 0.28)])
-    hold = _pitch("right", np.deg2rad(u(10, 25)))
-    level = _pitch("left", np.deg2rad(u(-5, 5)), roll=np.pi / 2)
-    take = meet + [-u(0.012, 0.02), 0.0, 0.0]
-    l0, r0 = (
-        _key(start[0, :3], start[0, 3:], 1.0),
-        _key(start[1, :3], start[1, 3:], 1.0),
-    )
-    lready = _key(take - [0.10, 0.0, 0.0], level, 1.0)
-    # (nominal seconds, left key, right key) per phase; None keeps the last
-    follow = [(6, 0, [(0, meet, 1.0)])]  # the left hand: where the cube is
-    return follow, [
+    hold = _pitch("right", down, toward=meet)
+    level = _pitch("left", np.deg2rad(u(-5, 5)), roll=np.pi / 2, toward=meet)
+    depth = u(0.010, 0.016)  # the left tool point, short of the cube's middle
+    away = -0.08 * _matrix(hold)[:, 0] + [0.0, 0.0, 0.02]
+    l0 = _key(start[0, :3], start[0, 3:], 1.0)
+    r0 = _key(start[1, :3], start[1, 3:], 1.0)
+    # the cube's centre as planned at the meeting point (the grasp's offset)
+    planned = meet - (grasp - cube)
+
+    def take_where_it_is(scene, keys):
+        cube_now = scene.objects()[0]
+        take = cube_now - [depth, 0.0, 0.0]
+        keys[7, 0] = _key(take, level, 1.0)
+        keys[8, 0] = _key(take, level, 0.0)
+        keys[9, 0] = keys[8, 0]
+        keys[10, 0] = _key(take - [0.03, 0.0, 0.0], level, 0.0)
+
+    ready = planned - [depth + 0.10, 0.0, 0.0]
+    phases = [
         (0.0, l0, r0),
         (1.0, None, _key(above, pick, 1.0)),
         (0.3, None, None),
         (0.6, None, _key(grasp, pick, 1.0)),
         (0.4, None, _key(grasp, pick, 0.0)),
-        (1.2, lready, _key(meet, hold, 0.0)),
+        (1.2, _key(ready, level, 1.0), _key(meet, hold, 0.0)),
         (0.3, None, None),
-        (0.6, _key(take, level, 1.0), None),
-        (0.4, _key(take, level, 0.0), None),
+        (0.6, None, None),  # the left hand to the cube (planned on the way)
+        (0.4, None, None),  # the left hand closes
         (0.3, None, _key(meet, hold, 1.0)),
-        (
-            0.8,
-            _key(take - [0.03, 0, 0], level, 0.0),
-            _key(meet + [0.1, 0, 0.05], hold, 1),
-        ),
+        (0.8, None, _key(meet + away, hold, 1.0)),
     ]
+    return [(6, take_where_it_is)], phases
 
 
-def _insertion(objects: np.ndarray, start, rng: np.random.Generator) -> list:
+def _held_axis(pose: np.ndarray) -> np.ndarray:
+    """A held object's long axis (its x), pointing to +x in the world."""
+    a = _matrix(pose[3:])[:, 0]
+    return a if a[0] >= 0 else -a
+
+
+def _peg_onto_socket(depth: float):
+    """A replanning step: the right hand moving the peg onto the socket's axis.
+
+    The peg's centre goes to ``depth`` along the socket's axis from the
+    socket's centre, the peg's axis turned onto the socket's by the smallest
+    rotation, carried with the hand as it holds the peg now.
+    """
+
+    def hand_target(scene):
+        peg, socket = scene.object_poses()
+        axis = _held_axis(socket)
+        turn = _align(_held_axis(peg), axis)
+        hand = scene.hands()[1]
+        goal = socket[:3] + depth * axis
+        point = goal + turn @ (hand[:3] - peg[:3])
+        return point, _quat(turn @ _matrix(hand[3:]))
+
+    return hand_target
+
+
+def _insertion(objects: np.ndarray, start, rng: np.random.Generator):
     peg, socket = objects[0].copy(), objects[1].copy()
     peg[2], socket[2] = _REST_Z["peg"], _REST_Z["socket"]
     u = rng.uniform
-    peg_at = u(0.02, 0.035)  # how far from the peg's centre, toward +x
-    sock_at = u(0.02, 0.035)  # how far from the socket's centre, toward -x
-    rgrasp = peg + [peg_at, u(-0.003, 0.003), u(-0.003, 0.003)]
-    lgrasp = socket + [-sock_at, u(-0.003, 0.003), 0.02 + u(-0.003, 0.003)]
-    rpick = _pitch("right", np.deg2rad(u(40, 55)))
-    lpick = _pitch("left", np.deg2rad(u(40, 55)))
-    height = u(0.06, 0.10)
-    meet = np.array([u(-0.03, 0.03), 0.5 + u(-0.03, 0.03), u(0.2, 0.26)])
-    # held objects' centres where the peg's end faces the socket's mouth
+    # near the middles: held off-centre they pivot in the fingers (the pads'
+    # torsional friction, 0.005, holds little against gravity's torque)
+    peg_at = u(0.0, 0.012)  # how far from the peg's centre, toward +x
+    sock_at = u(0.0, 0.012)  # how far from the socket's centre, toward -x
+    rdown, ldown = np.deg2rad(u(40, 55)), np.deg2rad(u(40, 55))
+    # the finger tips (3 cm past the tool point) 4-7 mm over the table
+    rgrasp = peg + [peg_at, u(-0.002, 0.002), _tips_clear(rdown, peg[2], u)]
+    lgrasp = socket + [-sock_at, u(-0.002, 0.002), _tips_clear(ldown, socket[2], u)]
+    rpick = _pitch("right", rdown, toward=peg)
+    lpick = _pitch("left", ldown, toward=socket)
+    up_l, up_r = [0.0, 0.0, u(0.05, 0.10)], [0.0, 0.0, u(0.05, 0.10)]
+    # on the line between the bases: both hands there head along it
+    meet = np.array([u(-0.03, 0.03), 0.5 + u(-0.005, 0.005), u(0.2, 0.26)])
     sock_c = meet + [-0.08, 0.0, 0.0]
-    lift_l = sock_c + [-sock_at, 0.0, lgrasp[2] - socket[2]]
-    peg_ready = sock_c + [0.06 + 0.04 + 0.06 + 0.03, 0.0, 0.0]
-    peg_in = sock_c + [0.06 + 0.04 - 0.012, 0.0, 0.0]
-    lift_r = peg_ready + [peg_at, 0.0, rgrasp[2] - peg[2]]
-    push_r = peg_in + [peg_at, 0.0, rgrasp[2] - peg[2]]
+    rhold = _pitch("right", rdown, toward=meet)
+    lhold = _pitch("left", ldown, toward=meet)
+    lift_l = sock_c + (lgrasp - socket)
+    ready = 2 * _PEG_HALF + 0.025  # the peg's end 2.5 cm outside the mouth
+    lift_r = sock_c + [ready, 0.0, 0.0] + (rgrasp - peg)
+    push = _PIN_END + _PEG_HALF - u(0.008, 0.012)  # against the pin, pressed
     l0 = _key(start[0, :3], start[0, 3:], 1.0)
     r0 = _key(start[1, :3], start[1, 3:], 1.0)
-    up = [0.0, 0.0, height]
-    # the right hand pushes the peg to where the socket is, from where it is
-    follow = [(6, 1, [(1, sock_c, 1.0), (0, peg_ready, -1.0)])]
-    return follow, [
+    align, press = _peg_onto_socket(ready), _peg_onto_socket(push)
+
+    def aim(scene, keys):
+        point, quat = align(scene)
+        keys[7:, 1] = _key(point, quat, 0.0)
+
+    def aim_again(scene, keys):
+        point, quat = align(scene)
+        keys[9, 1] = _key(point, quat, 0.0)
+        point, quat = press(scene)
+        keys[10:, 1] = _key(point, quat, 0.0)
+
+    phases = [
         (0.0, l0, r0),
-        (1.1, _key(lgrasp + up, lpick, 1.0), _key(rgrasp + up, rpick, 1.0)),
+        (1.1, _key(lgrasp + up_l, lpick, 1.0), _key(rgrasp + up_r, rpick, 1.0)),
         (0.3, None, None),
         (0.6, _key(lgrasp, lpick, 1.0), _key(rgrasp, rpick, 1.0)),
         (0.4, _key(lgrasp, lpick, 0.0), _key(rgrasp, rpick, 0.0)),
-        (1.2, _key(lift_l, lpick, 0.0), _key(lift_r, rpick, 0.0)),
+        (1.2, _key(lift_l, lhold, 0.0), _key(lift_r, rhold, 0.0)),
         (0.3, None, None),
-        (1.0, None, _key(push_r, rpick, 0.0)),
-        (0.5, None, None),
+        (0.8, None, None),  # the peg onto the socket's axis (planned then)
+        (0.3, None, None),
+        (0.3, None, None),  # looked again: corrected
+        (1.0, None, None),  # pushed in
+        (0.4, None, None),
     ]
+    return [(6, aim), (8, aim_again)], phases
 
 
 _EXPERTS = {"transfer-cube": _transfer_cube, "insertion": _insertion}
-#: The hands' tool points and orientations after a reset of the end-effector
-#: scene (:meth:`~ndlfd.sim._scene.Scene.hands`), left then right.
+#: The hands' tool points and gripper-link orientations after a reset of the
+#: joint-position scene (:meth:`~ndlfd.sim._scene.Scene.hands`), left then
+#: right.
 START_HANDS = np.array(
     [
-        [-0.18795, 0.5, 0.30848, 0.99875, 0.0, -0.04998, 0.0],
-        [0.18795, 0.5, 0.30848, 0.0, 0.04998, 0.0, 0.99875],
+        [-0.18784, 0.5, 0.30823, 0.99875, 0.0, -0.04998, 0.0],
+        [0.18784, 0.5, 0.30823, 0.0, 0.04998, 0.0, 0.99875],
     ]
 )
 
@@ -225,12 +347,12 @@ def expert_episode(
     start : array-like of shape (2, 7), optional
         The hands' tool points and orientations at the start
         (:meth:`~ndlfd.sim._scene.Scene.hands` after a reset; by default the
-        end-effector scene's, :data:`START_HANDS`).
+        joint scene's, :data:`START_HANDS`).
 
     Returns
     -------
     plan : ExpertPlan
-        Sample it with :func:`render_plan`.
+        Sample it with :func:`render_plan`, run it with :func:`record_expert`.
 
     Examples
     --------
@@ -242,14 +364,14 @@ def expert_episode(
     """
     start = START_HANDS if start is None else np.asarray(start, dtype=float)
     objects = np.asarray(objects, dtype=float).reshape(-1, 3)
-    follow, phases = _EXPERTS[task](objects, start, rng)
+    replan, phases = _EXPERTS[task](objects, start, rng)
     keys = np.empty((len(phases), 2, 8))
     for k, (_, left, right) in enumerate(phases):
         for h, key in enumerate((left, right)):
             keys[k, h] = keys[k - 1, h] if key is None else key
     nominal = np.array([d for d, *_ in phases[1:]])
     durations = nominal * rng.uniform(0.8, 1.2, size=nominal.size)
-    return ExpertPlan(durations, keys, _tremor(rng), follow)
+    return ExpertPlan(durations, keys, _tremor(rng), replan)
 
 
 def _slerp(a: np.ndarray, b: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -303,6 +425,10 @@ def render_plan(plan: ExpertPlan) -> tuple[np.ndarray, np.ndarray]:
             block[:, 3:7] = _slerp(a[3:7], b[3:7], s)
             block[:, 7] = a[7] + s * (b[7] - a[7])
             out[rows, 8 * h : 8 * h + 8] = block
+    for h in range(2):  # one sign along the path (slerp may pick either)
+        q = out[:, 8 * h + 3 : 8 * h + 7]
+        flip = np.cumprod(np.where(np.sum(q[1:] * q[:-1], axis=1) < 0, -1.0, 1.0))
+        q[1:] *= flip[:, None]
     amp, freq, phase0 = np.moveaxis(plan.tremor, -1, 0)
     wave = amp * np.sin(2 * np.pi * freq * t[:, None, None, None] + phase0)
     ramp = np.minimum(1.0, t / 0.5)[:, None, None]  # still at the start pose
@@ -310,32 +436,6 @@ def render_plan(plan: ExpertPlan) -> tuple[np.ndarray, np.ndarray]:
     out[:, 0:3] += tremor[:, 0]
     out[:, 8:11] += tremor[:, 1]
     return t, out
-
-
-def _conj(q: np.ndarray) -> np.ndarray:
-    return q * np.array([1.0, -1.0, -1.0, -1.0])
-
-
-def _matrix(q: np.ndarray) -> np.ndarray:
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
-def _small_turn(q: np.ndarray, gain: float) -> np.ndarray:
-    """``gain`` times the turn of quaternion ``q`` (its rotation vector scaled)."""
-    q = q if q[0] >= 0 else -q
-    angle = 2 * np.arccos(np.clip(q[0], -1.0, 1.0))
-    if angle < 1e-12:
-        return np.array([1.0, 0.0, 0.0, 0.0])
-    axis = q[1:] / np.linalg.norm(q[1:])
-    half = gain * angle / 2
-    return np.concatenate([[np.cos(half)], np.sin(half) * axis])
 
 
 @dataclass
@@ -348,10 +448,13 @@ class Recording:
     objects : ndarray of shape (n_objects, 3)
         Where the objects were placed.
     ee_action : ndarray of shape (n, 16)
-        The end-effector commands sent (per hand the mocap pose and gripper).
+        The hands' poses asked for: per hand the tool point, the gripper
+        link's orientation (w, x, y, z) and the gripper (0 closed, 1 open),
+        :data:`~ndlfd.sim._scene.HAND_COLUMNS`.
     joint_action : ndarray of shape (n, 14)
-        The same motion as joint positions: per arm the 6 joints reached
-        after each step and the gripper command (0 closed, 1 open).
+        The joint positions commanded (per arm the 6 joints from inverse
+        kinematics and the gripper command): what the robot was told to do,
+        replayed exactly by the joint-position scene.
     state : ndarray of shape (n, 14)
         The joint readings (grippers as measured).
     hands : ndarray of shape (n, 2, 7)
@@ -373,36 +476,84 @@ class Recording:
         return bool(self.reward.max() >= 4)
 
 
-#: How much of the tool point's error the expert corrects per step (an
-#: integral correction of its command, as a person steers their hand).
-CORRECTION = 0.1
-_MAX_BIAS = 0.15  # metres
+#: The wrist rolls' largest move per step: the ViperX's velocity limit
+#: (:data:`~ndlfd.sim._scene.VIPERX_LIMITS`) times the control period.
+_ROLL_STEP = np.pi * CONTROL_DT
 
 
-def record_expert(scene, plan: ExpertPlan, objects, *, settle: float = 0.5):
-    """Run an expert's plan in the end-effector scene, steering as it goes.
+def _ik_for(scene) -> ArmIK:
+    ik = getattr(scene, "_ndlfd_ik", None)
+    if ik is None:
+        ik = ArmIK(scene.physics)
+        scene._ndlfd_ik = ik
+    return ik
 
-    The plan gives where each hand's tool point and gripper should be; the
-    mocap command that would put them there (through the weld's relative
-    pose) is corrected by :data:`CORRECTION` times the remaining error on
-    each step where the hand pauses (the plan's hover phases) with its
-    gripper open: an integral term, capped at 15 cm, left alone while the
-    hand moves (a lag, not an offset) or holds something (it would push into
-    it). The weld is soft and the arms' joint friction large, so a welded
-    gripper rests centimetres and degrees from its mocap body. Where the plan
-    says so (:attr:`ExpertPlan.follow`) the expert looks at an object and
-    moves a hand's remaining targets by how far it is from where the plan
-    expected it. The commands sent are recorded: they are the demonstration
-    in end-effector space; the joints reached are the one in joint space.
+
+def _joints_for(ik: ArmIK, row: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The joint action (14,) for one row of hand poses (16,), from joints q."""
+    out = np.empty(14)
+    for h, side in enumerate(("left", "right")):
+        r = row[8 * h : 8 * h + 8]
+        out[7 * h : 7 * h + 6], _ = ik.solve(
+            side, r[:3], r[3:7], q[7 * h : 7 * h + 6], roll_step=_ROLL_STEP
+        )
+        out[7 * h + 6] = r[7]
+    return out
+
+
+def run_hands(scene, hands, objects) -> tuple[np.ndarray, np.ndarray]:
+    """Run rows of hand poses in the joint scene through inverse kinematics.
+
+    The tasks' end-effector control as this package runs it: each row's two
+    hand poses are turned into joint positions (:class:`~ndlfd.sim._ik.ArmIK`,
+    warm-started from the row before) and commanded.
 
     Parameters
     ----------
     scene : Scene
-        An end-effector scene (``Scene(task, "ee")``).
+        A joint-position scene (``Scene(task, "joint")``).
+    hands : array-like of shape (n, 16)
+        Per row and hand the tool point, gripper-link orientation (w, x, y, z;
+        made unit here) and gripper, :data:`~ndlfd.sim._scene.HAND_COLUMNS`.
+    objects : array-like of shape (n_objects, 3)
+
+    Returns
+    -------
+    joints : ndarray of shape (n, 14)
+        The joint actions commanded.
+    reward : ndarray of shape (n,), dtype int
+    """
+    hands = np.asarray(hands, dtype=float)
+    scene.reset(objects)
+    ik = _ik_for(scene)
+    q = scene.qpos()
+    joints = np.empty((len(hands), 14))
+    reward = np.empty(len(hands), dtype=np.int64)
+    for k, row in enumerate(hands):
+        q = joints[k] = _joints_for(ik, row, q)
+        reward[k] = scene.step(q)
+    return joints, reward
+
+
+def record_expert(scene, plan: ExpertPlan, objects, *, settle: float = 0.5):
+    """Run an expert's plan in the joint scene through inverse kinematics.
+
+    Every step each hand's pose in the plan becomes the arm's joints
+    (:class:`~ndlfd.sim._ik.ArmIK`, from the last step's), which are
+    commanded with the gripper. As a replanning phase begins
+    (:attr:`ExpertPlan.replan`) the expert looks at the scene and rewrites
+    the keys still ahead; the rest of the plan is sampled again from there
+    (the keys behind are unchanged, so the path stays smooth).
+
+    Parameters
+    ----------
+    scene : Scene
+        A joint-position scene (``Scene(task, "joint")``).
     plan : ExpertPlan
+        Its keys are rewritten by the replanning steps (a copy is not made).
     objects : array-like of shape (n_objects, 3)
     settle : float, default=0.5
-        Seconds the last command is held after the plan.
+        Seconds the last pose is held after the plan.
 
     Returns
     -------
@@ -410,55 +561,29 @@ def record_expert(scene, plan: ExpertPlan, objects, *, settle: float = 0.5):
     """
     objects = np.asarray(objects, dtype=float).reshape(-1, 3)
     scene.reset(objects)
-    t, target = render_plan(plan)
+    ik = _ik_for(scene)
     n_hold = round(settle / CONTROL_DT)
-    target = np.concatenate([target, np.repeat(target[-1:], n_hold, axis=0)])
-    t = np.arange(len(target)) * CONTROL_DT
-    speed = np.linalg.norm(np.diff(target[:, [[0, 1, 2], [8, 9, 10]]], axis=0), axis=2)
-    still = np.concatenate([speed, speed[-1:]]) < 0.2 * CONTROL_DT
-    rel = scene.weld()
-    bias_p = np.zeros((2, 3))
-    bias_q = np.tile([1.0, 0.0, 0.0, 0.0], (2, 1))
+
+    def sampled():
+        _, rows = render_plan(plan)
+        return np.concatenate([rows, np.repeat(rows[-1:], n_hold, axis=0)])
+
+    target = sampled()
     n = len(target)
-    ee = np.empty((n, 16))
+    ends = np.concatenate([[0.0], np.cumsum(plan.durations)])
+    looks = {round(ends[k] / CONTROL_DT): f for k, f in plan.replan}
+    joints = np.empty((n, 14))
     state = np.empty((n, 14))
     hands = np.empty((n, 2, 7))
     reward = np.empty(n, dtype=np.int64)
-    ends = np.concatenate([[0.0], np.cumsum(plan.durations)])
-    starts = {round(ends[k] / CONTROL_DT): (k, h, rule) for k, h, rule in plan.follow}
+    q = scene.qpos()
     for k in range(n):
-        if k in starts:
-            _, h, rule = starts[k]
-            now = scene.objects()
-            shift = sum(sign * (now[j] - at) for j, at, sign in rule)
-            target[k:, 8 * h : 8 * h + 3] += shift
-        row = np.empty(16)
-        for h in range(2):
-            tcp, qg, grip = (
-                target[k, 8 * h : 8 * h + 3],
-                target[k, 8 * h + 3 : 8 * h + 7],
-                target[k, 8 * h + 7],
-            )
-            qg = qg / np.linalg.norm(qg)
-            qm = _mul(qg, _conj(rel[h, 3:]))
-            link = tcp - TOOL_DEPTH * _matrix(qg)[:, 0]
-            pm = link - _matrix(qm) @ rel[h, :3]
-            row[8 * h : 8 * h + 3] = pm + bias_p[h]
-            row[8 * h + 3 : 8 * h + 7] = _mul(bias_q[h], qm)
-            row[8 * h + 7] = grip
-        ee[k] = row
-        reward[k] = scene.step(row)
+        if k in looks:
+            looks[k](scene, plan.keys)
+            target[k:] = sampled()[k:]
+        q = joints[k] = _joints_for(ik, target[k], q)
+        reward[k] = scene.step(q)
         hands[k] = scene.hands()
         state[k] = scene.qpos()
-        for h in range(2):
-            if target[k, 8 * h + 7] < 0.999 or not still[k, h]:
-                continue  # moving (a lag, not an offset), holding or closing
-            err = target[k, 8 * h : 8 * h + 3] - hands[k, h, :3]
-            bias_p[h] = np.clip(bias_p[h] + CORRECTION * err, -_MAX_BIAS, _MAX_BIAS)
-            qg = target[k, 8 * h + 3 : 8 * h + 7]
-            turn = _mul(qg / np.linalg.norm(qg), _conj(hands[k, h, 3:]))
-            bias_q[h] = _mul(_small_turn(turn, CORRECTION), bias_q[h])
-    joint = state.copy()
-    joint[:, 6] = ee[:, 7]
-    joint[:, 13] = ee[:, 15]
-    return Recording(t, objects, ee, joint, state, hands, reward)
+    t = np.arange(n) * CONTROL_DT
+    return Recording(t, objects, target, joints, state, hands, reward)

@@ -70,11 +70,11 @@ JOINT_NAMES = tuple(
 )
 #: One hand's end-effector components (tool point, mocap orientation, gripper).
 HAND_COLUMNS = ("x", "y", "z", "qw", "qx", "qy", "qz", "gripper")
-#: The ViperX 300 s joints' velocity limits (rad/s), from Interbotix's
-#: ``vx300s.urdf.xacro`` (``velocity="${pi}"``, the Dynamixel XM540/XM430's
-#: no-load speed); accelerations are not limited there, 10 rad/s^2 is the
-#: figure the report compares with (the arm's motors reach it unloaded).
-VIPERX_LIMITS = {"velocity": np.pi, "acceleration": 10.0}
+#: The ViperX 300 s joints' velocity limit (rad/s), from Interbotix's
+#: ``vx300s.urdf.xacro`` (``velocity="${pi}"`` on every arm joint). The URDF
+#: gives no acceleration limit and none is assumed here: accelerations are
+#: reported as measured.
+VIPERX_LIMITS = {"velocity": np.pi}
 
 #: How far ahead of the gripper link (along its x axis) a hand's tool point
 #: is: between the finger pads, 2-3 cm short of the tips (the finger meshes
@@ -338,3 +338,8 @@ class Scene:
         """The objects' current positions, shape (n_objects, 3)."""
         q = self.physics.data.qpos
         return np.array([q[a : a + 3] for a in self._object_qpos])
+
+    def object_poses(self) -> np.ndarray:
+        """The objects' positions and orientations (w, x, y, z), (n_objects, 7)."""
+        q = self.physics.data.qpos
+        return np.array([q[a : a + 7] for a in self._object_qpos])
