@@ -12,10 +12,11 @@ The features:
 ==========================  ===========================================
 ``observation.state``       the 14 joints read (ALOHA's layout: per arm
                             6 joints and the gripper, 0 closed to 1 open)
-``action``                  the 14 joint positions reached, with the
-                            gripper commands (what joint control replays)
-``action.ee``               the end-effector commands: per hand the mocap
-                            pose (x, y, z, qw, qx, qy, qz) and gripper
+``action``                  the 14 joint positions commanded (inverse
+                            kinematics) with the gripper commands
+``action.ee``               the hands' poses asked for: per hand the tool
+                            point, the gripper link's orientation (x, y, z,
+                            qw, qx, qy, qz) and the gripper
 ``observation.<object>``    each object's position where it was placed,
                             the same on every row (a task frame:
                             ``read_lerobot(..., frames={"cube":
