@@ -38,8 +38,8 @@ def test_evaluate_tasks_tiny_cell_through_the_cli(tmp_path, capsys):
 
 
 def test_evaluate_tasks_is_deterministic_and_checks_input():
-    a = evaluate_tasks(["insertion"], demos=[1], episodes=1, methods=["nearest"])
-    b = evaluate_tasks(["insertion"], demos=[1], episodes=1, methods=["nearest"])
+    a = evaluate_tasks(["transfer-cube"], demos=[1], episodes=1, methods=["nearest"])
+    b = evaluate_tasks(["transfer-cube"], demos=[1], episodes=1, methods=["nearest"])
     assert [(r.method, r.success, r.max_reward) for r in a.rows] == [
         (r.method, r.success, r.max_reward) for r in b.rows
     ]

@@ -22,15 +22,18 @@ as each can take them):
                     grippers, from the start (a model without a position
                     group cannot take frames today: issue 43)
 ``object-mean``     the demonstrations' mean (normalized time), the right
-                    hand's positions shifted by the first object's move and
-                    the left hand's by nothing (world-fixed)
+                    hand's positions shifted by the first object's move (eased
+                    in over the first :data:`EASE_IN` of the motion, so the
+                    path starts at the start) and the left hand's by nothing
+                    (world-fixed)
 ``promp``           ProMP (:class:`~ndlfd.baselines.ProMPBaseline`) on the
                     right hand's positions, conditioned on the start and a via
                     point at the grasp (the object's new position plus the
                     demonstrations' mean grasp offset, at their mean grasp
                     time); every other column the demonstrations' mean
 ``nearest``         the demonstration whose object was nearest, replayed, its
-                    right hand shifted by the object's move
+                    right hand shifted by the object's move (eased in as
+                    ``object-mean``'s)
 ==================  ==========================================================
 
 Reported per task, method and N: success rate, the joint commands' peak
@@ -53,11 +56,13 @@ import numpy as np
 
 from .._errors import ValidationError
 
-__all__ = ["TASK_METHODS", "TaskResult", "TaskRow", "evaluate_tasks"]
+__all__ = ["EASE_IN", "TASK_METHODS", "TaskResult", "TaskRow", "evaluate_tasks"]
 
 #: The methods compared, in the report's order.
 TASK_METHODS = ("ndlfd-ee", "ndlfd-joint", "object-mean", "promp", "nearest")
-_GRIP_PHASE = 4  # the expert's right gripper closes by the end of this phase
+#: The fraction of the motion over which object-mean and nearest ease their
+#: shift in (the expert's grasp begins after about a third).
+EASE_IN = 0.25
 
 
 @dataclass
@@ -190,12 +195,16 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
         return gen
     mean = np.mean([_unit_resample(r.ee_action, n) for r in recs], axis=0)
     placed = np.array([r.objects[0] for r in recs])
+    # the shift eased in (minimum jerk) over the first EASE_IN of the motion:
+    # shifted from its first sample the path would jump away from the start
+    s = np.clip(np.linspace(0.0, 1.0, n) / EASE_IN, 0.0, 1.0)
+    ease = s**3 * (10 - 15 * s + 6 * s**2)
     if method == "object-mean":
         shift0 = placed.mean(axis=0)
 
         def gen(objects):
             rows = mean.copy()
-            rows[:, 8:11] += objects[0] - shift0
+            rows[:, 8:11] += ease[:, None] * (objects[0] - shift0)
             return "ee", rows
 
         return gen
@@ -204,7 +213,7 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
         def gen(objects):
             k = int(np.argmin(np.linalg.norm(placed - objects[0], axis=1)))
             rows = _unit_resample(recs[k].ee_action, n)
-            rows[:, 8:11] += objects[0] - placed[k]
+            rows[:, 8:11] += ease[:, None] * (objects[0] - placed[k])
             return "ee", rows
 
         return gen
