@@ -37,6 +37,7 @@ def success_curve(result, path) -> None:
                 continue
             ax.plot(*zip(*pts, strict=True), marker="o", label=method)
         ax.set_xscale("log")
+        ax.minorticks_off()
         ns = sorted({s["n_demos"] for s in rows if s["n_demos"]})
         ax.set_xticks(ns, [str(n) for n in ns])
         ax.set_ylim(-0.02, 1.02)
@@ -84,7 +85,7 @@ def failures_top_view(result, task: str, path, *, per_method: int = 12) -> None:
             ax.scatter(obj[:, 0], obj[:, 1], marker="s", color=c, s=20)
         ax.set_title(f"{method}, N={n}: {len(failed)}/{total} failed", fontsize=9)
         ax.set_xlabel("x (m)")
-        ax.set_xlim(-0.3, 0.3)
+        ax.set_xlim(-0.35, 0.35)
         ax.set_ylim(0.3, 0.7)
         ax.set_aspect("equal")
         ax.grid(alpha=0.3)
