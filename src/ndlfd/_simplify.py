@@ -303,7 +303,11 @@ def _line_layout(P, t, mode, pool=None, workers=1):
     """
     n, d = P.shape
     Pt = np.empty((d, n))
-    if pool is None:
+    if pool is None and n < PARALLEL_MIN:
+        # numpy's copy is as fast up to here (4 us at 1,000 x 4, 0.18 ms at
+        # 100,000 x 4; the kernel 5 us, 0.43 ms), with no kernel to compile
+        np.copyto(Pt, P.T)
+    elif pool is None:
         K.transpose(P, Pt, 0, n)
     else:
         cuts = np.linspace(0, n, workers + 1).astype(np.int64).tolist()

@@ -603,7 +603,11 @@ def _scale_rows(X, lo, div, w, weighted: bool) -> np.ndarray:
     """``(X - lo) / div * w`` (``w`` = 1 when not ``weighted``), compiled."""
     X = np.ascontiguousarray(X)
     out = np.empty(X.shape)
-    _scale_flat(X.reshape(-1), X.shape[1], lo, div, w, weighted, out.reshape(-1))
+    # read-only whether X is or not: one compiled version (writability is
+    # part of numba's array type; the fitted lo, div, w are writable)
+    flat = X.reshape(-1)
+    flat.flags.writeable = False
+    _scale_flat(flat, X.shape[1], lo, div, w, weighted, out.reshape(-1))
     return out
 
 

@@ -99,7 +99,11 @@ def column_extremes(X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """
     X = np.ascontiguousarray(X, dtype=np.float64)
     lo, hi = np.empty(X.shape[1]), np.empty(X.shape[1])
-    if _extremes(X.reshape(-1), X.shape[1], lo, hi):  # a zero: numpy's sign
+    # read-only whether X is or not: one compiled version (writability is
+    # part of numba's array type)
+    flat = X.reshape(-1)
+    flat.flags.writeable = False
+    if _extremes(flat, X.shape[1], lo, hi):  # a zero: numpy's sign
         return X.min(axis=0), X.max(axis=0)
     return lo, hi
 

@@ -1,0 +1,225 @@
+"""First run: import, first fit and first generate of a fresh install, then cached.
+
+Run from the repository root:
+
+    .venv/bin/python benchmarks/bench_firstrun.py [--repeats 2] [--write]
+
+ndlfd's kernels are compiled by numba on their first call and cached on disk
+(``cache=True``). A fresh install has no cache: this benchmark gives each
+repeat an empty ``NUMBA_CACHE_DIR`` (numba then writes its cache there, not
+beside the sources) and runs, each in a fresh process:
+
+1. *cold*: ``import ndlfd``; ``KeypointHMM().fit`` on LASA Angle's first 6
+   demonstrations (1,000 samples each; a synthetic square set of 6 when the
+   ``lasa`` extra is missing); ``generate`` at the 7th's times, keys and
+   dense; each timed by the wall clock and by the process's CPU time, and the
+   number of kernels numba compiled in each (numba's event API);
+2. *cached*: the same in a second process on the same cache directory;
+3. *demo*: ``ndlfd.jobs.demo.run_demo(quick=True, plot=False)`` (what
+   ``make demo`` runs, on 20 squares instead of 100) on an empty cache: its
+   warm-up seconds as printed.
+
+The wall times depend on what else the machine runs; the CPU times much
+less. The load average (1 minute) is printed before and after. ``--write``
+replaces the ``firstrun`` section of benchmarks/RESULTS.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+RESULTS = ROOT / "benchmarks" / "RESULTS.md"
+START, END = "<!-- firstrun:start -->", "<!-- firstrun:end -->"
+COMMAND = ".venv/bin/python benchmarks/bench_firstrun.py --write"
+
+#: The child process: one cold or cached run, a JSON line on stdout.
+CHILD = r"""
+import json, sys, time
+from numba.core import event
+
+class Count(event.Listener):  # kernels called from Python, CPU s of each
+    def __init__(self): self.depth = 0; self.n = 0; self.cpu = {}
+    def on_start(self, ev):
+        if self.depth == 0:
+            self.n += 1; self.t0 = time.process_time()
+        self.depth += 1
+    def on_end(self, ev):
+        self.depth -= 1
+        if self.depth == 0:
+            f = ev.data["dispatcher"].py_func
+            name = f"{f.__module__}.{f.__name__}"
+            self.cpu[name] = self.cpu.get(name, 0.0) + time.process_time() - self.t0
+
+count = Count()
+event.register("numba:compile", count)
+
+def timed(f):
+    n0, w0, c0 = count.n, time.perf_counter(), time.process_time()
+    out = f()
+    return out, (time.perf_counter() - w0, time.process_time() - c0, count.n - n0)
+
+row = {}
+_, row["import"] = timed(lambda: __import__("ndlfd"))
+from ndlfd import KeypointHMM, MissingExtraError, load_lasa, synth
+try:
+    demos = load_lasa("Angle")
+    train, test, data = demos[:6], demos[6], "LASA Angle"
+except MissingExtraError:
+    train, test = synth.make_dataset("square", n_demos=6, random_state=0)
+    data = "synth square"
+row["data"] = data
+model, row["fit"] = timed(lambda: KeypointHMM().fit(train))
+_, row["generate"] = timed(lambda: model.generate(test.t))
+_, row["generate_dense"] = timed(lambda: model.generate(test.t, dense=True))
+row["kernels"] = count.cpu
+print(json.dumps(row))
+"""
+
+DEMO = r"""
+import json
+from ndlfd.jobs.demo import run_demo
+lines = []
+summary = run_demo(sys.argv[1], quick=True, plot=False, echo=lines.append)
+print(json.dumps({"warm_up": sum(r["warm_up_s"] for r in summary.values()),
+                  "line": lines[0]}))
+"""
+
+
+def _run(code: str, cache: Path, *args: str) -> dict:
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    out = subprocess.run(
+        [sys.executable, "-c", "import sys\n" + code, *args],
+        env=env,
+        capture_output=True,
+        text=True,
+        check=True,
+        cwd=ROOT,
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def measure(repeats: int) -> dict:
+    """``repeats`` cold, cached and demo runs, each on its own empty cache."""
+    load = [os.getloadavg()[0]]
+    runs = {"cold": [], "cached": [], "demo": []}
+    for _ in range(repeats):
+        with tempfile.TemporaryDirectory() as tmp:
+            cache = Path(tmp) / "numba"
+            runs["cold"].append(_run(CHILD, cache))
+            runs["cached"].append(_run(CHILD, cache))
+        with tempfile.TemporaryDirectory() as tmp:
+            runs["demo"].append(_run(DEMO, Path(tmp) / "numba", str(Path(tmp) / "o")))
+    load.append(os.getloadavg()[0])
+    return {"runs": runs, "load": load}
+
+
+STEPS = {
+    "import": "`import ndlfd`",
+    "fit": "first `KeypointHMM().fit` (6 demonstrations)",
+    "generate": "first `generate` (key points)",
+    "generate_dense": "then `generate(dense=True)`",
+}
+
+
+def _cell(values, i):
+    lo, hi = min(v[i] for v in values), max(v[i] for v in values)
+    return f"{lo:.2f}" if f"{lo:.2f}" == f"{hi:.2f}" else f"{lo:.2f}-{hi:.2f}"
+
+
+def _count(values):
+    lo, hi = min(v[2] for v in values), max(v[2] for v in values)
+    return f"{lo}" if lo == hi else f"{lo}-{hi}"
+
+
+def table(result: dict) -> str:
+    """The markdown rows: per step, cold and cached, wall and CPU seconds."""
+    runs = result["runs"]
+    lines = [
+        "| step | cold wall s | cold CPU s | kernels compiled | cached wall s"
+        " | cached CPU s |",
+        "|---|---:|---:|---:|---:|---:|",
+    ]
+    for key, label in STEPS.items():
+        cold = [r[key] for r in runs["cold"]]
+        cached = [r[key] for r in runs["cached"]]
+        lines.append(
+            f"| {label} | {_cell(cold, 0)} | {_cell(cold, 1)} | {_count(cold)}"
+            f" | {_cell(cached, 0)} | {_cell(cached, 1)} |"
+        )
+    warm = [d["warm_up"] for d in runs["demo"]]
+    lines.append(
+        f"| `run_demo(quick=True)` warm-up (as printed) | {min(warm):.1f}-"
+        f"{max(warm):.1f} | | | | |"
+    )
+    return "\n".join(lines)
+
+
+def kernels(result: dict) -> str:
+    """The kernels' compile CPU seconds (with their callees), first repeat."""
+    cpu = result["runs"]["cold"][0]["kernels"]
+    rows = sorted(cpu.items(), key=lambda kv: -kv[1])
+    return ", ".join(f"`{name.removeprefix('ndlfd.')}` {t:.2f}" for name, t in rows)
+
+
+def section(result: dict, repeats: int) -> str:
+    import numba
+    import numpy
+
+    data = result["runs"]["cold"][0]["data"]
+    return f"""{START}
+## First run: import, first fit and generate on an empty numba cache
+
+Command: `{COMMAND}` ({repeats} repeats, about a minute each).
+Machine: {platform.machine()}, {os.cpu_count()} cores, Python \
+{platform.python_version()}, numpy {numpy.__version__}, numba {numba.__version__};\
+ load average {result["load"][0]:.1f} before, {result["load"][1]:.1f} after \
+(other jobs were running: the wall times are the CPU times stretched by them).
+
+Each repeat gets an empty `NUMBA_CACHE_DIR` (a fresh install) and runs a \
+process that imports ndlfd, fits `KeypointHMM()` on {data} (first 6 \
+demonstrations) and generates at the 7th's times (*cold*), then a second \
+process on the same cache (*cached*: the kernels loaded from disk), then \
+`run_demo(quick=True, plot=False)` (what `make demo` runs, on 20 squares) on \
+another empty cache. Ranges are over the repeats; the kernels compiled are \
+those called from Python (each with the kernels it calls).
+
+{table(result)}
+
+CPU seconds compiling each kernel called from Python (with the kernels it \
+calls), cold, first repeat: {kernels(result)}.
+{END}"""
+
+
+def write(text: str) -> None:
+    old = RESULTS.read_text()
+    if START in old:
+        head, rest = old.split(START, 1)
+        new = head + text + rest.split(END, 1)[1]
+    else:
+        new = old.rstrip("\n") + "\n\n" + text + "\n"
+    RESULTS.write_text(new)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--write", action="store_true", help="update RESULTS.md")
+    args = parser.parse_args()
+    result = measure(args.repeats)
+    text = section(result, args.repeats)
+    print(text)
+    print(json.dumps(result["runs"]["demo"], indent=1))
+    if args.write:
+        write(text)
+
+
+if __name__ == "__main__":
+    main()
