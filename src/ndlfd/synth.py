@@ -61,6 +61,7 @@ __all__ = [
     "spiral",
     "square",
     "square_spiral",
+    "task_board",
 ]
 
 #: ``a`` of the variable-speed warp ``s(τ) = τ + a·sin(2πkτ)/(2πk)``.
@@ -677,3 +678,115 @@ def pick_place(
             t, position=pos, orientation=q, gripper=grip, frames=frames[-1]
         ))  # fmt: skip
     return demos, frames
+
+
+#: :func:`task_board`'s waypoints in the board's frame (m): above the first
+#: contact, the first contact (a press), back up, down at the start of a
+#: slide, the slide's end, the goal (a plug, 2 cm above the board).
+TASK_BOARD_POINTS = (
+    (-0.08, -0.05, 0.06),
+    (-0.08, -0.05, 0.0),
+    (-0.08, -0.05, 0.03),
+    (0.0, 0.02, 0.0),
+    (0.06, 0.05, 0.0),
+    (0.08, 0.06, 0.02),
+)
+
+#: Where :func:`task_board`'s board lies when not moved (x, y, z in m).
+TASK_BOARD_ORIGIN = (0.55, 0.0, 0.05)
+
+#: Nominal durations (s) of :func:`task_board`'s pieces: home to above the
+#: first contact, then between the board's waypoints; with a rest at the
+#: press (index 1 of the waypoints) of :data:`TASK_BOARD_PRESS` s.
+TASK_BOARD_TIMES = (1.6, 0.5, 0.4, 0.8, 0.9, 0.5)
+TASK_BOARD_PRESS = 0.4
+
+
+def task_board(
+    n_demos: int = 7,
+    *,
+    rate: float = 50.0,
+    shift: float = 0.06,
+    yaw: float = np.radians(18.0),
+    noise: float = 5e-4,
+    random_state=0,
+) -> tuple[list[Demonstration], list[dict]]:
+    """A task on a board that moves: everything after home is rigid in the board.
+
+    Each demonstration starts at a home pose (``(0.3, 0, 0.45)`` m, a few mm
+    apart), moves above a first contact point on the board, presses it (and
+    rests there :data:`TASK_BOARD_PRESS` s), lifts, slides along the board and
+    ends at a goal on it (:data:`TASK_BOARD_POINTS`, in the board's frame).
+    The board lies at :data:`TASK_BOARD_ORIGIN` moved by up to ``shift`` in x
+    and y and turned by up to ``yaw`` about z; each piece takes its nominal
+    time (:data:`TASK_BOARD_TIMES`) times 0.85 to 1.15, minimum-jerk. So the
+    whole motion but the home co-varies with the goal (the board's pose), as
+    on a real task board whose place changes between executions: what the
+    start-and-goal conditioning of ``ndlfd`` and ProMP is measured on.
+
+    Parameters
+    ----------
+    n_demos : int, default=7
+    rate : float, default=50.0
+        Samples per second.
+    shift : float, default=0.06
+        Largest move of the board in x and y (m).
+    yaw : float, default=radians(18)
+        Largest turn of the board about z (radians).
+    noise : float, default=5e-4
+        Standard deviation of the position noise (m).
+    random_state : None, int or numpy.random.Generator, default=0
+
+    Returns
+    -------
+    demos : list of Demonstration
+        Group ``position`` (x, y, z).
+    info : list of dict
+        Each demonstration's ``"board"`` (x, y, z, yaw) and ``"contact"`` and
+        ``"press_end"``, the sample indices where the press begins and ends.
+
+    Examples
+    --------
+    The path ends at the goal on its board:
+
+    >>> demos, info = task_board(2)
+    >>> x, y, z, a = info[0]["board"]
+    >>> gx, gy, gz = TASK_BOARD_POINTS[-1]
+    >>> c, s = np.cos(a), np.sin(a)
+    >>> goal = [x + c * gx - s * gy, y + s * gx + c * gy, z + gz]
+    >>> bool(np.allclose(demos[0].get("position")[-1], goal, atol=3e-3))
+    True
+    """
+    from .learner import minimum_jerk
+
+    n_demos = check_positive_int(n_demos, "n_demos", minimum=1)
+    rng = check_random_state(random_state)
+    local = np.array(TASK_BOARD_POINTS)
+    demos, info = [], []
+    for _ in range(n_demos):
+        x, y = np.array(TASK_BOARD_ORIGIN[:2]) + rng.uniform(-shift, shift, 2)
+        a = float(rng.uniform(-yaw, yaw)) if yaw > 0 else 0.0
+        z = TASK_BOARD_ORIGIN[2]
+        c, s = np.cos(a), np.sin(a)
+        world = np.column_stack([x + c * local[:, 0] - s * local[:, 1],
+                                 y + s * local[:, 0] + c * local[:, 1],
+                                 z + local[:, 2]])  # fmt: skip
+        home = np.array([0.3, 0.0, 0.45]) + rng.normal(0.0, 0.003, 3)
+        points = [home, *world]
+        pieces, contact, press_end = [points[0][None]], 0, 0
+        for k, dur in enumerate(TASK_BOARD_TIMES):
+            n = max(2, round(dur * rng.uniform(0.85, 1.15) * rate))
+            u = minimum_jerk(np.linspace(0.0, 1.0, n + 1)[1:])
+            pieces.append(points[k] + (points[k + 1] - points[k]) * u[:, None])
+            if k == 1:  # at the press: rest there
+                contact = sum(p.shape[0] for p in pieces) - 1
+                rest = max(1, round(TASK_BOARD_PRESS * rng.uniform(0.85, 1.15) * rate))
+                pieces.append(np.repeat(points[2][None], rest, axis=0))
+                press_end = contact + rest
+        P = np.concatenate(pieces)
+        P = P + rng.normal(0.0, noise, P.shape)
+        t = np.arange(P.shape[0]) / rate
+        demos.append(Demonstration.from_arrays(t, position=P))
+        info.append({"board": np.array([x, y, z, a]), "contact": contact,
+                     "press_end": press_end})  # fmt: skip
+    return demos, info

@@ -30,17 +30,30 @@ from __future__ import annotations
 import numpy as np
 
 from ._blend import (
+    CONDITION_GRID,
     CONDITION_REACH,
     CONDITION_RIDGE,
     condition_coefficients,
     output_step,
     warped,
 )
-from ._conditioning import group_columns
+from ._conditioning import condition_target, group_columns
+from ._extrapolation import FAR_SPREADS, envelope_distance
 from ._frames import clock_aligned
 from ._via import blend_observations
 
-__all__ = ["CLOCK_MARGIN", "CLOCK_RIDGE", "prefers_clock", "via_plan"]
+__all__ = [
+    "CLOCK_MARGIN",
+    "CLOCK_RIDGE",
+    "END_FLOOR",
+    "END_SMOOTH",
+    "END_SPREAD",
+    "end_frame_shift",
+    "end_observations",
+    "frame_ends",
+    "prefers_clock",
+    "via_plan",
+]
 
 #: The observations' noise of the clock reading (a share of the templates'
 #: mean variance at them, as :data:`~ndlfd.learner._blend.CONDITION_RIDGE`).
@@ -58,6 +71,23 @@ CLOCK_RIDGE = 0.01
 #: 0.580 / 0.657, the pick-and-place task 0.914 (translated) and 0.891
 #: (turned by up to 60 deg) times ProMP's DTW, from 2.16 and 0.891.
 CLOCK_MARGIN = 0.25
+
+#: The least spread of the demonstrations' ends :func:`frame_ends` measures a
+#: start or goal in (normalized units: 0.1 % of the range).
+END_SPREAD = 1e-3
+
+#: The variance added to every view of :func:`end_frame_shift` (normalized
+#: units squared: a spread of 1 % of the range).
+END_FLOOR = 1e-4
+
+#: Half-width of the averages of :func:`end_frame_shift` (twice), as a share
+#: of the distance the templates travel. Measured on the arcs of
+#: tests/learner/test_learner_envelope.py (goals 3 spreads off): the largest
+#: acceleration over the demonstrations' envelope 1.41 with 0.04, 1.30 with
+#: 0.08, 1.35 with 0.1, 1.01 with 0.15 (speed 0.88 throughout); on
+#: ``synth.task_board`` (benchmarks/probe_board.py, 10 seeds) the DTW moved
+#: by at most 3 % between them.
+END_SMOOTH = 0.15
 
 #: Phases the held-out templates' positions are compared on.
 _GRID = np.linspace(0.0, 1.0, 101)
@@ -153,8 +183,178 @@ def prefers_clock(
     return bool(err_clock < CLOCK_MARGIN * err_place)
 
 
+def end_observations(est, start, goal) -> list:
+    """A start's and a goal's positions, normalized, at phases 0 and 1.
+
+    Returns
+    -------
+    ends : list of (float, list of int, ndarray)
+        Each one's phase, its columns and its values in the blend's
+        (group-weighted) units (:func:`end_frame_shift`'s ``ends``).
+    """
+    ends = []
+    for tau, cond in ((0.0, start), (1.0, goal)):
+        if cond is None or "position" not in cond:
+            continue
+        cols, target = condition_target(
+            {"position": cond["position"]}, est.scaler_, est.column_groups_,
+            weighted=True,
+        )  # fmt: skip
+        ends.append((tau, cols, target))
+    return ends
+
+
+def frame_ends(est, start, goal) -> tuple:
+    """The start and goal that are frames: those among the demonstrations'.
+
+    A start's (goal's) position is a frame the templates move with when it
+    lies within :data:`~ndlfd.learner._extrapolation.FAR_SPREADS` of the
+    nearest demonstration's first (last) sample, in units of how those
+    samples spread (their standard deviation, at least :data:`END_SPREAD` of
+    the range): the demonstrations show how the path co-varies with it
+    there. Farther, the co-variation would be extrapolated (a start 30 times
+    as far as the demonstrations' starts spread), and the offset is only
+    faded, as before the frames.
+
+    Returns
+    -------
+    start, goal : dict or None
+        Each condition's position, or ``None``.
+    """
+    out = []
+    for cond, ends in ((start, est.first_values_), (goal, est.last_values_)):
+        if cond is None or "position" not in cond:
+            out.append(None)
+            continue
+        cols, target = condition_target(
+            {"position": cond["position"]}, est.scaler_, est.column_groups_
+        )
+        pts = np.asarray(ends, dtype=np.float64)[:, cols]
+        near = envelope_distance(target, pts, END_SPREAD)[0] <= FAR_SPREADS
+        out.append({"position": cond["position"]} if near else None)
+    return tuple(out)
+
+
+def _progress(values, taus, weights, grid) -> np.ndarray:
+    """How far the templates' weighted mean has gone at each phase (0 to 1)."""
+    w = np.asarray(weights, dtype=np.float64) / np.sum(weights)
+    mean = sum(
+        wj * np.column_stack([np.interp(grid, t, c) for c in v.T])
+        for wj, v, t in zip(w, values, taus, strict=True)
+    )
+    step = np.sqrt(np.sum(np.diff(mean, axis=0) ** 2, axis=1))
+    total = np.r_[0.0, np.cumsum(step)]
+    return total / total[-1] if total[-1] > 0 else grid.copy()
+
+
+def _progress_average(U: np.ndarray, progress: np.ndarray, half: float) -> np.ndarray:
+    """Each row's mean over the rows within ``half`` of its progress.
+
+    Where the path rests (its progress does not change) the mean is the
+    same: a shift so averaged changes only where the path moves.
+    """
+    c = np.concatenate([np.zeros((1, U.shape[1])), np.cumsum(U, axis=0)])
+    lo = np.searchsorted(progress, progress - half, side="left")
+    hi = np.searchsorted(progress, progress + half, side="right")
+    return (c[hi] - c[lo]) / (hi - lo)[:, None]
+
+
+def end_frame_shift(
+    values, taus, weights, rows, ends, floor: float, smooth: float = 0.0
+) -> np.ndarray:
+    """The shift a start and a goal give as frames the templates move with.
+
+    Each template is seen three ways at every phase of ``rows`` (on its own
+    clock): as it is (the world), less its first sample (the start's frame)
+    and less its last (the goal's frame). Each view predicts the path: the
+    world its weighted mean, a frame the requested point plus the templates'
+    mean seen from it; the views are combined per phase as a product of
+    Gaussians, each weighed by the inverse of the templates' spread in it
+    (their weighted variance summed over the observed columns, plus
+    ``floor``: a view is a frame the whole position is seen from).
+    Where the demonstrations agree seen from the goal (a task on a board that
+    moved with it) the path moves with the goal; where they agree in the
+    world (a fixed home) it stays.
+
+    Parameters
+    ----------
+    values, taus : list of ndarray
+        The templates' normalized values (n_j, n_cols) and times (n_j,).
+    weights : ndarray of shape (n_templates,)
+    rows : ndarray of shape (n_rows,)
+        The phases to shift.
+    ends : list of (float, list of int, ndarray)
+        The start (phase 0) and goal (phase 1): each phase, its columns and
+        its normalized values (:func:`end_observations`).
+    floor : float
+        Added to every view's variance (the spread below which views are
+        not told apart).
+    smooth : float, default=0.0
+        With ``smooth > 0`` the shift is computed on
+        :data:`~ndlfd.learner._blend.CONDITION_GRID` phases, averaged twice
+        over the phases within ``smooth`` of the distance travelled either
+        side (by the templates' weighted mean): where one view takes over
+        from another the path does not hurry, and where the templates rest
+        the shift does not change; then read at ``rows``.
+
+    Returns
+    -------
+    shift : ndarray of shape (n_rows, n_cols)
+        Of the combined prediction from the world view's, zero in the
+        columns not observed.
+
+    Examples
+    --------
+    Two templates along a line, one 1.5 times the other: given the longer's
+    goal, the path leaves the start as both do (they agree there in the
+    world) and moves with the goal as it nears it (they agree seen from it;
+    at half way both views are as tight, and the shift is half).
+
+    >>> tau = np.linspace(0.0, 1.0, 5)
+    >>> a = np.column_stack([tau]); b = np.column_stack([1.5 * tau])
+    >>> shift = end_frame_shift([a, b], [tau, tau], np.ones(2), tau,
+    ...                         [(1.0, [0], np.array([1.5]))], 1e-6)
+    >>> np.round(shift[:, 0], 3)
+    array([0.   , 0.025, 0.125, 0.225, 0.25 ])
+    """
+    n_cols = values[0].shape[1]
+    shift = np.zeros((rows.size, n_cols))
+    if not ends:
+        return shift
+    if smooth > 0:
+        grid = np.linspace(0.0, 1.0, CONDITION_GRID)
+        on = end_frame_shift(values, taus, weights, grid, ends, floor)
+        progress = _progress(values, taus, weights, grid)
+        for _ in range(2):
+            on = _progress_average(on, progress, smooth)
+        return np.column_stack([np.interp(rows, grid, c) for c in on.T])
+    w = np.asarray(weights, dtype=np.float64)
+    w = w / w.sum()
+    cols = sorted({c for _, cs, _ in ends for c in cs})
+    P = np.stack(
+        [np.column_stack([np.interp(rows, t, v[:, c]) for c in cols])
+         for v, t in zip(values, taus, strict=True)]
+    )  # fmt: skip
+    world = np.tensordot(w, P, axes=1)
+    views = [(world, np.tensordot(w, np.sum((P - world) ** 2, axis=2), axes=1))]
+    for tau, cs, target in ends:
+        at = 0 if tau <= 0.0 else -1
+        here = [cols.index(c) for c in cs]
+        own = np.stack([v[at, cs] for v in values])  # each template's point
+        rel = P[:, :, here] - own[:, None, :]
+        mean = np.tensordot(w, rel, axes=1)
+        pred = world.copy()
+        pred[:, here] = np.asarray(target, dtype=np.float64)[None] + mean
+        var = np.tensordot(w, np.sum((rel - mean) ** 2, axis=2), axes=1)
+        views.append((pred, var))
+    prec = np.stack([1.0 / (var + floor) for _, var in views])
+    combined = sum(p[:, None] * pred for p, (pred, _) in zip(prec, views, strict=True))
+    shift[:, cols] = combined / prec.sum(axis=0)[:, None] - world
+    return shift
+
+
 def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
-    """The plan a via point's conditioning reads, and whether by clock.
+    """The plan a via point's (or a goal's) conditioning reads, and how.
 
     Parameters
     ----------
@@ -185,13 +385,23 @@ def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
         Read the plan's templates on their own clocks
         (:func:`~ndlfd.learner._frames.clock_aligned`), without a clock
         warp, conditioned with :data:`CLOCK_RIDGE` and no reach limit.
+    frames : tuple or False
+        Without via points, given a goal's position among the
+        demonstrations' (:func:`frame_ends`): ``(start, goal)``, the frames
+        the route's templates (weighing the same) move with
+        (:func:`end_frame_shift`).
     """
     if plan is None:
         plan = make_plan(est, all_t, start, goal, cache, extra)
+    if via is None:  # a start and goal: as frames when a goal places the task
+        ends = frame_ends(est, start, goal)
+        if ends[1] is None:
+            return plan, False, False
+        return make_plan(est, all_t, start, goal, cache, extra, even=True), False, ends
     tq = est.time_bins_.normalize(all_t)
     obs_tau, observed = blend_observations(est, tq, start=start, via=via, goal=goal)
     if not observed:
-        return plan, False
+        return plan, False, False
     pos = group_columns(est.column_groups_, "position")
     quat_cols = group_columns(est.column_groups_, "orientation")
     quat_cols = quat_cols if len(quat_cols) == 4 else None  # as the blend's
@@ -202,5 +412,5 @@ def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
     clock = (other.values, other.taus, index, other.weights, other.knots)
     step = output_step(tq)
     if prefers_clock(place, truth, clock, obs_tau, observed, pos, quat_cols, step):
-        return other, True
-    return plan, False
+        return other, True, False
+    return plan, False, False

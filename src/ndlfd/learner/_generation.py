@@ -43,14 +43,21 @@ from ._blend import (
     spread,
 )
 from ._cache import ModelCache
-from ._choice import CLOCK_RIDGE, via_plan
+from ._choice import (
+    CLOCK_RIDGE,
+    END_FLOOR,
+    END_SMOOTH,
+    end_frame_shift,
+    end_observations,
+    via_plan,
+)
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_physical, snap_two_valued, two_valued_columns
 from ._frames import check_new_frames, clock_aligned, frame_parts
 from ._phase import warp_for
-from ._prefix_route import allowed_routes, prefix_stride
-from ._routes import choose_route, route_probabilities
+from ._prefix_route import route_prior
+from ._routes import choose_route
 from ._segments import segment_model
 from ._spec import DemoSpec, prepare
 from ._states import centroid_rows, state_centres
@@ -86,7 +93,6 @@ __all__ = [
     "prefix_route",
     "render",
     "route_model",
-    "route_prior",
     "template_weights",
     "times_of",
 ]
@@ -246,23 +252,6 @@ def prefix_route(est, prefix, n_times: int, goal, cache: ModelCache) -> int:
     """
     logw, routes = demo_log_weights(est, None, goal, cache)
     return int(np.argmax(route_prior(est, prefix, n_times, logw, routes, cache)))
-
-
-def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:
-    """Each route's prior share, zero for the routes a prefix ruled out.
-
-    Returns
-    -------
-    p : ndarray of shape (n_routes,)
-        Sums to 1 (ties of ``argmax``: the lowest route number).
-    """
-    U = est.scaler_.transform(prefix.X, weighted=False)
-    prior = route_probabilities(routes, logw)
-    ok = allowed_routes(est, U, prefix_stride(n_times), cache, prior)
-    p = np.where(ok, prior, 0.0)
-    if not p.sum() > 0:  # every allowed route's weight underflowed: the allowed
-        p = ok.astype(np.float64)
-    return p / p.sum()
 
 
 def make_plan(
@@ -602,6 +591,7 @@ def render(
     with_std: bool = False,
     frames=None,
     clock: bool = False,
+    ends=None,
 ):
     """The path of a plan: blended, in physical units, pinned, with velocity.
 
@@ -632,8 +622,12 @@ def render(
         Checked new poses of the model's task frames: the templates are
         combined from their views in each (:mod:`ndlfd.learner._frames`).
     clock : bool, default=False
-        Via points read on the templates' own clocks
+        Via points (or a start and goal) read on the templates' own clocks
         (:func:`~ndlfd.learner._choice.via_plan`).
+    ends : tuple of (dict or None), optional
+        A start and goal as frames the templates move with
+        (:func:`~ndlfd.learner._choice.frame_ends`,
+        :func:`~ndlfd.learner._choice.end_frame_shift`).
 
     Returns
     -------
@@ -677,6 +671,10 @@ def render(
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
               observed=observed, ridge=ridge, mix=mix, step=step,
               reach=reach)[:n_at]  # fmt: skip
+    if ends:  # the start and goal as frames the templates move with
+        U = U + end_frame_shift(plan.values, plan.taus, plan.weights, at,
+                                end_observations(est, *ends), END_FLOOR,
+                                END_SMOOTH)  # fmt: skip
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
@@ -731,12 +729,14 @@ def generate_blend(
         route = prefix_route(est, prefix, all_t.size, goal, cache)
     plan = make_plan(est, all_t, start, goal, cache, extra, route, even=frames)
     clock = False
-    if via is not None and frames is None:  # by place or by clock (._choice)
-        plan, clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache,
-                               plan)  # fmt: skip
+    ends = None
+    conditioned = via is not None or (prefix is None and (start or goal))
+    if conditioned and frames is None:  # by place or by clock (._choice)
+        plan, clock, ends = via_plan(est, make_plan, all_t, start, goal, via, extra,
+                                     cache, plan)  # fmt: skip
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
-                          frames=frames, clock=clock)  # fmt: skip
+                          frames=frames, clock=clock, ends=ends)  # fmt: skip
     return (restore(path), std) if return_std else restore(path)
 
 

@@ -51,7 +51,13 @@ from __future__ import annotations
 import numpy as np
 
 from ._curves import frechet_matrix, open_end_frechet, route_curves
-from ._routes import CURVES_KEY, MAX_JUDGED, MIN_GAP, route_columns
+from ._routes import (
+    CURVES_KEY,
+    MAX_JUDGED,
+    MIN_GAP,
+    route_columns,
+    route_probabilities,
+)
 
 __all__ = [
     "COMMIT_ODDS",
@@ -59,6 +65,7 @@ __all__ = [
     "prefix_distances",
     "prefix_evidence",
     "prefix_stride",
+    "route_prior",
     "route_spreads",
 ]
 
@@ -232,3 +239,25 @@ def allowed_routes(
         return ~out.any(axis=1)
     first_out = np.argmax(out, axis=1)  # the sample that ruled each out
     return first_out == first_out.max()
+
+
+def route_prior(est, prefix, n_times: int, logw, routes, cache) -> np.ndarray:
+    """Each route's prior share, zero for the routes a prefix ruled out.
+
+    The routes' shares (:func:`~ndlfd.learner._routes.route_probabilities` of
+    the demonstrations' log weights ``logw``) are the prior of
+    :func:`allowed_routes`, which rules out the routes the prefix (a checked
+    :class:`~ndlfd.Demonstration`) has left.
+
+    Returns
+    -------
+    p : ndarray of shape (n_routes,)
+        Sums to 1 (ties of ``argmax``: the lowest route number).
+    """
+    U = est.scaler_.transform(prefix.X, weighted=False)
+    prior = route_probabilities(routes, logw)
+    ok = allowed_routes(est, U, prefix_stride(n_times), cache, prior)
+    p = np.where(ok, prior, 0.0)
+    if not p.sum() > 0:  # every allowed route's weight underflowed: the allowed
+        p = ok.astype(np.float64)
+    return p / p.sum()

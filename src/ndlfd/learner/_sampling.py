@@ -53,10 +53,10 @@ from ._generation import (
     prefix_completer,
     render,
     route_model,
-    route_prior,
     template_weights,
     times_of,
 )
+from ._prefix_route import route_prior
 from ._routes import route_probabilities
 from ._via import (
     check_observed,

@@ -1,0 +1,84 @@
+"""Start and goal on a task board that moves: ndlfd against ProMP and the mean.
+
+``synth.task_board`` (the board moved by up to 6 cm and turned by up to 18
+deg; home fixed): leave one demonstration out, generate for its time stamps
+given (a) its start and goal, (b) its start, first contact and goal; DTW
+(divided by the number of points of both paths) over the set's range, the
+median over folds. ndlfd gets ``start=``, ``goal=`` (and ``via=`` at the
+contact); ProMP and the mean (``ndlfd.baselines``) the start and via points
+at the contact and at the last sample, in the same run.
+
+Run: ``.venv/bin/python benchmarks/probe_board.py [n_demos ...]`` (default 5 6 7).
+
+Measured (issue 39) with 10 seeds (``run(n, seeds=range(10))``), start+goal,
+ndlfd over the better peer: before (the goal an offset faded in) 1.42x,
+1.56x, 1.48x for 5, 6, 7 demonstrations; with the goal a frame
+(``_choice.end_frame_shift``) 0.85x, 1.04x, 1.04x. Start+contact+goal (a
+via point) is not changed by it: 1.55x, 2.19x, 1.16x with 3 seeds.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+
+from ndlfd import KeypointHMM, synth
+from ndlfd.baselines import make_baseline
+from ndlfd.metrics import dtw_distance
+
+PEERS = ("promp", "mean")
+
+
+def folds(n_demos: int, seed: int):
+    demos, info = synth.task_board(n_demos, random_state=seed)
+    P = np.concatenate([d.get("position") for d in demos])
+    scale = float(np.linalg.norm(P.max(axis=0) - P.min(axis=0)))
+    for k in range(n_demos):
+        train = [d for j, d in enumerate(demos) if j != k]
+        yield train, demos[k], info[k], scale
+
+
+def run(n_demos: int, seeds=(0, 1, 2)) -> dict:
+    out: dict = {}
+    t0 = time.perf_counter()
+    for seed in seeds:
+        for train, test, meta, scale in folds(n_demos, seed):
+            P, t = test.get("position"), test.t
+            c = meta["contact"]
+            model = KeypointHMM().fit(train)
+            peers = {name: make_baseline(name).fit(train) for name in PEERS}
+            for proto, via in (("start+goal", []), ("start+contact+goal", [c])):
+                got = {
+                    "ndlfd": model.generate(
+                        t, dense=True, start={"position": P[0]},
+                        goal={"position": P[-1]},
+                        via=[(float(t[i]), {"position": P[i]}) for i in via] or None,
+                    ).get("position")
+                }  # fmt: skip
+                for name, peer in peers.items():
+                    pins = [(float(t[i]), P[i]) for i in [*via, t.size - 1]]
+                    got[name] = peer.generate(t, start=P[0], via=pins)
+                for name, path in got.items():
+                    d = dtw_distance(path, P, normalize=True) / scale
+                    out.setdefault((proto, name), []).append(d)
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def main() -> None:
+    sizes = [int(a) for a in sys.argv[1:]] or [5, 6, 7]
+    for n in sizes:
+        res = run(n)
+        print(f"task board, {n} demonstrations, leave one out (3 seeds,"
+              f" {res.pop('seconds'):.0f} s): median DTW/range")  # fmt: skip
+        for proto in ("start+goal", "start+contact+goal"):
+            row = {g: float(np.median(res[(proto, g)])) for g in ("ndlfd", *PEERS)}
+            best = min(row[p] for p in PEERS)
+            cells = ", ".join(f"{g} {v:.4f}" for g, v in row.items())
+            print(f"  {proto:<19} {cells}; ndlfd / best peer {row['ndlfd'] / best:.2f}")
+
+
+if __name__ == "__main__":
+    main()
