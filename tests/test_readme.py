@@ -119,6 +119,26 @@ def test_readme_shell_examples_run(tmp_path):
     assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_readme_whole_robot_log_examples_run(tmp_path):
+    pytest.importorskip("matplotlib")
+    sys.path.insert(0, str(Path(__file__).parent / "io"))
+    from lab_logs import FRANKA_COLUMNS, write_franka
+
+    examples = _shell_examples("### A whole robot log")
+    assert [e[1] for e in examples] == ["fit", "generate", "plot"]
+    write_franka(tmp_path / "logs", n_demos=5, n=120)  # 27 columns, no time, 20 Hz
+    assert (tmp_path / "logs" / "task0.csv").read_text().split("\n")[0] == ",".join(
+        FRANKA_COLUMNS
+    )
+    for args in examples:
+        _run(args, tmp_path)
+    path = read_csv(tmp_path / "task-path.csv")
+    assert path.n_samples == 120 and path.t[-1] == 119 / 20
+    assert not any(c.startswith("goal_") for c in path.columns)
+    assert set(path.group_names) >= {"position", "orientation", "force", "joints"}
+    assert (tmp_path / "task.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_readme_ros_bag_examples_run(tmp_path):
     pytest.importorskip("rosbags")
     pytest.importorskip("matplotlib")

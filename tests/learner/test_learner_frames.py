@@ -263,8 +263,10 @@ def test_frames_with_a_prefix_via_point_or_goal_keep_following_the_frames(turned
         # the grasp's rest, where the closest pass the blend's clock is warped
         # to (._phase.via_clock) is a near tie between the rest's ends (0.2 mm
         # apart); the end chosen shifts the clock by 0.09 s (0.021 before the
-        # views' covariances were shrunk, the tie on the other side)
-        bound = 0.035 if "via" in kw else 0.025
+        # views' covariances were shrunk, the tie on the other side); 0.036
+        # since a via point in a rest is read at the rest's settled start
+        # (issue 39, ._phase.via_clock): the same path, its clock 0.1 s off
+        bound = 0.04 if "via" in kw else 0.025
         assert err.max() < bound, (list(kw), err.max())
         assert _largest_step(path) < 1.1 * _largest_step(test)
 
