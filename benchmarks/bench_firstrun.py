@@ -93,6 +93,31 @@ print(json.dumps({"warm_up": sum(r["warm_up_s"] for r in summary.values()),
 """
 
 
+#: Where it stood, and what is left (measured by this script, 1 repeat, on
+#: the commit before issue 41's first-run changes, 6750a62^).
+BEFORE = """Before (6750a62^, the same command, 1 repeat, load average 3-5): first fit \
+30.1 s wall, 19.6 s CPU, 12 kernels, of which `dp_cols` 14.7 s (it compiled \
+the box tree's and the exact keys' kernels, which no trajectory under 4,097 \
+points uses: now pruned when the kernel gets `tree=None`); first generate \
+10.1 s wall, 6.6 s CPU; `run_demo(quick=True)` warm-up 32.3 s. What is left \
+is numba's own work per kernel (typing and LLVM at -O3; 0.15-0.2 s for the \
+smallest), and in generation `_blend._window_rows` (4-5 s): its `out[r, :] = \
+U[0, :]` and `np.searchsorted(..., side="right")` compile numba's slice \
+assignment and string handling; written as loops and a bisection, its \
+compile took 1.3 s instead of 4.0 (measured on a copy, not run through the \
+identity tests). On an idle 2-core machine the wall times are about the CPU \
+times: a first fit of about 6 s, a demo warm-up of about 13 s; the issue's 5 \
+s and 10 s are not reached. The cache itself works from a fresh install: \
+editable, numba writes it beside the sources (`src/ndlfd/__pycache__`) and a \
+second process compiles nothing; a wheel installed into a read-only \
+site-packages (`pip install --target`, mounted read-only) falls back to \
+`~/.cache/numba` without a warning, and its second run compiles nothing \
+either. Shipping compiled kernels instead (`numba.pycc`, deprecated) would \
+need a compiler at build time, a wheel per platform, and every signature \
+listed ahead (`dp_cols` takes a tuple of one array per dimension, one \
+version per d): not done."""
+
+
 def _run(code: str, cache: Path, *args: str) -> dict:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     out = subprocess.run(
@@ -195,6 +220,8 @@ those called from Python (each with the kernels it calls).
 
 CPU seconds compiling each kernel called from Python (with the kernels it \
 calls), cold, first repeat: {kernels(result)}.
+
+{BEFORE}
 {END}"""
 
 

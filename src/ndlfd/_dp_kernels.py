@@ -84,9 +84,10 @@ MODE_PAPER = 3
 #: the exact keys, and the caller builds no tree for it
 #: (``ndlfd._simplify.TREE_MIN``). Given ``None``, numba prunes the tree's
 #: and the exact keys' branches before typing, so the kernel compiles
-#: without them: ``dp_cols`` in 2.2 s of CPU instead of 10.1 on its first
-#: run (d = 4, ``benchmarks/bench_firstrun.py``). The points kept are the
-#: same: with no tree those branches are never taken.
+#: without them: ``dp_cols`` (d = 4, with the kernels it calls) in 2.1 s
+#: of CPU instead of 14.7 on a first run (``benchmarks/bench_firstrun.py``).
+#: The points kept are the same: with no tree those branches are never
+#: taken.
 TREE_NONE_MAX = EXACT_MIN + 1
 
 
