@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 from ndlfd.learner._blend import condition_offsets
 from ndlfd.learner._phase import (
     MAX_BEND,
+    MAX_PACE,
     MIN_RATE,
     RATES,
     SLACK,
@@ -87,6 +88,34 @@ def test_the_prefix_warp_reaches_the_phase_then_runs_on_to_the_end():
     phase = prefix_warp(at, 0.3, 1.5)
     np.testing.assert_allclose(phase[:4], 1.5 * at[:4])
     np.testing.assert_allclose(phase[3:], np.linspace(0.45, 1.0, 8))
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(last=st.floats(0.05, 0.995), rate=st.sampled_from(list(RATES)))
+def test_the_prefix_warp_runs_on_within_its_pace_to_the_end_or_to_rest(last, rate):
+    # the reference: the linear clock from rate * last to 1 where its slope
+    # is within MAX_PACE times max(1, rate); else a clock that leaves at the
+    # prefix's rate, never runs faster than the bound, and stops at the end
+    if rate * last >= 1.0:
+        return
+    at = np.r_[np.linspace(0.0, last, 50), np.linspace(last, 1.0, 4001)[1:]]
+    phase = prefix_warp(at, last, rate)
+    np.testing.assert_allclose(phase[:50], rate * at[:50], atol=1e-12)
+    after, t = phase[49:], at[49:]
+    slope = np.diff(after) / np.diff(t)
+    most = MAX_PACE * max(1.0, rate)
+    assert slope.min() >= 0.0
+    assert slope.max() <= most * (1.0 + 1e-3)
+    need = (1.0 - rate * last) / (1.0 - last)
+    if need <= most:
+        np.testing.assert_allclose(after, rate * last + need * (t - last), atol=1e-12)
+    else:
+        assert after[-1] < 1.0
+        assert abs(slope[0] - rate) <= 0.01 * most  # leaves at the prefix's pace
+        assert slope[-1] <= 1e-3 * most  # and comes to rest
+        # it goes as far as a clock that leaves at the rate and stops at the
+        # end may within the bound: over half of the bound's reach
+        assert after[-1] - after[0] >= 0.5 * most * (1.0 - last)
 
 
 def test_condition_offsets_against_gaussian_conditioning():

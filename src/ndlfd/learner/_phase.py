@@ -20,19 +20,23 @@ warped:
   mean offset taken out, over up to
   :data:`~ndlfd.learner._via.PREFIX_POINTS` of them, ``s`` on a grid of
   :data:`RATES`); the clock is ``s * tau`` over the prefix, then runs
-  linearly from the phase reached at the last observed sample to 1.
+  linearly from the phase reached at the last observed sample to 1, or,
+  where that would run faster than :data:`MAX_PACE` times the prefix's
+  pace (a late robot near its plan's end), on within that bound to rest
+  at the plan's end, short of the route's end (:func:`prefix_warp`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ._conditioning import fade_pieces
+from ._conditioning import fade_pieces, minimum_jerk
 from ._rests import rest_windows
 
 __all__ = [
     "HOLD_SPAN",
     "MAX_BEND",
+    "MAX_PACE",
     "MIN_RATE",
     "RATES",
     "SLACK",
@@ -74,8 +78,22 @@ SLACK = 0.01
 #: before, 0.00409 with every rest taken so, 0.00368 with this bound.
 HOLD_SPAN = 0.05
 
+#: After a prefix the clock runs at most this times the prefix's pace
+#: (its rate, or 1 if slower: :func:`prefix_warp`). A robot late near the
+#: end of its plan (replanned at 10 Hz, plans 0.85 times the execution) had
+#: the route's last 17 % run in its last 5 samples: steps 3.9 times the
+#: demonstrations' largest over their last 10 % (``synth.obstacle``; LASA
+#: Multi_Models_1 75 times, at 1.0 up to 17 times: 3 samples of 1,000 left).
+#: With this bound: at most 0.83 (the execution's own noisy steps) and 1.59
+#: (the plan's steps at most 1.5 times the execution's own last ones); 1.5
+#: gave 1.88 on LASA.
+MAX_PACE = 1.25
+
 #: The rates a prefix's phase is searched over (phase per unit of time).
 RATES = np.linspace(0.6, 1.6, 41)
+
+#: The grid a stopping clock's slope is kept within its bound on.
+_EASE_GRID = 201
 
 #: Candidate phases a via point's closest pass is searched over.
 _GRID = 401
@@ -290,16 +308,82 @@ def prefix_clock(mean, prefix_taus, values, cols) -> float:
 
 
 def prefix_warp(at: np.ndarray, last: float, rate: float) -> np.ndarray:
-    """The prefix's clock: ``rate * at`` up to ``last``, then linearly to 1.
+    """The prefix's clock: ``rate * at`` up to ``last``, then on towards 1.
+
+    After ``last`` the clock runs linearly from the phase reached,
+    ``rate * last``, to 1, unless that is faster than :data:`MAX_PACE`
+    times the prefix's pace (``max(1, rate)``): then it leaves at the
+    prefix's rate, speeds up to at most that bound and eases to rest at the
+    plan's end (:func:`_eased_rest`), short of the route's end.
+
+    Parameters
+    ----------
+    at : ndarray of shape (n_rows,)
+        Normalized times.
+    last : float
+        The last observed sample's normalized time, in ``[0, 1)``.
+    rate : float
+        The prefix's rate (:func:`prefix_clock`), ``rate * last < 1``.
+
+    Returns
+    -------
+    phase : ndarray of shape (n_rows,)
 
     Examples
     --------
     >>> prefix_warp(np.array([0.0, 0.5, 1.0]), 0.5, 0.8)
     array([0. , 0.4, 1. ])
+
+    Late in the motion the rest of the route does not fit: the clock runs on
+    at most 1.25 times the prefix's pace and comes to rest short of 1:
+
+    >>> np.round(prefix_warp(np.array([0.9, 0.95, 1.0]), 0.9, 0.8), 3)
+    array([0.72 , 0.774, 0.801])
     """
-    reached = rate * last
-    after = reached + (at - last) * (1.0 - reached) / (1.0 - last)
+    at = np.asarray(at, dtype=np.float64)
+    reached, left = rate * last, 1.0 - last
+    need = (1.0 - reached) / left if left > 0.0 else 0.0
+    if need <= MAX_PACE * max(1.0, rate):  # the rest of the route fits
+        after = reached + (at - last) * need
+    else:
+        u = np.clip((at - last) / left, 0.0, 1.0)
+        after = reached + left * _eased_rest(u, rate, MAX_PACE * max(1.0, rate))
     return np.clip(np.where(at <= last, rate * at, after), 0.0, 1.0)
+
+
+def _eased_rest(u: np.ndarray, start: float, most: float) -> np.ndarray:
+    """A clock that leaves at slope ``start``, stays within ``most`` and stops.
+
+    Its slope is ``start * (1 - minimum_jerk(u)) + b * 30 u^2 (1 - u)^2``
+    (the minimum-jerk ramp's own slope), ``b`` the largest that keeps it
+    within ``most`` (on a grid of :data:`_EASE_GRID`): twice differentiable,
+    monotone, at rest at ``u = 1``, having gone ``start / 2 + b``.
+
+    Parameters
+    ----------
+    u : ndarray of shape (n,)
+        Times in ``[0, 1]``.
+    start, most : float
+        The slope at ``u = 0`` and the largest, ``0 <= start <= most``.
+
+    Returns
+    -------
+    progress : ndarray of shape (n,)
+
+    Examples
+    --------
+    Leaving at 1, never faster than 2: it speeds up, then stops.
+
+    >>> u = np.linspace(0.0, 1.0, 5)
+    >>> p = _eased_rest(u, 1.0, 2.0)
+    >>> np.round(p, 3), bool(np.all(np.diff(p) > 0))
+    (array([0.   , 0.322, 0.802, 1.174, 1.26 ]), True)
+    """
+    grid = np.linspace(0.0, 1.0, _EASE_GRID)[1:-1]
+    bump = 30.0 * grid**2 * (1.0 - grid) ** 2
+    b = max(0.0, float(np.min((most - start * (1.0 - minimum_jerk(grid))) / bump)))
+    ramp = u - 2.5 * u**4 + 3.0 * u**5 - u**6  # the integral of 1 - minimum_jerk
+    return start * ramp + b * minimum_jerk(u)
 
 
 def warp_for(mean, at: np.ndarray, obs_tau: np.ndarray, observed, *, prefix: bool):
