@@ -246,10 +246,14 @@ class Codebook:
         (array([0, 9, 9, 0]), 2)
         """
         self._need_int64("encode")
+        return self._quantized(U, self.encode_checked, return_n_clipped)
+
+    def _quantized(self, U, checked, return_n_clipped: bool):
+        """``checked`` (encode or cells) of ``U`` once checked."""
         P = check_points(U, "U")
         self._check_width(P, "U")
-        states, n_clipped = self.encode_checked(P)
-        return (states, n_clipped) if return_n_clipped else states
+        out, n_clipped = checked(P)
+        return (out, n_clipped) if return_n_clipped else out
 
     def cells(self, U, *, return_n_clipped: bool = False):
         """Map normalized values to their cells: one level index per column.
@@ -274,10 +278,7 @@ class Codebook:
         (array([[0, 3],
                [9, 1]]), 1)
         """
-        P = check_points(U, "U")
-        self._check_width(P, "U")
-        cells, n_clipped = self.cells_checked(P)
-        return (cells, n_clipped) if return_n_clipped else cells
+        return self._quantized(U, self.cells_checked, return_n_clipped)
 
     def cells_checked(self, P: np.ndarray) -> tuple[np.ndarray, int]:
         """:meth:`cells` of values checked already, and the clipped count.
