@@ -15,7 +15,7 @@ pytest.importorskip(
 )
 
 from ndlfd.cli import main
-from ndlfd.jobs._tasks import TASK_METHODS, evaluate_tasks
+from ndlfd.jobs._tasks import TASK_METHODS, TaskResult, evaluate_tasks
 
 
 def test_evaluate_tasks_tiny_cell_through_the_cli(tmp_path, capsys):
@@ -35,6 +35,8 @@ def test_evaluate_tasks_tiny_cell_through_the_cli(tmp_path, capsys):
     printed = capsys.readouterr().out
     assert "| transfer-cube | ndlfd-ee | 2 | 2 |" in printed
     assert (out / "summary.md").read_text().startswith("| task | method |")
+    # the CSV reads back to the same table
+    assert TaskResult.read_csv(out / "results.csv").to_markdown() in printed
 
 
 def test_evaluate_tasks_is_deterministic_and_checks_input():

@@ -287,6 +287,30 @@ class TaskResult:
     demos: dict
     seconds: float = 0.0
 
+    @classmethod
+    def read_csv(cls, path) -> TaskResult:
+        """The rows of a written ``results.csv`` (without the hands' paths)."""
+        rows = []
+        with open(path, newline="") as fh:
+            for d in csv.DictReader(fh):
+                rows.append(
+                    TaskRow(
+                        d["task"],
+                        d["method"],
+                        int(d["n_demos"]),
+                        int(d["episode"]),
+                        [float(v) for v in d["objects"].split()],
+                        d["success"] == "True",
+                        int(d["max_reward"]),
+                        float(d["peak_velocity"]),
+                        float(d["peak_acceleration"]),
+                        float(d["generate_seconds"]),
+                        float(d["fit_seconds"]),
+                        d["error"],
+                    )
+                )
+        return cls(rows, {})
+
     def summary(self) -> list[dict]:
         """Per task, method and N: success rate, peaks and times."""
         out = {}
@@ -305,7 +329,9 @@ class TaskResult:
                     "peak_velocity_p95": float(
                         np.percentile([r.peak_velocity for r in rows], 95)
                     ),
-                    "over_velocity": int(sum(r.peak_velocity > _VMAX for r in rows)),
+                    "over_velocity": int(
+                        sum(r.peak_velocity > _VMAX * (1 + 1e-9) for r in rows)
+                    ),
                     "peak_acceleration_p95": float(
                         np.percentile([r.peak_acceleration for r in rows], 95)
                     ),
