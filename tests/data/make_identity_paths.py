@@ -50,10 +50,15 @@ HERE = Path(__file__).resolve().parent
 #: 39): a goal among the demonstrations' is a frame the route's templates
 #: move with (``_choice.end_frame_shift``), no longer an offset faded before
 #: it; the position moved by up to 0.003 m of a 0.54 m range, the
-#: orientation by 0.35 degrees.
+#: orientation by 0.35 degrees. Then again (a defect fixed): a weighted
+#: group's blended values, which are unweighted, were read back as weighted
+#: (``inverse_transform(U)``), so a weight other than 1 scaled the group
+#: about its minimum (a position weighted 2 came out at half its size); its
+#: orientation (weight 2) moved by up to 2.9 degrees, position and velocity
+#: (weights 1, 0.5 and derived) are unchanged.
 DIGESTS = {
     "arm": "d079abdaeccc1335",
-    "arm-segment-weights": "1965f61d3088c038",
+    "arm-segment-weights": "a72d14bebe9a782d",
     "loops-none": "1be28f110bf49ba8",
     "loops-paper": "ae4f6fbf59ffcc42",
     "loops-sed-budget": "6b122da4ffe2483b",

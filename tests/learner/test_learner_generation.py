@@ -12,6 +12,7 @@ from learner_helpers import (
 )
 from ndlfd import (
     ValidationError,
+    synth,
 )
 from ndlfd.demonstration import Demonstration
 from ndlfd.learner import KeypointHMM, minimum_jerk
@@ -427,3 +428,29 @@ def test_a_prefix_offset_is_gone_when_the_gripper_closes():
     np.testing.assert_array_equal(P[:80], X[:, :3])
     np.testing.assert_allclose(P[close : close + 2], Q[close : close + 2], atol=1e-12)
     assert np.linalg.norm(P[(80 + close) // 2] - Q[(80 + close) // 2]) > 0.005
+
+
+@pytest.mark.parametrize("generation", ["blend", "paper"])
+@pytest.mark.parametrize("weight", [0.5, 2.0])
+def test_a_weighted_group_comes_out_in_its_own_units(generation, weight):
+    # group weights scale the normalized values for the reduction only: the
+    # path is read back unweighted (a position weighted 2 came out at half its
+    # size about its minimum, one weighted 0.5 at twice it)
+    train, test = synth.make_dataset("square", n_demos=8, random_state=1)
+    plain = KeypointHMM(generation=generation).fit(train)
+    weighted = KeypointHMM(weights={"position": weight}, generation=generation)
+    weighted.fit(train)
+    P = np.concatenate([d.get("position") for d in train])
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    spans = []
+    for m in (plain, weighted):
+        path = m.generate(test, dense=True).get("position")
+        assert np.all(path >= lo - 1e-9) and np.all(path <= hi + 1e-9)
+        spans.append(np.ptp(path, axis=0))
+    ratio = spans[1] / spans[0]  # other key points, the same square's size
+    assert np.all((ratio > 0.85) & (ratio < 1.15)), (weight, ratio)
+    if generation == "blend":
+        start, goal = test.get("position")[[0, -1]]
+        path = weighted.generate(test.t, dense=True, start={"position": start},
+                                 goal={"position": goal}).get("position")  # fmt: skip
+        np.testing.assert_allclose(path[[0, -1]], [start, goal], atol=1e-9)

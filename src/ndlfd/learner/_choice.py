@@ -189,17 +189,16 @@ def end_observations(est, start, goal) -> list:
     Returns
     -------
     ends : list of (float, list of int, ndarray)
-        Each one's phase, its columns and its values in the blend's
-        (group-weighted) units (:func:`end_frame_shift`'s ``ends``).
+        Each one's phase, its columns and its values normalized as the
+        templates are (unweighted) (:func:`end_frame_shift`'s ``ends``).
     """
     ends = []
     for tau, cond in ((0.0, start), (1.0, goal)):
         if cond is None or "position" not in cond:
             continue
         cols, target = condition_target(
-            {"position": cond["position"]}, est.scaler_, est.column_groups_,
-            weighted=True,
-        )  # fmt: skip
+            {"position": cond["position"]}, est.scaler_, est.column_groups_
+        )
         ends.append((tau, cols, target))
     return ends
 

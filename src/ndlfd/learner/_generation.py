@@ -678,7 +678,7 @@ def render(
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
-    X = _renormalize(est.scaler_.inverse_transform(U), groups)
+    X = _renormalize(est.scaler_.inverse_transform(U, weighted=False), groups)
     X = _renormalize(pin(X, at, start, goal, groups, tq.size), groups)
     if via is not None:
         X = _renormalize(apply_via(X, at, via, groups, tq.size), groups)
@@ -779,7 +779,7 @@ def generate_paper(
     groups = est.column_groups_
     start, goal = orient_conditions(est, start, goal)
     key_t, states, _, all_t = decode_paper(est, times_or_demo)
-    X = est.scaler_.inverse_transform(state_centres(est, states))
+    X = est.scaler_.inverse_transform(state_centres(est, states), weighted=False)
     X = _renormalize(X, groups)
     if dense:
         X = np.column_stack(

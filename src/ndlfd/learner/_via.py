@@ -704,10 +704,10 @@ def blend_observations(
     point gives a position: the demonstrations' deviations then carry all of
     them over the motion, as they co-vary; a pick-and-place whose place
     follows its goal), or of up to :data:`PREFIX_POINTS` samples of a prefix
-    (:func:`prefix_rows`), as values at normalized times in the
-    blend's group-weighted units (:func:`~ndlfd.learner._blend.condition_offsets`
-    shifts the blend towards them; the offsets that remain are faded as
-    before).
+    (:func:`prefix_rows`), as values at normalized times, normalized as the
+    templates are (unweighted;
+    :func:`~ndlfd.learner._blend.condition_offsets` shifts the blend towards
+    them; the offsets that remain are faded as before).
 
     Parameters
     ----------
@@ -737,7 +737,7 @@ def blend_observations(
             if cond is None or "position" not in cond:
                 continue
             cols, target = condition_target(
-                {"position": cond["position"]}, scaler, cg, weighted=True
+                {"position": cond["position"]}, scaler, cg, weighted=False
             )
             observed.append((len(taus), cols, target))
             taus.append(tau)
@@ -745,7 +745,7 @@ def blend_observations(
             return np.zeros(0), []  # no via position: the offsets only
     elif prefix is not None:
         rows = prefix_rows(prefix.t.size)
-        U = scaler.transform(prefix.X[rows])
+        U = scaler.transform(prefix.X[rows], weighted=False)
         pos = group_columns(cg, "position")
         if not pos:
             return np.zeros(0), []
