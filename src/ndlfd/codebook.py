@@ -347,8 +347,8 @@ class Codebook:
         (array([0, 9]), 1)
         """
         self._need_int64("encode_checked")
-        states, n_clipped = _encode_rows(P, self._cb)
-        return states, int(n_clipped)
+        cells, n_clipped = self.cells_checked(P)
+        return self._from_levels_unchecked(cells), n_clipped
 
     def _from_levels_unchecked(self, Q: np.ndarray) -> np.ndarray:
         s = Q[:, 0].copy()
@@ -459,30 +459,9 @@ class Codebook:
 
 
 @njit(cache=True, nogil=True)
-def _encode_rows(P, cb):  # pragma: no cover - compiled
-    # floor(u * CB) clipped to 0..CB-1 per column, then mixed radix; and the
-    # count of values outside [0, 1]: numpy's arithmetic in one pass
-    n, d = P.shape
-    states = np.empty(n, dtype=np.int64)
-    n_clipped = 0
-    for i in range(n):
-        s = 0
-        for k in range(d):
-            u = P[i, k]
-            if u < 0.0 or u > 1.0:
-                n_clipped += 1
-            top = np.float64(cb[k]) - 1.0
-            q = np.floor(u * np.float64(cb[k]))
-            q = min(max(q, 0.0), top)
-            s = s * cb[k] + np.int64(q) if k else np.int64(q)
-        states[i] = s
-    return states, n_clipped
-
-
-@njit(cache=True, nogil=True)
 def _cell_rows(P, cb):  # pragma: no cover - compiled
-    # floor(u * CB) clipped to 0..CB-1 per column (the digits of _encode_rows),
-    # and the count of values outside [0, 1]
+    # floor(u * CB) clipped to 0..CB-1 per column, and the count of values
+    # outside [0, 1]: numpy's arithmetic in one pass
     n, d = P.shape
     cells = np.empty((n, d), dtype=np.int64)
     n_clipped = 0
