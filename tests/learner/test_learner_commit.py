@@ -16,35 +16,16 @@ import functools
 
 import numpy as np
 import pytest
+from test_learner_replan import FPS
+from test_learner_replan import _episode as replan_episode
 
 from ndlfd import Demonstration, KeypointHMM
-from ndlfd.learner import minimum_jerk
 from ndlfd.learner._prefix_route import COMMIT_ODDS, prefix_evidence, prefix_stride
-
-NAMES = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_roll")
-FPS = 30.0
 
 
 def _episode(rng, side):
-    """Lift, pan to side * 40 deg, place (lower, open the gripper): degrees."""
-    duration = rng.uniform(6.3, 7.7)
-    t = np.arange(0.0, duration, 1.0 / FPS)
-    s = t / t[-1]
-    w = np.clip(s + 0.02 * np.sin(2 * np.pi * s) * rng.normal(), 0.0, 1.0)
-    lift = minimum_jerk(np.clip(w / 0.5, 0, 1))
-    turn = minimum_jerk(np.clip((w - 0.2) / 0.4, 0, 1))  # the pan: 20 to 60 %
-    down = minimum_jerk(np.clip((w - 0.6) / 0.4, 0, 1))  # the place phase
-    home = np.array([0.0, -100.0, 95.0, 60.0, 0.0]) + rng.normal(0, 3, 5)
-    J = np.tile(home, (t.size, 1))
-    J[:, 0] += side * (40 + rng.normal(0, 3)) * turn
-    J[:, 1] += (60 + rng.normal(0, 3)) * lift - (30 + rng.normal(0, 3)) * down
-    J[:, 2] += -50 * lift + 20 * down
-    J[:, 3] += 20 * lift + rng.normal(0, 3) * down
-    J[:, 4] += 10 * turn
-    J += rng.normal(0, 0.3, J.shape)
-    gripper = 30.0 + 20.0 * (w > 0.7)
-    return Demonstration.from_arrays(t, joints=J, gripper=gripper,
-                                     columns={"joints": NAMES})  # fmt: skip
+    """Lift, pan to side * 40 deg, place: every variation +-3 deg (degrees)."""
+    return replan_episode(rng, side, pose=3.0, place=True)
 
 
 @functools.cache

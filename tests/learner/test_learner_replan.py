@@ -22,8 +22,13 @@ NAMES = ("shoulder_pan", "shoulder_lift", "elbow_flex", "wrist_flex", "wrist_rol
 FPS = 30.0
 
 
-def _episode(rng, side):
-    """An SO-101-like episode in degrees: lift, pan to +-40 deg, put down."""
+def _episode(rng, side, pose=2.0, place=False):
+    """An SO-101-like episode in degrees: lift, pan to +-40 deg, put down.
+
+    Every joint's home pose varies by ``pose`` degrees (one standard
+    deviation), the pan's amplitude by 3; with ``place``, so do the lift's
+    and the place phase's depths and the wrist's flex there (by ``pose``).
+    """
     duration = rng.uniform(6.3, 7.7)
     t = np.arange(0.0, duration, 1.0 / FPS)
     s = t / t[-1]
@@ -31,12 +36,15 @@ def _episode(rng, side):
     lift = minimum_jerk(np.clip(w / 0.5, 0, 1))
     turn = minimum_jerk(np.clip((w - 0.2) / 0.4, 0, 1))  # the pan: 20 to 60 %
     down = minimum_jerk(np.clip((w - 0.6) / 0.4, 0, 1))
-    J = np.tile(np.array([0.0, -100.0, 95.0, 60.0, 0.0]) + rng.normal(0, 2, 5),
+    J = np.tile(np.array([0.0, -100.0, 95.0, 60.0, 0.0]) + rng.normal(0, pose, 5),
                 (t.size, 1))  # fmt: skip
     J[:, 0] += side * (40 + rng.normal(0, 3)) * turn
-    J[:, 1] += 60 * lift - 30 * down
+    if place:  # drawn in this order: the lift's depth, the place's, the wrist's
+        J[:, 1] += (60 + rng.normal(0, pose)) * lift - (30 + rng.normal(0, pose)) * down
+    else:
+        J[:, 1] += 60 * lift - 30 * down
     J[:, 2] += -50 * lift + 20 * down
-    J[:, 3] += 20 * lift
+    J[:, 3] += 20 * lift + (rng.normal(0, pose) * down if place else 0.0)
     J[:, 4] += 10 * turn
     J += rng.normal(0, 0.3, J.shape)
     gripper = 30.0 + 20.0 * (w > 0.7)
