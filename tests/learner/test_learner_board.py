@@ -15,7 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ndlfd import KeypointHMM, synth
-from ndlfd.learner import _choice
+from ndlfd.learner import _generation
 from ndlfd.learner._choice import END_FLOOR, end_frame_shift, frame_ends
 from ndlfd.metrics import dtw_distance
 
@@ -44,7 +44,7 @@ def test_start_and_goal_move_the_task_with_the_board(monkeypatch):
         model = KeypointHMM().fit(train)
         with monkeypatch.context() as m:
             got["frames"].append(dtw_of(train, test, scale))
-            m.setattr(_choice, "frame_ends", lambda *a: (None, None))
+            m.setattr(_generation, "frame_ends", lambda *a: (None, None))
             got["faded"].append(dtw_of(train, test, scale))
     frames, faded = (np.array(v) for v in got.values())
     # measured: median 0.65x, 10 of 12 folds closer; against ProMP (goal as

@@ -51,6 +51,7 @@ __all__ = [
     "end_frame_shift",
     "end_observations",
     "frame_ends",
+    "plan_end_shift",
     "prefers_clock",
     "via_plan",
 ]
@@ -352,8 +353,19 @@ def end_frame_shift(
     return shift
 
 
+def plan_end_shift(est, plan, rows, ends) -> np.ndarray:
+    """:func:`end_frame_shift` of a plan's templates for a start and goal.
+
+    ``ends`` is :func:`frame_ends`' ``(start, goal)``; the shift at the
+    phases ``rows``, with :data:`END_FLOOR` and :data:`END_SMOOTH`.
+    """
+    return end_frame_shift(plan.values, plan.taus, plan.weights, rows,
+                           end_observations(est, *ends), END_FLOOR,
+                           END_SMOOTH)  # fmt: skip
+
+
 def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
-    """The plan a via point's (or a goal's) conditioning reads, and how.
+    """The plan a via point's conditioning reads, and whether by clock.
 
     Parameters
     ----------
@@ -384,23 +396,13 @@ def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
         Read the plan's templates on their own clocks
         (:func:`~ndlfd.learner._frames.clock_aligned`), without a clock
         warp, conditioned with :data:`CLOCK_RIDGE` and no reach limit.
-    frames : tuple or False
-        Without via points, given a goal's position among the
-        demonstrations' (:func:`frame_ends`): ``(start, goal)``, the frames
-        the route's templates (weighing the same) move with
-        (:func:`end_frame_shift`).
     """
     if plan is None:
         plan = make_plan(est, all_t, start, goal, cache, extra)
-    if via is None:  # a start and goal: as frames when a goal places the task
-        ends = frame_ends(est, start, goal)
-        if ends[1] is None:
-            return plan, False, False
-        return make_plan(est, all_t, start, goal, cache, extra, even=True), False, ends
     tq = est.time_bins_.normalize(all_t)
     obs_tau, observed = blend_observations(est, tq, start=start, via=via, goal=goal)
     if not observed:
-        return plan, False, False
+        return plan, False
     pos = group_columns(est.column_groups_, "position")
     quat_cols = group_columns(est.column_groups_, "orientation")
     quat_cols = quat_cols if len(quat_cols) == 4 else None  # as the blend's
@@ -411,5 +413,5 @@ def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
     clock = (other.values, other.taus, index, other.weights, other.knots)
     step = output_step(tq)
     if prefers_clock(place, truth, clock, obs_tau, observed, pos, quat_cols, step):
-        return other, True, False
-    return plan, False, False
+        return other, True
+    return plan, False

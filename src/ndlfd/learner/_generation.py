@@ -43,14 +43,7 @@ from ._blend import (
     spread,
 )
 from ._cache import ModelCache
-from ._choice import (
-    CLOCK_RIDGE,
-    END_FLOOR,
-    END_SMOOTH,
-    end_frame_shift,
-    end_observations,
-    via_plan,
-)
+from ._choice import CLOCK_RIDGE, frame_ends, plan_end_shift, via_plan
 from ._conditioning import group_columns, log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_physical, snap_two_valued, two_valued_columns
@@ -625,9 +618,8 @@ def render(
         Via points (or a start and goal) read on the templates' own clocks
         (:func:`~ndlfd.learner._choice.via_plan`).
     ends : tuple of (dict or None), optional
-        A start and goal as frames the templates move with
-        (:func:`~ndlfd.learner._choice.frame_ends`,
-        :func:`~ndlfd.learner._choice.end_frame_shift`).
+        A start and goal as frames the templates move with, given a goal
+        (:func:`~ndlfd.learner._choice.frame_ends`, ``plan_end_shift``).
 
     Returns
     -------
@@ -671,10 +663,8 @@ def render(
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
               observed=observed, ridge=ridge, mix=mix, step=step,
               reach=reach)[:n_at]  # fmt: skip
-    if ends:  # the start and goal as frames the templates move with
-        U = U + end_frame_shift(plan.values, plan.taus, plan.weights, at,
-                                end_observations(est, *ends), END_FLOOR,
-                                END_SMOOTH)  # fmt: skip
+    if ends is not None and ends[1] is not None:  # start and goal as frames
+        U = U + plan_end_shift(est, plan, at, ends)
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
@@ -727,13 +717,15 @@ def generate_blend(
         tq = est.time_bins_.normalize(all_t)
         extra = observed_log_weights(est, prefix, tq, cache)
         route = prefix_route(est, prefix, all_t.size, goal, cache)
-    plan = make_plan(est, all_t, start, goal, cache, extra, route, even=frames)
+    ends = (None, None)  # a goal that places the task (._choice): templates even
+    if via is None and prefix is None and frames is None:
+        ends = frame_ends(est, start, goal)
+    plan = make_plan(est, all_t, start, goal, cache, extra, route,
+                     even=frames if ends[1] is None else True)  # fmt: skip
     clock = False
-    ends = None
-    conditioned = via is not None or (prefix is None and (start or goal))
-    if conditioned and frames is None:  # by place or by clock (._choice)
-        plan, clock, ends = via_plan(est, make_plan, all_t, start, goal, via, extra,
-                                     cache, plan)  # fmt: skip
+    if via is not None and frames is None:  # by place or by clock (._choice)
+        plan, clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache,
+                               plan)  # fmt: skip
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames, clock=clock, ends=ends)  # fmt: skip
