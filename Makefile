@@ -39,7 +39,7 @@ test: lint test-portable
 # tests (bit-identical fits from stored inputs) and a smoke of the kernels,
 # the decoder and the estimator, with numpy's AVX-512 paths disabled, then its
 # AVX2/FMA paths too, and numba compiling for a generic x86-64 CPU.
-PORTABLE_TESTS := tests/learner/test_learner_identity.py tests/test_simplify.py \
+PORTABLE_TESTS := tests/learner/test_learner_identity.py tests/dp/test_dp_simplify.py \
 	tests/hmm/test_hmm_decode.py tests/learner/test_learner_estimator.py \
 	tests/learner/test_learner_persist.py
 test-portable: $(STAMP)

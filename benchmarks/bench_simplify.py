@@ -115,7 +115,7 @@ def kernel_profile(dims, modes, sizes, eps, reps):
     size) and over data that do not (the larger) shows whether a mode's
     scans are memory- or compute-bound.
     """
-    from ndlfd import _simplify
+    from ndlfd.dp import _simplify
 
     out = {}
     for d in dims:
@@ -201,7 +201,7 @@ CHILD = textwrap.dedent(
     if spec.get("mode") == "sed":
         kw["times"] = np.arange(spec["n"], dtype=float)
     if spec["impl"] == "ndlfd":
-        from ndlfd._simplify import simplify
+        from ndlfd.dp import simplify
         simplify(X[:5000], spec["eps"], **{k: v[:5000] if k == "times" else v
                                            for k, v in kw.items()})  # compile
     else:
@@ -271,7 +271,7 @@ FIRST_CALL = textwrap.dedent(
     import json, time
     t0 = time.perf_counter()
     import numpy as np
-    from ndlfd._simplify import simplify
+    from ndlfd.dp import simplify
     t1 = time.perf_counter()
     X = np.cumsum(np.random.default_rng(0).normal(size=(1000, 2)), axis=0)
     simplify(X, 1.0)
@@ -317,8 +317,7 @@ def main(argv=None):
     ap.add_argument("--peer-cap", type=float, default=None, help="peers' time cap")
     ap.add_argument("--no-write", action="store_true", help="do not touch RESULTS.md")
     args = ap.parse_args(argv)
-    from ndlfd import _simplify
-    from ndlfd._simplify import simplify
+    from ndlfd.dp import _simplify, simplify
 
     quick = args.quick
     n = 200_000 if quick else 1_000_000

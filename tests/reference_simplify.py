@@ -1,4 +1,4 @@
-"""Slow, obviously-correct Douglas–Peucker references for tests/test_simplify.py.
+"""Slow, obviously-correct Douglas–Peucker references for tests/dp/test_dp_simplify.py.
 
 Written for clarity, not speed: recursion, plain numpy distances (projection,
 ``np.linalg.det`` for the paper formula). Near-ties are resolved with a small

@@ -18,10 +18,10 @@ from hypothesis import strategies as st
 from numba import njit
 from numba.core import event
 
-import ndlfd._dp_generic as G
-import ndlfd._dp_kernels as K
-from ndlfd import _simplify
-from ndlfd._dp_tree import make_tree
+from ndlfd.dp import _generic as G
+from ndlfd.dp import _kernels as K
+from ndlfd.dp import _simplify
+from ndlfd.dp._tree import make_tree
 from ndlfd.jobs import demo
 from ndlfd.learner._fit_kernels import column_extremes
 

@@ -34,10 +34,10 @@ from ._errors import (
     ValidationError,
 )
 from ._parallel import keep_workers, shutdown
-from ._simplify import simplify, simplify_many
 from .codebook import Codebook, TimeBins
 from .datasets import load_lasa
 from .demonstration import Demonstration, with_velocity
+from .dp import simplify, simplify_many
 from .hmm import DiscreteHMM
 from .jobs import evaluate, evaluation
 from .learner import KeypointHMM

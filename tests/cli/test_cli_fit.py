@@ -19,9 +19,9 @@ from cli_helpers import (
     write_reach,
 )
 
-from ndlfd._simplify import simplify
 from ndlfd.cli import main
 from ndlfd.demonstration import Demonstration
+from ndlfd.dp import simplify
 from ndlfd.io import read_csv, read_table, write_csv, write_table
 from ndlfd.learner import KeypointHMM
 

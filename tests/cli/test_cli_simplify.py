@@ -11,8 +11,8 @@ from cli_helpers import (
     walk_csv,
 )
 
-from ndlfd._simplify import simplify
 from ndlfd.cli import main
+from ndlfd.dp import simplify
 from ndlfd.io import read_csv, read_table, write_csv, write_table
 
 

@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 
 from ndlfd import synth
 from ndlfd._errors import OptionError, ValidationError
-from ndlfd._simplify import simplify
 from ndlfd.demonstration import Demonstration
+from ndlfd.dp import simplify
 from ndlfd.jobs._reproduction_report import sentences
 from ndlfd.jobs._reproduction_runs import CHANNELS, DISTANCES, first_split
 from ndlfd.jobs.reproduction import (

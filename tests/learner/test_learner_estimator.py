@@ -14,9 +14,9 @@ from ndlfd import (
     ValidationError,
     hmm,
 )
-from ndlfd._simplify import simplify
 from ndlfd.codebook import Codebook, TimeBins
 from ndlfd.demonstration import Demonstration
+from ndlfd.dp import simplify
 from ndlfd.learner import KeypointHMM
 from ndlfd.learner._spec import prepare
 from ndlfd.normalize import GroupScaler

@@ -12,7 +12,7 @@ import numpy as np
 
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
 from .._repairs import collecting_repairs
-from .._simplify import DISTANCES
+from ..dp import DISTANCES
 from ..io import CLI_HINTS, demo_files
 from ..learner import (
     DECODERS,

@@ -14,8 +14,8 @@ from .. import plot
 from .._errors import DataFileError, MissingExtraError, NdlfdError, ValidationError
 from .._fileformat import META_KEY
 from .._poses import check_frames
-from .._simplify import simplify_many
 from ..demonstration import unit_time
+from ..dp import simplify_many
 from ..io import (
     CLI_HINTS,
     MAPPING_DEFAULTS,

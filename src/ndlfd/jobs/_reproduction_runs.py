@@ -18,8 +18,8 @@ import numpy as np
 
 from .. import synth
 from .._errors import DecodeError
-from .._simplify import simplify
 from ..demonstration import Demonstration
+from ..dp import simplify
 from ..learner import KeypointHMM
 from ..metrics import mean_demo_baseline, path_difference, path_errors
 from ..normalize import GroupScaler

@@ -7,12 +7,12 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import NotFittedError, ValidationError
-from .._simplify import DISTANCES
 from .._validation import (
     check_n_time_bins,
     check_nonnegative_scalar,
     check_positive_int,
 )
+from ..dp import DISTANCES
 from ._decoding import DECODERS, STARTS
 from ._generation import GENERATIONS
 from ._spec import NORMALIZATIONS

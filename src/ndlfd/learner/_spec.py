@@ -26,10 +26,10 @@ import numpy as np
 
 from .._errors import ValidationError
 from .._registry import Registry
-from .._simplify import simplify
 from .._validation import check_positive_int
 from ..codebook import Codebook, TimeBins
 from ..demonstration import Demonstration, unit_time, with_velocity
+from ..dp import simplify
 from ..normalize import SCALING_MODES, GroupScaler
 
 __all__ = [

@@ -1,6 +1,6 @@
 """Line and segment keys whose largest value over a box is known exactly.
 
-The box tree (:mod:`ndlfd._dp_tree`) skips a node when no point in its box
+The box tree (:mod:`ndlfd.dp._tree`) skips a node when no point in its box
 can have a larger key than the best so far. Its general bounds are widened
 for rounding, so they cannot skip a node whose points only *tie* with the
 best: on a zigzag of constant height, whose corners all lie at the same
@@ -10,7 +10,7 @@ costs ``n²/2`` distance evaluations.
 A bound that holds bitwise needs a key that is monotone, in floating point,
 in each coordinate of the point: then its largest value over a box is its
 value at one corner, computed by the same operations. The line residual of
-:mod:`ndlfd._dp_kernels`, ``r_k = U v_k - (v·u) u_k``, is not: ``v_k`` enters
+:mod:`ndlfd.dp._kernels`, ``r_k = U v_k - (v·u) u_k``, is not: ``v_k`` enters
 both terms, and rounding can make ``r_k`` fall where it should rise. This
 module computes the same residual in its *leave-one-out* form,
 
@@ -58,8 +58,8 @@ __all__ = [
 ]
 
 #: Segments from lopsided splits longer than this many points get the
-#: leave-one-out keys; the tree (:func:`ndlfd._dp_tree.make_tree`) scans only
-#: segments at least this long (``ndlfd._simplify.TREE_MIN``).
+#: leave-one-out keys; the tree (:func:`ndlfd.dp._tree.make_tree`) scans only
+#: segments at least this long (``ndlfd.dp._simplify.TREE_MIN``).
 EXACT_MIN = 4096
 
 #: Points per block of :func:`scan_loo`.
@@ -209,7 +209,7 @@ def _plain_bounds(cols, i0, m, U, slack, degenerate, rowwise, segment, B, out, V
             out[j] = ss
         return
     # small d: each point's columns in registers, one flat loop per case with
-    # no branch in it (so that it vectorizes), as in ndlfd._dp_kernels
+    # no branch in it (so that it vectorizes), as in ndlfd.dp._kernels
     if rowwise and not segment:
         for j in range(m):
             i = np.uint64(i0 + j)
@@ -295,7 +295,7 @@ def scan_loo(cols, segment, a, b, utol2, lo, hi, work):
     ``cols`` holds the ``d`` columns (a tuple of 1-D arrays, or the
     transposed data of shape ``(d, n)``); ``segment`` picks the distance to
     the segment (endpoints past the ends) over the line. Returns ``(far, q,
-    S)`` like the scans of :mod:`ndlfd._dp_kernels`: the first index with the
+    S)`` like the scans of :mod:`ndlfd.dp._kernels`: the first index with the
     largest :func:`loo_key`, ``S = U²`` (``1`` for coincident endpoints,
     keyed by the distance to ``P_a``). ``work`` is :func:`loo_workspace`'s.
 
@@ -328,7 +328,7 @@ def scan_loo(cols, segment, a, b, utol2, lo, hi, work):
     while i0 < hi:
         m = min(LOO_BLOCK, hi - i0)
         _plain_bounds(cols, i0, m, U, slack, degenerate, rowwise, segment, B, buf, V)
-        bm = np.int64(-1)  # the block's largest bound (see ndlfd._dp_kernels)
+        bm = np.int64(-1)  # the block's largest bound (see ndlfd.dp._kernels)
         for j in range(m):
             v = bits[j]
             bm = v if v > bm else bm
@@ -381,7 +381,7 @@ def loo_key_bound(bmin, bmax, node, ws, d, c0, U, segment):
 
     The box is ``bmin[node, k] <= x_k <= bmax[node, k]``. ``ws`` holds the
     segment's ``P_a`` at ``0``, ``u`` at ``d``, ``P_b`` at ``3 d``, ``C``
-    at ``c0`` (the layout of ``ndlfd._dp_tree``'s workspace), computed as
+    at ``c0`` (the layout of ``ndlfd.dp._tree``'s workspace), computed as
     :func:`scan_loo` computes them (``U > utol2``), and ``2 d`` values of
     scratch after ``C``.
 

@@ -1,7 +1,7 @@
 """Budget-mode Douglas–Peucker: a target number of key points (``n_points=``).
 
 The most significant points first: a max-heap of segments keyed by their
-farthest point's distance, scanned by :func:`ndlfd._dp_generic.scan_generic`.
+farthest point's distance, scanned by :func:`ndlfd.dp._generic.scan_generic`.
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._dp_generic import scan_generic
+from ._generic import scan_generic
 
 __all__ = ["dp_budget"]
 

@@ -1,4 +1,4 @@
-"""Tests of ndlfd._dp_exact: the leave-one-out keys and their exact box bounds.
+"""Tests of ndlfd.dp._exact: the leave-one-out keys and their exact box bounds.
 
 The keys must be the scaled squared distance (against plain numpy), the
 scan must return the first index of their largest value (against brute
@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ndlfd import _dp_exact as E
+from ndlfd.dp import _exact as E
 
 SETTINGS = settings(max_examples=60, deadline=None)
 

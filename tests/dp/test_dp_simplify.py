@@ -1,4 +1,4 @@
-"""Tests of ndlfd._simplify against the slow references of reference_simplify."""
+"""Tests of ndlfd.dp._simplify against the slow references of reference_simplify."""
 
 from __future__ import annotations
 
@@ -10,10 +10,10 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from ndlfd import _simplify
 from ndlfd._errors import OptionError, ValidationError
-from ndlfd._simplify import DISTANCES, simplify, simplify_many
 from ndlfd._validation import check_times
+from ndlfd.dp import _simplify
+from ndlfd.dp._simplify import DISTANCES, simplify, simplify_many
 from reference_simplify import (
     DISTANCE_FUNCTIONS,
     budget_reference,

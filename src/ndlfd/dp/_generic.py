@@ -1,12 +1,12 @@
 """The any-mode Douglas–Peucker kernel: row-major data, every distance mode.
 
-:func:`scan_generic` computes the keys of :mod:`ndlfd._dp_kernels` (see its
+:func:`scan_generic` computes the keys of :mod:`ndlfd.dp._kernels` (see its
 docstring for each mode's key and scale) for any ``d``, point by point on
 the row-major data, including the paper's determinant (``"paper"``), which
 only it computes. :func:`dp_generic` runs the epsilon-mode Douglas–Peucker
 with it: ``distance="paper"`` uses it, and the budget mode
-(:mod:`ndlfd._dp_budget`) scans with :func:`scan_generic`. The faster
-column-major kernels of the other modes are in :mod:`ndlfd._dp_kernels`.
+(:mod:`ndlfd.dp._budget`) scans with :func:`scan_generic`. The faster
+column-major kernels of the other modes are in :mod:`ndlfd.dp._kernels`.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._dp_kernels import MODE_PAPER, MODE_SED, MODE_SEGMENT
-from ._dp_tree import (
+from ._kernels import MODE_PAPER, MODE_SED, MODE_SEGMENT
+from ._tree import (
     tree_begin,
     tree_done,
     tree_keep,
@@ -121,10 +121,10 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
     Marks kept interior indices in ``keep`` (uint8, length ``n``); the
     endpoints ``a0`` and ``b0`` are marked too. Explicit stack, no recursion.
     Segments longer than ``tree[7]`` points are scanned through the box tree
-    ``tree`` (:func:`ndlfd._dp_tree.make_tree`) once it is filled (by
-    :func:`ndlfd._dp_tree.tree_split` after lopsided splits, unless it
+    ``tree`` (:func:`ndlfd.dp._tree.make_tree`) once it is filled (by
+    :func:`ndlfd.dp._tree.tree_split` after lopsided splits, unless it
     was filled before). ``tree=None`` (a trajectory of at most
-    :data:`ndlfd._dp_kernels.TREE_NONE_MAX` points) compiles a version
+    :data:`ndlfd.dp._kernels.TREE_NONE_MAX` points) compiles a version
     without the tree. Returns the number of distance evaluations.
     """
     keep[a0] = 1
@@ -152,7 +152,7 @@ def dp_generic(P, t, mode, eps2, utol2, keep, a0, b0, tree):
                 # the tree loop: written out in each dp_* kernel, like the stack
                 far, q, S, bd2 = -1, -1.0, 1.0, eps2
                 w0 = work
-                # the sed and paper keys are bounded exactly (ndlfd._dp_tree)
+                # the sed and paper keys are bounded exactly (ndlfd.dp._tree)
                 exact = eps2 if mode in (MODE_SED, MODE_PAPER) else -1.0
                 ts = tree_begin(tree, a, b, utol2, ws, ts_stack, exact)
                 while True:

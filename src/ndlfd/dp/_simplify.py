@@ -3,7 +3,7 @@
 The public doorways are :func:`simplify` (one trajectory) and
 :func:`simplify_many` (many demonstrations in parallel threads). They check
 and convert the input, then hand it to the numba kernels of
-:mod:`ndlfd._dp_kernels`, which use an explicit stack (never recursion) and
+:mod:`ndlfd.dp._kernels`, which use an explicit stack (never recursion) and
 release the GIL.
 
 Distances (the ``distance=`` option, registry :data:`DISTANCES`):
@@ -40,15 +40,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _dp_kernels as K
-from ._dp_budget import dp_budget
-from ._dp_exact import lopsided
-from ._dp_generic import dp_generic
-from ._dp_tree import TREE_LINE, TREE_PAPER, TREE_SED, TREE_SEGMENT, make_tree
-from ._errors import ValidationError
-from ._parallel import thread_pool
-from ._registry import Registry
-from ._validation import (
+from .._errors import ValidationError
+from .._parallel import thread_pool
+from .._registry import Registry
+from .._validation import (
     as_float_array,
     check_nonnegative_scalar,
     check_points,
@@ -56,6 +51,11 @@ from ._validation import (
     check_times,
     check_weights,
 )
+from . import _kernels as K
+from ._budget import dp_budget
+from ._exact import lopsided
+from ._generic import dp_generic
+from ._tree import TREE_LINE, TREE_PAPER, TREE_SED, TREE_SEGMENT, make_tree
 
 __all__ = ["DISTANCES", "DistanceMode", "simplify", "simplify_many"]
 
@@ -117,7 +117,7 @@ def _detrended(P: np.ndarray, t: np.ndarray, m: float):
     The synchronized distance (``"sed"``) is unchanged by a drift linear in
     time: it moves a point and the chord at the same time alike. Taken out,
     a column that moves with time keeps tight boxes in the tree
-    (:mod:`ndlfd._dp_tree`), whose exact ``"sed"`` bounds then skip the
+    (:mod:`ndlfd.dp._tree`), whose exact ``"sed"`` bounds then skip the
     ties of a zigzag. A column keeps its drift where taking it out does not
     halve its range (a column that swings back and forth: any drift left
     would loosen its boxes), judged on at most 4,096 evenly spaced rows, so
@@ -260,7 +260,7 @@ COLS_DIMS = range(1, 11)
 
 
 #: Segments longer than this are scanned through a tree of bounding boxes
-#: (:mod:`ndlfd._dp_tree`), which skips the blocks that cannot hold the
+#: (:mod:`ndlfd.dp._tree`), which skips the blocks that cannot hold the
 #: farthest point; shorter ones are scanned plainly.
 TREE_MIN = 4096
 #: The tree is built once lopsided splits of long segments (a zigzag: each
@@ -280,7 +280,7 @@ def _tree(job: _Job):
     """The (unbuilt) box tree for ``job``, built by the kernel when needed.
 
     ``None`` for a trajectory too short for a tree or the exact keys
-    (:data:`ndlfd._dp_kernels.TREE_NONE_MAX`): the kernels then compile
+    (:data:`ndlfd.dp._kernels.TREE_NONE_MAX`): the kernels then compile
     without them.
     """
     n = job.P.shape[0]

@@ -1,7 +1,7 @@
 """Numba kernels behind :func:`ndlfd.simplify`: n-D Douglas–Peucker, no recursion.
 
 The kernels trust their input (finite float64, C-contiguous, ``n >= 1``); the
-checked doorway is :mod:`ndlfd._simplify`.
+checked doorway is :mod:`ndlfd.dp._simplify`.
 
 Every distance is evaluated as a pair ``(q, S)`` with ``distance² = q / S``:
 
@@ -48,8 +48,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ._dp_exact import EXACT_MIN, loo_workspace, lopsided, scan_loo, scan_loo_range
-from ._dp_tree import (
+from ._exact import EXACT_MIN, loo_workspace, lopsided, scan_loo, scan_loo_range
+from ._tree import (
     tree_begin,
     tree_done,
     tree_keep,
@@ -80,9 +80,9 @@ MODE_PAPER = 3
 
 #: The longest trajectory the ``dp_*`` kernels may be given ``tree=None``
 #: for: none of its segments is longer than
-#: :data:`~ndlfd._dp_exact.EXACT_MIN` points, so none would be scanned by
+#: :data:`~ndlfd.dp._exact.EXACT_MIN` points, so none would be scanned by
 #: the exact keys, and the caller builds no tree for it
-#: (``ndlfd._simplify.TREE_MIN``). Given ``None``, numba prunes the tree's
+#: (``ndlfd.dp._simplify.TREE_MIN``). Given ``None``, numba prunes the tree's
 #: and the exact keys' branches before typing, so the kernel compiles
 #: without them: ``dp_cols`` (d = 4, with the kernels it calls) in 2.1 s
 #: of CPU instead of 14.7 on a first run (``benchmarks/bench_firstrun.py``).
@@ -274,7 +274,7 @@ def scan_lineN(Pt, t, mode, a, b, utol2, lo, hi, buf, bits, vu, u, pa):
     ``mode`` as in :func:`scan_line_cols`. ``Pt`` is the transposed
     (column-major) data of shape ``(d, n)``; each block is processed column
     by column in vectorized loops. The keys are the same numbers as
-    :func:`~ndlfd._dp_generic.scan_generic`'s (same operations, same order).
+    :func:`~ndlfd.dp._generic.scan_generic`'s (same operations, same order).
     ``buf`` (``bits`` its int64 view), ``vu`` are workspaces of length
     :data:`BLOCK`; ``u``, ``pa`` of length ``d``.
     """
@@ -390,7 +390,7 @@ def scan_line_cols(cols, t, mode, a, b, utol2, lo, hi, buf, bits, u, pa):
     columns. Its length is part of the type, so numba compiles one version
     per ``d`` with the loops over the columns unrolled and the loop over
     points vectorized, with everything in registers. Same keys as
-    :func:`~ndlfd._dp_generic.scan_generic` (same operations, same order).
+    :func:`~ndlfd.dp._generic.scan_generic` (same operations, same order).
     ``u``, ``pa`` are workspaces of length ``d``.
     """
     d = len(cols)
@@ -478,8 +478,8 @@ def scan_cols_range(cols, t, mode, a, b, utol2, lo, hi, lop=False):
     """:func:`scan_line_cols` on one chunk ``lo..hi-1`` of segment ``(a, b)``.
 
     With ``lop`` (the segment comes from a lopsided split) and longer than
-    :data:`~ndlfd._dp_exact.EXACT_MIN` points,
-    :func:`~ndlfd._dp_exact.scan_loo` (``"line"`` and ``"segment"``), as
+    :data:`~ndlfd.dp._exact.EXACT_MIN` points,
+    :func:`~ndlfd.dp._exact.scan_loo` (``"line"`` and ``"segment"``), as
     :func:`dp_cols` does.
     """
     if lop and mode != MODE_SED and b - a > EXACT_MIN:
@@ -498,12 +498,12 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
 
     See :func:`scan_line_cols`; used for ``"line"`` from ``d = 4`` and for
     ``"segment"`` and ``"sed"`` from ``d = 1``, up to the last of
-    ``ndlfd._simplify.COLS_DIMS``. Segments longer than
-    :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split
-    (:func:`~ndlfd._dp_exact.lopsided`; ``lop0`` for ``(a0, b0)``), but in
-    ``"sed"``, are scanned by :func:`~ndlfd._dp_exact.scan_loo` (keys the
+    ``ndlfd.dp._simplify.COLS_DIMS``. Segments longer than
+    :data:`~ndlfd.dp._exact.EXACT_MIN` points from a lopsided split
+    (:func:`~ndlfd.dp._exact.lopsided`; ``lop0`` for ``(a0, b0)``), but in
+    ``"sed"``, are scanned by :func:`~ndlfd.dp._exact.scan_loo` (keys the
     tree bounds exactly). Explicit stack, no recursion; ``tree`` as in
-    :func:`~ndlfd._dp_generic.dp_generic`: the tree tuple, or ``None`` for a
+    :func:`~ndlfd.dp._generic.dp_generic`: the tree tuple, or ``None`` for a
     trajectory of at most :data:`TREE_NONE_MAX` points.
     Returns the number of distance evaluations.
     """
@@ -621,9 +621,9 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
     (``"line"`` mode only); ``kind`` 0 uses the transposed data ``Pt`` of
     shape ``(d, n)`` in ``mode`` (``t`` the times, for ``"sed"``). Unused
     arrays may be empty. With ``kind`` 0, segments longer than
-    :data:`~ndlfd._dp_exact.EXACT_MIN` points from a lopsided split (``lop0``
+    :data:`~ndlfd.dp._exact.EXACT_MIN` points from a lopsided split (``lop0``
     for ``(a0, b0)``), but in ``"sed"``, are scanned by
-    :func:`~ndlfd._dp_exact.scan_loo` (keys the tree bounds exactly).
+    :func:`~ndlfd.dp._exact.scan_loo` (keys the tree bounds exactly).
     Explicit stack, no recursion; ``tree`` as in :func:`dp_cols`. Returns the
     number of distance evaluations.
     """

@@ -1,7 +1,7 @@
 """Exact pruning of Douglas–Peucker scans with a tree of bounding boxes.
 
 A segment's farthest point is the *first* index with the largest key (see
-:mod:`ndlfd._dp_kernels`). On long segments most points cannot be it: a
+:mod:`ndlfd.dp._kernels`). On long segments most points cannot be it: a
 1e6-point zigzag whose every corner is kept splits one point off per step,
 and a plain scan pays ``n²/2`` distance evaluations for it.
 
@@ -40,7 +40,7 @@ Widened bounds cannot skip a node whose points *tie* with the best so far.
 For the ``"line"`` and ``"segment"`` scans of long segments from lopsided
 splits (a zigzag's), :func:`exact_key_bound` bounds the scan's own computed
 keys exactly (rounding is monotone; in 2-D and 3-D ``"line"`` keys are cross
-products, elsewhere the leave-one-out keys of :mod:`ndlfd._dp_exact`), so
+products, elsewhere the leave-one-out keys of :mod:`ndlfd.dp._exact`), so
 such a node is skipped too: a 1e6-point zigzag of constant height no longer
 costs ``n²/2``. So are the ``"sed"`` keys (each term is monotone in one
 coordinate and the time; the doorway removes the path's mean drift first,
@@ -55,7 +55,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ._dp_exact import EXACT_MIN, loo_key_bound, loo_scales, lopsided
+from ._exact import EXACT_MIN, loo_key_bound, loo_scales, lopsided
 
 __all__ = [
     "LEAF",
@@ -198,7 +198,7 @@ _U, _KIND, _DT, _UN, _R, _TA, _N, _EXACT, _QEPS, _PROBE = 0, 1, 2, 3, 4, 5, 6, 7
 
 # ws[5d + _EXACT]: which keys exact_key_bound bounds (0: none)
 _EXACT_CROSS = 1.0  # the 2-D and 3-D line scans' cross products
-_EXACT_LOO = 2.0  # the leave-one-out line keys (ndlfd._dp_exact)
+_EXACT_LOO = 2.0  # the leave-one-out line keys (ndlfd.dp._exact)
 _EXACT_LOO_SEGMENT = 3.0  # the same, with the segment's end keys
 _EXACT_SED = 4.0  # the "sed" keys
 _EXACT_PAPER = 5.0  # the paper's determinant
@@ -233,7 +233,7 @@ def tree_begin(tree, a, b, utol2, ws, stack, exact_eps2):
     (the tolerance squared) turns on the exact bounds of the scan's own keys
     (:func:`exact_key_bound`): the caller passes it when its keys are
     ``scan_line2``'s or ``scan_line3``'s (2-D and 3-D ``"line"``),
-    :func:`~ndlfd._dp_exact.scan_loo`'s (other ``"line"`` and ``"segment"``
+    :func:`~ndlfd.dp._exact.scan_loo`'s (other ``"line"`` and ``"segment"``
     scans of long segments from lopsided splits), a ``"sed"`` scan's or the
     paper determinant's, else ``-1``. The walk starts with the leaf of the
     last interior point (see :func:`tree_next`).
@@ -369,7 +369,7 @@ def exact_key_bound(bmin, bmax, node, ws, d, t0=0.0, t1=0.0):
     """The largest key the scan can compute for a point of ``node``'s box.
 
     The leave-one-out keys of long segments are bounded by
-    :func:`~ndlfd._dp_exact.loo_key_bound`. The ``"sed"`` keys are sums over
+    :func:`~ndlfd.dp._exact.loo_key_bound`. The ``"sed"`` keys are sums over
     ``k`` of ``r_k²``, ``r_k = D (x_k - xa_k) - s u_k`` (``s = t - t_a``,
     ``D = t_b - t_a``; the times of the node's rows lie in ``[t0, t1]``),
     each ``r_k`` of the form :func:`_cross_sq_bound` bounds. The paper's

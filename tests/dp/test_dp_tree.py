@@ -1,4 +1,4 @@
-"""Tests of ndlfd._dp_tree: the box tree's bounds and the pruned scans.
+"""Tests of ndlfd.dp._tree: the box tree's bounds and the pruned scans.
 
 The pruned search must keep exactly the points the plain scan keeps (same
 keys, first index on ties), and bound every point's distance from above.
@@ -11,11 +11,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ndlfd import _dp_generic as G
-from ndlfd import _dp_kernels as K
-from ndlfd import _dp_tree as T
-from ndlfd import _simplify
-from ndlfd._simplify import simplify
+from ndlfd.dp import _generic as G
+from ndlfd.dp import _kernels as K
+from ndlfd.dp import _simplify
+from ndlfd.dp import _tree as T
+from ndlfd.dp._simplify import simplify
 from reference_simplify import DISTANCE_FUNCTIONS, dp_reference, zigzag
 
 SETTINGS = settings(max_examples=40, deadline=None)
