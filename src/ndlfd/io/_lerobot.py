@@ -6,8 +6,9 @@ and ``scripts/convert_dataset_v21_to_v30.py``):
 
 * ``info.json`` keys: ``codebase_version`` (``"v2.0"``, ``"v2.1"``:
   layout 2.x; ``"v3.0"``: layout 3.0), ``features`` (each feature's
-  ``dtype``, ``shape`` and ``names``: a list of component names, a dict of one
-  or more lists such as ``{"motors": [...]}``, or ``null``), ``data_path``
+  ``dtype``, ``shape`` and ``names``: a list of component names, a list of
+  one list of them (``[[...]]``), a dict of one or more lists such as
+  ``{"motors": [...]}``, or ``null``), ``data_path``
   (the template of the data files), ``total_episodes``, ``chunks_size`` and
   ``fps`` (not used: time comes from the ``timestamp`` column).
 * **2.x**: one Parquet file per episode, ``data_path`` =
@@ -34,6 +35,17 @@ components of one feature (``observation.state`` unless named: ``action``,
 ``short`` being the feature's last dotted part) and mapped to groups by the
 same rules as CSV columns (:mod:`ndlfd.io._mapping`): ``x, y, z`` position,
 ``roll, pitch, yaw`` orientation, ``gripper``, or ``groups=``.
+
+**ALOHA** (``lerobot/aloha_sim_*``, ``robot_type`` ``aloha``): the 14 values
+of ``observation.state`` and ``action`` are named per arm, ``left_waist``,
+``left_shoulder``, ``left_elbow``, ``left_forearm_roll``,
+``left_wrist_angle``, ``left_wrist_rotate``, ``left_gripper``, then
+``right_...`` (:data:`~ndlfd.io._names.ALOHA_NAMES`, stored as
+``{"motors": [...]}`` or ``[[...]]``): they are read as two arms, the groups
+``left_joints``, ``gripper`` (both grippers) and ``right_joints``
+(:mod:`ndlfd.io._names`). Fourteen values without names are an error that
+gives ALOHA's mapping to pass, never a guess (some conversions put the right
+arm first).
 
 An episode is a :class:`LeRobotEpisode` (the dataset, the episode, the feature
 and where its rows are), a small picklable item that reads its rows when
@@ -184,6 +196,12 @@ def _component_names(root: Path, feature: str, spec: Mapping) -> tuple[str, ...]
     if isinstance(names, Mapping):
         lists = [v for v in names.values() if isinstance(v, (list, tuple))]
         names = [n for v in lists for n in v] if lists else None
+    elif (
+        isinstance(names, (list, tuple))
+        and names
+        and all(isinstance(v, (list, tuple)) for v in names)
+    ):  # [[...]]: LeRobot's ALOHA conversions write the motors' list in a list
+        names = [n for v in names for n in v]
     if names is None or (k == 1 and len(names) != 1):
         short = feature.rsplit(".", 1)[-1]
         return (short,) if k == 1 else tuple(f"{short}_{i}" for i in range(k))

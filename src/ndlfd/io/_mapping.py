@@ -66,10 +66,14 @@ from ..orientation import (
     QUATERNION_ORDERS,
     check_euler,
     check_representation,
-    from_quaternions,
 )
-from ._names import lab_groups, names_error, ready_line
-from ._rotations import EULER_NAMES, orientation_block, orientation_representation
+from ._names import group_hand, group_kind, lab_groups, names_error, ready_line
+from ._rotations import (
+    EULER_NAMES,
+    euler_columns,
+    orientation_block,
+    orientation_representation,
+)
 from ._rows import BAD_ROWS, check_bad_rows, drop_bad_rows
 
 __all__ = [
@@ -330,7 +334,8 @@ class ColumnMapping:
             self.euler, f" (Euler {self.euler})"
         )
         parts += [
-            f"{g}={','.join(cols)}" + (how if g == "orientation" else "")
+            f"{g}={','.join(cols)}"
+            + (how if g == "orientation" or _three_angles(g, cols) else "")
             for g, cols in self.groups
         ]
         if self.dropped:
@@ -359,6 +364,11 @@ class ColumnMapping:
     def group_names(self) -> tuple[str, ...]:
         """The groups read, in column order."""
         return tuple(g for g, _ in self.groups)
+
+
+def _three_angles(group: str, cols) -> bool:
+    """Whether a hand's orientation was read from three columns."""
+    return group_kind(group) == "orientation" and len(cols) == 3
 
 
 def resolve_column(p, name: str, keys: Sequence[str], what: str) -> str:
@@ -560,7 +570,7 @@ def map_arrays(
             stacklevel=3,
         )
     # shapes
-    blocks, names, gnames, mapped = [], [], [], []
+    blocks, names, gnames, mapped, flat = [], [], [], [], []
     from_euler = None
     for g, ks in layout_of.items():
         parts, cols = [], []
@@ -595,17 +605,22 @@ def map_arrays(
             else:
                 cols.append(by_name.get(k, k))
         block = np.hstack(parts)
-        if g == "orientation":
+        if group_kind(g) == "orientation":
             rep = orientation_representation(
-                p, ks, block, representation, euler, lab, g in explicit, how
+                p, ks, block, representation, euler, lab, g in explicit, how, g
             )
-            ks, block, cols, from_euler = orientation_block(
-                p, ks, block, cols, rep, quaternion_order, g in lab.quaternions, how
+            ks, block, cols, given = orientation_block(
+                p, ks, block, cols, rep, quaternion_order, g in lab.quaternions, how, g
             )
+            from_euler = _one_representation(p, from_euler, given, g, mapped)
+        elif group_hand(g) and group_kind(g) == "position" and block.shape[1] != 3:
+            flat.append((g, ks))
         blocks.append(block)
         names.extend(cols)
         gnames.extend([g] * block.shape[1])
         mapped.append((g, tuple(ks)))
+    if flat:
+        raise _hand_position_error(p, flat, how)
     if bad_rows == "drop":
         t, blocks, lines = drop_bad_rows(p, t, blocks, lines)
         n = blocks[0].shape[0]
@@ -631,6 +646,36 @@ def map_arrays(
     except ValidationError as exc:
         raise wrap_error(p, exc, lines) from None
     return demo, mapping
+
+
+def _one_representation(p, before, given, group, mapped):
+    """The representation of every orientation read from three columns.
+
+    A :class:`ColumnMapping` records one (``euler``): two hands' orientations
+    given in two representations are an error.
+    """
+    if given is None or before is None or given == before:
+        return given if given is not None else before
+    first = next(
+        g for g, ks in mapped if group_kind(g) == "orientation" and len(ks) == 3
+    )
+    raise DataFileError(
+        f"{p}: {first} is read as {before} and {group} as {given}; expected the"
+        " hands' orientations in one representation (name it with"
+        " representation=, or --group HAND_orientation=A,B,C:REPR)"
+    )
+
+
+def _hand_position_error(p, flat, how) -> DataFileError:
+    """Hands' positions (``left_position``) of other than 3 columns."""
+    plain = {f"{group_hand(g)}_{'xyz'[: len(ks)]}": list(ks) for g, ks in flat}
+    line = ready_line(how["groups"].startswith("--"), plain)
+    got = "; ".join(f"{g} {len(ks)} ({', '.join(ks)})" for g, ks in flat)
+    return DataFileError(
+        f"{p}: a hand's position takes 3 columns (x, y, z); got {got}; give"
+        " each hand all three, or learn the columns as groups that are no"
+        f" hand's pose, e.g. {line}"
+    )
 
 
 def _by_names(p, arrays, keys, given, owner, layout_of, how, noun):
@@ -670,81 +715,26 @@ def _by_names(p, arrays, keys, given, owner, layout_of, how, noun):
             by_name[name] = hit[1]
         return hit
 
-    lab = lab_groups(single, known)
+    lab = lab_groups(single, known, group_of_column)
     for g, cols in lab.groups.items():
         placed.setdefault(g, []).extend(cols)
     conflicts = [(k, g) for g, ks in placed.items() if g in explicit for k in ks]
-    unsure = lab.unsure and representation is None and "orientation" not in explicit
+    unsure = representation is None and any(g not in explicit for g, _ in lab.unsure)
     if lab.unknown or lab.ambiguous or unsure:
         names_error(p, layout_of, placed, dropped, lab, how, noun)
+    for g, cols in lab.unsure:  # a hand's (with a representation) in its place
+        if g != "orientation" and g not in explicit:
+            placed[g] = cols
     rank = {k: i for i, k in enumerate(keys)}
     for g in sorted(placed, key=lambda g: min(rank[k] for k in placed[g])):
         if g not in explicit:
             layout_of[g] = placed[g]
             owner.update(dict.fromkeys(placed[g], g))
     for g, cols in lab.unsure:  # with a representation given (else an error)
-        if g not in explicit:
+        if g == "orientation" and g not in explicit:
             layout_of[g] = cols
             owner.update(dict.fromkeys(cols, g))
     return ignored, by_name, lab, conflicts
-
-
-def euler_columns(
-    demo: Demonstration, mapping: ColumnMapping
-) -> tuple[list[str], list[str], np.ndarray]:
-    """A demonstration's columns with its orientation back as it was recorded.
-
-    The inverse of the Euler and rotation-vector mappings of
-    :func:`map_arrays`: the four quaternion columns of ``demo``'s orientation
-    group (a generated path, say) become the three columns ``mapping``
-    recorded, with their names: Euler angles in the recorded convention (see
-    :func:`~ndlfd.orientation.quaternions_to_euler` for the angles' ranges),
-    or a rotation vector (``mapping.euler == "rotvec"``, continuous past an
-    angle of pi: :func:`~ndlfd.orientation.quaternions_to_rotvec`). A
-    mapping of quaternions leaves the columns as they are. Every writer that
-    keeps the input's names (:func:`~ndlfd.io.write_csv`, the Parquet
-    writer) calls it, so a rotation-vector input is written back as one.
-
-    Parameters
-    ----------
-    demo : Demonstration
-    mapping : ColumnMapping
-        How the input was read.
-
-    Returns
-    -------
-    columns, groups : list of str
-        The column names and their groups (orientation: the three names).
-    X : ndarray of shape (n_samples, n_columns)
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> q = [[1.0, 0.0, 0.0, 0.0], [np.sqrt(0.5), 0.0, 0.0, np.sqrt(0.5)]]
-    >>> d = Demonstration.from_arrays([0.0, 1.0], position=[[0, 1], [2, 3]],
-    ...                               orientation=q)
-    >>> m = ColumnMapping("a.csv", "t", (("position", ("x", "y")),
-    ...                   ("orientation", ("roll", "pitch", "yaw"))), euler="xyz")
-    >>> cols, groups, X = euler_columns(d, m)
-    >>> cols, X[:, 2:].round(4).tolist()
-    (['x', 'y', 'roll', 'pitch', 'yaw'], [[0.0, 0.0, 0.0], [0.0, 0.0, 1.5708]])
-    """
-    columns, groups = list(demo.columns), list(demo.groups)
-    if mapping.euler is None or not demo.has_group("orientation"):
-        return columns, groups, demo.X
-    names = dict(mapping.groups)["orientation"]
-    idx = [j for j, g in enumerate(groups) if g == "orientation"]
-    angles = from_quaternions(demo.X[:, idx], mapping.representation)
-    first = idx[0]
-    keep = [j for j in range(len(columns)) if j not in idx]
-    before = [j for j in keep if j < first]
-    after = [j for j in keep if j > first]
-    X = np.hstack([demo.X[:, before], angles, demo.X[:, after]])
-    columns = [columns[j] for j in before] + list(names)
-    columns += [demo.columns[j] for j in after]
-    groups = [groups[j] for j in before] + ["orientation"] * 3
-    groups += [demo.groups[j] for j in after]
-    return columns, groups, X
 
 
 def wrap_error(p, exc: ValidationError, lines: np.ndarray | None = None):

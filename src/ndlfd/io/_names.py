@@ -29,6 +29,18 @@ header as a whole:
 * **Three orientation columns** whose name does not say the representation
   (``rx, ry, rz``, ``rot_x, rot_y, rot_z``) are an error naming the choices
   (a rotation vector or Euler angles in some convention): never a guess.
+* **Two arms** (:data:`HANDS`). Where names of both a ``left_`` and a
+  ``right_`` hand say a group once their hand is taken off (``left_x``,
+  ``left_pos_x``, ``right_ee_x``, ``left_qw``, ``left_rotvec_x``,
+  ``left_roll``, ``left_joint_1``, ALOHA's ``left_waist`` ...
+  (:data:`ALOHA_JOINTS`), ``left_shoulder_pan.pos``), each hand's values are
+  its own groups: ``left_position`` (3 columns), ``left_orientation`` (a
+  quaternion, or three columns converted as one hand's are),
+  ``left_joints``, ``left_velocity`` ..., and the grippers one group
+  ``gripper`` of both columns (``left_gripper``, ``right_gripper``). A word
+  between the hand and the values (:data:`HAND_WORDS`: ``ee``, ``arm``,
+  ``tcp`` ...) is a set's prefix, as ``current_`` is. Names of one hand alone
+  are read as one arm's (``right_pos_x`` is ``position``), as before.
 """
 
 from __future__ import annotations
@@ -39,10 +51,18 @@ from dataclasses import dataclass, field
 from .._errors import DataFileError
 
 __all__ = [
+    "ALOHA_JOINTS",
+    "ALOHA_NAMES",
     "COMMANDED",
+    "HANDS",
+    "HAND_WORDS",
     "LAB_KINDS",
     "MEASURED",
     "LabGroups",
+    "aloha_groups",
+    "bare_name",
+    "group_hand",
+    "group_kind",
     "lab_groups",
     "lab_name",
     "names_error",
@@ -66,6 +86,37 @@ COMMANDED = (
     "setpoint",
 )
 
+#: The prefixes that name a hand (an arm) in a log of two arms.
+HANDS = ("left", "right")
+#: Words between a hand and its values that name no group (``right_ee_x``,
+#: ``left_arm_joint_1``): read as a set's prefix.
+HAND_WORDS = ("arm", "ee", "eef", "tcp", "tool", "hand")
+#: ALOHA's arm joints (a ViperX 300 s) as LeRobot's aloha datasets name them
+#: after the arm (``left_waist`` ... ``right_wrist_rotate``); a real ALOHA
+#: records the shadow motors too.
+ALOHA_JOINTS = (
+    "waist",
+    "shoulder",
+    "shoulder_shadow",
+    "elbow",
+    "elbow_shadow",
+    "forearm_roll",
+    "wrist_angle",
+    "wrist_rotate",
+)
+#: The 14 values of LeRobot's ALOHA ``observation.state`` and ``action``
+#: (``lerobot/aloha_sim_*``): per arm, left then right, 6 joints and the gripper.
+ALOHA_NAMES = tuple(
+    f"{side}_{m}"
+    for side in HANDS
+    for m in (*(j for j in ALOHA_JOINTS if not j.endswith("_shadow")), "gripper")
+)
+_KINDS = ("position", "velocity", "orientation")
+_HAND_GROUP = re.compile(
+    r"^([a-z][a-z0-9]*(?:_[a-z0-9]+)*)_(position|velocity|orientation)$"
+)
+_HAND_NAME = re.compile(rf"^({'|'.join(HANDS)})_(.+)$", re.IGNORECASE)
+_HAND_WORD = re.compile(rf"^({'|'.join(HAND_WORDS)})[_.](.+)$", re.IGNORECASE)
 _XYZ = ("x", "y", "z")
 _WXYZ = ("w", "x", "y", "z")
 #: What a name's stem says, by the kind of its component (a letter of
@@ -197,6 +248,134 @@ def _role(prefix: str) -> str:
     return "neutral"
 
 
+def group_kind(group: str) -> str:
+    """``"position"``, ``"velocity"`` or ``"orientation"`` for a hand's group.
+
+    ``position`` and ``left_position`` are positions; any other group is
+    its own kind (``joints``, ``gripper``, ``left_joints``).
+
+    Examples
+    --------
+    >>> group_kind("right_orientation"), group_kind("position")
+    ('orientation', 'position')
+    >>> group_kind("left_joints"), group_kind("joints_position")
+    ('left_joints', 'joints_position')
+    """
+    return _split_group(group)[1]
+
+
+def group_hand(group: str) -> str:
+    """The hand of a hand's group (``"left"``), ``""`` for any other group.
+
+    Examples
+    --------
+    >>> group_hand("left_orientation"), group_hand("orientation")
+    ('left', '')
+    """
+    return _split_group(group)[0]
+
+
+def _split_group(group: str) -> tuple[str, str]:
+    m = _HAND_GROUP.match(group)
+    if m is None or m[1] in ("joint", "joints"):
+        return "", group
+    return m[1], m[2]
+
+
+def bare_name(name: str, hand: str) -> str:
+    """A column's name without its hand's prefix (``left_roll`` -> ``roll``).
+
+    Examples
+    --------
+    >>> bare_name("Left_Roll", "left"), bare_name("roll", "")
+    ('Roll', 'roll')
+    """
+    if hand and name.casefold().startswith(hand + "_"):
+        return name[len(hand) + 1 :]
+    return name
+
+
+def _convention_part(name, rest, group, prefix) -> _Part:
+    """A hand's name the naming convention places, with its component.
+
+    ``x``, ``vx``, ``fx``, ``p0``, ``qw``: the letter or number after the
+    group's letter (so the set is put in order as a lab's is); ``roll``,
+    ``pitch``, ``yaw``: ``x``, ``y``, ``z`` of Euler angles ``xyz``; any
+    other name (a gripper, a motor) keeps the file's order.
+    """
+    low = rest.casefold()
+    if low in ("roll", "pitch", "yaw"):
+        return _Part(
+            name, group, prefix, "xyz"[("roll", "pitch", "yaw").index(low)], "rpy"
+        )
+    m = re.fullmatch(r"[pvfq]?([wxyz]|\d+)", low)
+    if m is not None and group in ("position", "velocity", "force", "orientation"):
+        return _Part(name, group, prefix, m[1], None)
+    return _Part(name, group, prefix, "", None)
+
+
+def _rest_part(name, rest, rule, prefix="") -> _Part | None:
+    """What a hand's name says once its hand is off (``rest``), or None."""
+    hit = rule(rest)
+    if hit is not None:
+        return _convention_part(name, rest, hit[0], prefix)
+    if rest.casefold() in ALOHA_JOINTS:
+        return _Part(name, "joints", prefix, "", None)
+    part = _parse(rest)
+    if part is None:
+        return None
+    joined = "_".join(w for w in (prefix, part.prefix) if w)
+    return _Part(name, part.group, joined, part.comp, part.representation)
+
+
+def _hand_part(name, rule) -> tuple[str, _Part] | None:
+    """The hand of a name (``left_x``) and the part of its hand's group, or None."""
+    m = _HAND_NAME.match(name)
+    if m is None:
+        return None
+    hand, rest = m[1].casefold(), m[2]
+    part = _rest_part(name, rest, rule)
+    if part is None:
+        w = _HAND_WORD.match(rest)
+        if w is None:
+            return None
+        part = _rest_part(name, w[2], rule, w[1].casefold())
+        if part is None:
+            return None
+    group = "gripper" if part.group == "gripper" else f"{hand}_{part.group}"
+    return hand, _Part(name, group, part.prefix, part.comp, part.representation)
+
+
+def _hand_parts(names, rule) -> dict[str, _Part]:
+    """The parts of the names of two or more hands (empty for one hand or none)."""
+    if rule is None:
+        return {}
+    found = {n: hit for n in names if (hit := _hand_part(n, rule)) is not None}
+    if len({hand for hand, _ in found.values()}) < 2:
+        return {}
+    return {n: part for n, (_, part) in found.items()}
+
+
+def aloha_groups(names) -> dict[str, list[str]]:
+    """ALOHA's groups of 14 values named ``names`` in its order (left arm first).
+
+    Per arm 6 joints and a gripper (:data:`ALOHA_NAMES`): ``left_joints``,
+    ``gripper`` (both grippers) and ``right_joints``.
+
+    Examples
+    --------
+    >>> g = aloha_groups([f"state_{i}" for i in range(14)])
+    >>> g["gripper"], g["right_joints"][0]
+    (['state_6', 'state_13'], 'state_7')
+    """
+    names = list(names)
+    return {
+        "left_joints": names[0:6],
+        "gripper": [names[6], names[13]],
+        "right_joints": names[7:13],
+    }
+
+
 @dataclass
 class LabGroups:
     """What :func:`lab_groups` made of a header.
@@ -216,6 +395,8 @@ class LabGroups:
         For each column left out, the measured columns learned instead.
     ambiguous : list of (str, list of list of str)
         Groups with several sets that cannot be told apart: the sets.
+    prefixes : dict of str to str
+        The prefix of each ambiguous set, by its first column.
     unsure : list of (str, list of str)
         Three orientation columns whose names do not say the representation.
     unknown : list of str
@@ -228,6 +409,7 @@ class LabGroups:
     left_out: list[str] = field(default_factory=list)
     kept_for: dict[str, list[str]] = field(default_factory=dict)
     ambiguous: list = field(default_factory=list)
+    prefixes: dict[str, str] = field(default_factory=dict)
     unsure: list = field(default_factory=list)
     unknown: list[str] = field(default_factory=list)
 
@@ -241,7 +423,7 @@ def _sorted_set(parts: list[_Part]) -> list[_Part]:
     return sorted(parts, key=key)
 
 
-def lab_groups(names, known=None) -> LabGroups:
+def lab_groups(names, known=None, rule=None) -> LabGroups:
     """The groups of the column names ``names`` as labs export them.
 
     Parameters
@@ -251,6 +433,10 @@ def lab_groups(names, known=None) -> LabGroups:
     known : callable, optional
         ``known(name) -> (group, column) or None``: a name rule tried first
         (the naming convention); its groups form the set without a prefix.
+    rule : callable, optional
+        ``rule(name) -> (group, column) or None``: the naming convention
+        without side effects, tried on a name with its hand taken off
+        (``left_x`` -> ``x``); without it no name is a hand's.
 
     Returns
     -------
@@ -265,12 +451,22 @@ def lab_groups(names, known=None) -> LabGroups:
     {'position': ['current_pos_x', 'current_pos_y'], 'joints': ['joint_1', 'joint_2']}
     >>> found.left_out
     ['goal_pos_x', 'goal_pos_y']
+    >>> from ndlfd.io import group_of_column
+    >>> arms = ["left_x", "left_y", "left_z", "left_gripper", "right_ee_x",
+    ...         "right_ee_y", "right_ee_z", "right_gripper"]
+    >>> lab_groups(arms, rule=group_of_column).groups  # doctest: +NORMALIZE_WHITESPACE
+    {'left_position': ['left_x', 'left_y', 'left_z'],
+     'gripper': ['left_gripper', 'right_gripper'],
+     'right_position': ['right_ee_x', 'right_ee_y', 'right_ee_z']}
     """
     found = LabGroups()
     sets: dict[str, dict[str, list[_Part]]] = {}  # group -> prefix -> parts
+    hands = _hand_parts(names, rule)
     for name in names:
-        hit = known(name) if known is not None else None
-        if hit is not None:
+        hit = known(name) if known is not None and name not in hands else None
+        if name in hands:
+            part = hands[name]
+        elif hit is not None:
             part = _Part(name, hit[0], "", "", None)
         else:
             part = _parse(name)
@@ -286,6 +482,7 @@ def lab_groups(names, known=None) -> LabGroups:
                 found.ambiguous.append(
                     (group, [[q.name for q in by_prefix[p]] for p in chosen])
                 )
+                found.prefixes.update((by_prefix[p][0].name, p) for p in chosen)
                 continue
             keep = [q.name for q in by_prefix[kept[0]]]
             for p in chosen:
@@ -302,14 +499,17 @@ def lab_groups(names, known=None) -> LabGroups:
         cols = [q.name for q in parts]
         comps = tuple(q.comp for q in parts)
         reps = {q.representation for q in parts}
-        if group == "orientation" and None in reps:
+        if group_kind(group) == "orientation" and None in reps:
             if comps == _WXYZ:
                 found.quaternions.add(group)
             elif comps == _XYZ:
                 found.unsure.append((group, cols))
                 continue
-        elif group == "orientation" and reps == {"rotvec"} and comps == _XYZ:
-            found.representation[group] = "rotvec"
+        elif group_kind(group) == "orientation" and comps == _XYZ:
+            if reps == {"rotvec"}:
+                found.representation[group] = "rotvec"
+            elif reps == {"rpy"}:  # a hand's roll, pitch, yaw
+                found.representation[group] = "euler-xyz"
         found.groups[group] = cols
     return found
 
@@ -331,7 +531,8 @@ def ready_line(cli: bool, groups: dict, drop=(), representation=None) -> str:
     drop : sequence of str, default=()
         Columns to leave out.
     representation : str, optional
-        The orientation's representation (``"rotvec"``), or a placeholder.
+        The representation of the orientations of three columns
+        (``"rotvec"``), or a placeholder.
 
     Returns
     -------
@@ -343,11 +544,18 @@ def ready_line(cli: bool, groups: dict, drop=(), representation=None) -> str:
     '--group orientation=rx,ry,rz:rotvec --drop id'
     >>> ready_line(False, {"position": ["a"]}, ["b"])
     "groups={'position': ['a']}, drop=['b']"
+    >>> ready_line(True, {"left_orientation": ["l1", "l2", "l3"]}, (), "rotvec")
+    '--group left_orientation=l1,l2,l3:rotvec'
     """
     if cli:
         parts = []
         for g, cols in groups.items():
-            rep = f":{representation}" if g == "orientation" and representation else ""
+            three = group_kind(g) == "orientation" and len(cols) == 3
+            rep = (
+                f":{representation}"
+                if representation and (g == "orientation" or three)
+                else ""
+            )
             parts.append(f"--group {_quoted(g + '=' + ','.join(cols) + rep)}")
         if drop:
             parts.append(f"--drop {_quoted(','.join(drop))}")
@@ -374,6 +582,14 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
     for g, cols in placed.items():
         groups.setdefault(g, list(cols))
     drop = [*dropped, *lab.left_out]
+    aloha = ""
+    if lab.unknown and len(lab.unknown) == len(ALOHA_NAMES) and not groups:
+        shown = ready_line(cli, aloha_groups(lab.unknown), dropped)
+        aloha = (
+            f". If they are ALOHA's {len(ALOHA_NAMES)} values as LeRobot records"
+            " them (per arm, left then right, 6 joints and the gripper:"
+            f" {', '.join(ALOHA_NAMES[:7])}, right_...), pass: {shown}"
+        )
     if lab.unknown:
         drop += lab.unknown
         head = (
@@ -392,10 +608,11 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
             " of their own)"
         )
     else:
-        g, cols = lab.unsure[0]
+        cols = [c for _, cs in lab.unsure for c in cs]
         head = (
-            f"{p}: the {noun}s {', '.join(cols)} hold an orientation of three"
-            " numbers, and their names do not say how: name its representation,"
+            f"{p}: the {noun}s {', '.join(cols)} hold"
+            f" {'an orientation' if len(lab.unsure) == 1 else 'orientations'} of"
+            " three numbers, and their names do not say how: name the representation,"
             " rotvec (a rotation vector: axis times angle, as Universal Robots'"
             " rx, ry, rz) or euler-SEQ (Euler angles in radians, SEQ any scipy"
             " convention, e.g. euler-xyz or euler-ZYX)"
@@ -403,10 +620,9 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
     for g, sets in lab.ambiguous:
         groups.setdefault(g, sets[0])
         for s in sets[1:]:
-            part = _parse(s[0])
-            prefix = part.prefix if part is not None else ""
-            prefix = re.sub(r"[^A-Za-z0-9_]+", "_", prefix).strip("_")
-            groups.setdefault(f"{prefix or 'other'}_{g}", s)
+            prefix = lab.prefixes.get(s[0], "")
+            prefix = re.sub(r"[^A-Za-z0-9_]+", "_", prefix).strip("_") or "other"
+            groups.setdefault(f"{g}_{prefix}" if group_hand(g) else f"{prefix}_{g}", s)
     rep = None
     for g, cols in lab.unsure:
         groups.setdefault(g, cols)
@@ -414,4 +630,4 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
     line = ready_line(cli, groups, drop, rep)
     also = " (or another representation in place of rotvec)" if rep is not None else ""
     raise DataFileError(f"{head}; e.g., in place of your {how['groups']}/"
-                        f"{how['drop']}: {line}{also}")  # fmt: skip
+                        f"{how['drop']}: {line}{also}{aloha}")  # fmt: skip
