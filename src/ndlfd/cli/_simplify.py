@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import ValidationError
-from .._simplify import DISTANCES, simplify
 from ..demonstration import KNOWN_GROUPS
+from ..dp import DISTANCES, simplify
 from ..io import CLI_HINTS, TIME_NAMES, group_of_column, parse_table, write_table
 from ..io._csv import delimiter_name
 from ..io._mapping import map_arrays, resolve_column
