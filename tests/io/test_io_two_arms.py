@@ -1,4 +1,4 @@
-"""Two arms read by their names: lab exports with left_/right_ and ALOHA (issue 43).
+"""Two arms read by their names: lab exports with left_/right_ prefixes (issue 43).
 
 The convention: each hand's pose is its own groups (``left_position``,
 ``left_orientation``; ``right_...``), its joints ``left_joints``, and both
@@ -6,16 +6,18 @@ grippers one group ``gripper``. Every expected mapping below is written out
 by hand; rotations are checked against scipy's ``Rotation`` directly.
 """
 
-import json
-
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from lerobot_writer import write_lerobot
 from ndlfd import DataFileError
-from ndlfd.io import group_of_column, read_csv, read_demos, read_lerobot, write_csv
-from ndlfd.io._names import ALOHA_NAMES, lab_groups
+from ndlfd.io import (
+    group_of_column,
+    read_csv,
+    read_demos,
+    write_csv,
+)
+from ndlfd.io._names import lab_groups
 
 T = np.arange(6) * 0.1
 
@@ -284,115 +286,6 @@ def test_rotation_vectors_of_each_hand_need_their_representation(tmp_path):
         "right_position",
         "right_orientation",
     )
-
-
-def _aloha_episodes(n_demos=2, seed=0):
-    rng = np.random.default_rng(seed)
-    eps = []
-    for e in range(n_demos):
-        n = 30 + 5 * e
-        state = rng.normal(0, 0.5, (n, 14))
-        state[:, [6, 13]] = rng.uniform(0, 1, (n, 2))  # the grippers
-        eps.append({"observation.state": state, "action": state + 0.01})
-    return eps
-
-
-def _aloha_expect(d, values):
-    """The groups of an ALOHA episode, worked by hand from its 14 columns."""
-    v = np.asarray(values, dtype=np.float32).astype(np.float64)
-    np.testing.assert_array_equal(d.get("left_joints"), v[:, 0:6])
-    np.testing.assert_array_equal(d.get("gripper"), v[:, [6, 13]])
-    np.testing.assert_array_equal(d.get("right_joints"), v[:, 7:13])
-
-
-@pytest.mark.parametrize("names_as", [dict, list, "nested"])
-def test_aloha_dataset_reads_into_two_arms(tmp_path, names_as):
-    eps = _aloha_episodes()
-    names = {"observation.state": list(ALOHA_NAMES), "action": list(ALOHA_NAMES)}
-    root = write_lerobot(
-        tmp_path / "aloha",
-        eps,
-        names,
-        fps=50,
-        names_as=list if names_as == "nested" else names_as,
-    )
-    if names_as == "nested":  # [[...]], as some ALOHA conversions store them
-        info = json.loads((root / "meta" / "info.json").read_text())
-        for key in names:
-            info["features"][key]["names"] = [list(ALOHA_NAMES)]
-        (root / "meta" / "info.json").write_text(json.dumps(info))
-    demos, maps = read_demos(root, return_mappings=True)
-    assert len(demos) == 2
-    assert str(maps[0]) == (
-        "time=timestamp; left_joints=left_waist,left_shoulder,left_elbow,"
-        "left_forearm_roll,left_wrist_angle,left_wrist_rotate;"
-        " gripper=left_gripper,right_gripper; right_joints=right_waist,"
-        "right_shoulder,right_elbow,right_forearm_roll,right_wrist_angle,"
-        "right_wrist_rotate (LeRobot v3.0, observation.state)"
-    )
-    for d, ep in zip(demos, eps, strict=True):
-        assert d.group_names == ("left_joints", "gripper", "right_joints")
-        _aloha_expect(d, ep["observation.state"])
-    acts = read_lerobot(root, feature="action")
-    _aloha_expect(acts[1], eps[1]["action"])
-
-
-def test_aloha_without_names_gives_the_mapping_to_pass(tmp_path):
-    eps = _aloha_episodes(1)
-    names = {"observation.state": list(ALOHA_NAMES), "action": list(ALOHA_NAMES)}
-    root = write_lerobot(tmp_path / "aloha", eps, names, fps=50, names_as=None)
-    with pytest.raises(DataFileError) as err:
-        read_lerobot(root)
-    msg = str(err.value)
-    assert "If they are ALOHA's 14 values as LeRobot records them" in msg
-    line = msg.split("6 joints and the gripper: ")[1].split(", pass: ")[1]
-    groups = {
-        "left_joints": [f"state_{i}" for i in range(6)],
-        "gripper": ["state_6", "state_13"],
-        "right_joints": [f"state_{i}" for i in range(7, 13)],
-    }
-    assert line == f"groups={groups!r}"
-    (d,) = read_lerobot(root, groups=groups)  # pasted, it reads
-    _aloha_expect(d, eps[0]["observation.state"])
-
-
-def test_end_effector_feature_of_two_hands(tmp_path):
-    """The layout ndlfd.sim writes (action.ee): per hand x..qz and the gripper."""
-    hand = ("x", "y", "z", "qw", "qx", "qy", "qz", "gripper")
-    ee = [f"{side}_{c}" for side in ("left", "right") for c in hand]
-    n = 20
-    rng = np.random.default_rng(6)
-    qL, qR = _unit_quaternions(n, 7), _unit_quaternions(n, 8)
-    v = np.column_stack(
-        [
-            rng.normal(size=(n, 3)),
-            qL,
-            rng.uniform(0, 1, n),
-            rng.normal(size=(n, 3)),
-            qR,
-            rng.uniform(0, 1, n),
-        ]
-    )
-    root = write_lerobot(tmp_path / "ee", [{"action.ee": v}], {"action.ee": ee})
-    (d,) = read_lerobot(root, feature="action.ee")
-    assert d.group_names == (
-        "left_position",
-        "left_orientation",
-        "gripper",
-        "right_position",
-        "right_orientation",
-    )
-    v32 = v.astype(np.float32).astype(np.float64)
-    np.testing.assert_array_equal(d.get("left_position"), v32[:, 0:3])
-    np.testing.assert_array_equal(d.get("gripper"), v32[:, [7, 15]])
-    np.testing.assert_array_equal(d.get("right_position"), v32[:, 8:11])
-    for group, cols in (
-        ("left_orientation", slice(3, 7)),
-        ("right_orientation", slice(11, 15)),
-    ):
-        q = d.get(group)
-        np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1, atol=1e-12)
-        assert np.max(_angle(q, v32[:, cols])) < 1e-6  # float32, renormalized
 
 
 def test_two_groups_claiming_one_column(tmp_path):

@@ -586,6 +586,13 @@ def read_csv(
     first, in its order, then the others in the order their first column
     appears in the file.
 
+    Two arms: names of a ``left_`` and a ``right_`` hand (``left_x``,
+    ``right_pos_x``, ``right_ee_x``, ``left_qw``, ``left_roll``,
+    ``left_joint_1``, ALOHA's ``left_waist``) are each hand's groups,
+    ``left_position`` (3 columns), ``left_orientation``, ``left_joints`` ...,
+    and ``left_gripper``, ``right_gripper`` the one group ``gripper``;
+    ``euler`` and ``representation`` apply to every hand's orientation.
+
     Three orientation columns are Euler angles or a rotation vector, never
     guessed: columns named ``roll, pitch, yaw`` are Euler angles (``euler``,
     default ``"xyz"``); any other three need ``representation`` (or

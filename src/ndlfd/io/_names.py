@@ -331,8 +331,9 @@ def _rest_part(name, rest, rule, prefix="") -> _Part | None:
 def _hand_part(name, rule) -> tuple[str, _Part] | None:
     """The hand of a name (``left_x``) and the part of its hand's group, or None."""
     m = _HAND_NAME.match(name)
-    if m is None:
-        return None
+    full = rule(name)
+    if m is None or (full is not None and full[0] == name.split(".", 1)[0]):
+        return None  # no hand, or a group.column name (left_joints.left_waist)
     hand, rest = m[1].casefold(), m[2]
     part = _rest_part(name, rest, rule)
     if part is None:
