@@ -18,10 +18,10 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from .._errors import MissingExtraError, ValidationError
+from .._fileformat import atomic_path
 from ._band import band_polygons
-from ._errors import MissingExtraError, ValidationError
-from ._fileformat import atomic_path
-from ._frame_plot import plot_frames
+from ._frames import plot_frames
 
 __all__ = [
     "new_figure",
@@ -657,7 +657,7 @@ def plot_band(
     ``k * std`` (independent coordinates) and, along every segment, the strip
     reaching on both sides along the segment's normal ``n`` to the standard
     deviation in that direction, ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)``
-    (:func:`ndlfd._band.band_polygons`). It is drawn as one patch, so
+    (:func:`ndlfd.plot._band.band_polygons`). It is drawn as one patch, so
     overlapping pieces do not darken each other and a path that crosses
     itself leaves no holes.
 

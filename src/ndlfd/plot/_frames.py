@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ._errors import ValidationError
+from .._errors import ValidationError
 
 __all__ = ["FRAME_MARKERS", "frame_marker", "plot_frames"]
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._errors import ValidationError
+from .._errors import ValidationError
 
 __all__ = ["band_polygons"]
 
