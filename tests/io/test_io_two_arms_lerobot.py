@@ -173,3 +173,33 @@ def test_two_arms_written_and_read_back(tmp_path):
     back = read_parquet(write_parquet(d, tmp_path / "ep.parquet", mapping=m))
     assert back.columns == d.columns and back.groups == d.groups
     np.testing.assert_array_equal(back.X, d.X)
+
+
+def test_two_hands_with_a_task_frame(tmp_path):
+    """An object's position as a task frame of a two-hand end-effector feature."""
+    hand = ("x", "y", "z", "qw", "qx", "qy", "qz", "gripper")
+    ee = [f"{side}_{c}" for side in ("left", "right") for c in hand]
+    n = 12
+    rng = np.random.default_rng(9)
+    eps = []
+    for e in range(2):
+        qL, qR = _unit_quaternions(n, 10 + e), _unit_quaternions(n, 20 + e)
+        v = np.column_stack(
+            [
+                rng.normal(size=(n, 3)),
+                qL,
+                np.ones(n),
+                rng.normal(size=(n, 3)),
+                qR,
+                np.zeros(n),
+            ]
+        )
+        cube = np.tile([0.1 * e, 0.5, 0.02], (n, 1))
+        eps.append({"action.ee": v, "observation.cube": cube})
+    names = {"action.ee": ee, "observation.cube": ["x", "y", "z"]}
+    root = write_lerobot(tmp_path / "ee", eps, names)
+    demos = read_lerobot(root, feature="action.ee", frames={"cube": "observation.cube"})
+    for e, d in enumerate(demos):
+        assert d.group_names[:2] == ("left_position", "left_orientation")
+        want = np.array([0.1 * e, 0.5, 0.02], dtype=np.float32)
+        np.testing.assert_array_equal(d.frames["cube"], want.astype(np.float64))
