@@ -15,6 +15,9 @@ task frames as markers in their demonstration's colour (:func:`plot_frames`).
 # public outside __all__, as before the split: the colours, where triads go,
 # the band's polygons
 from ._band import band_polygons as band_polygons
+from ._band import plot_band
+from ._boxes import plot_boxplot, plot_keypoint_counts
+from ._channels import new_figure_beside, plot_channels
 from ._figures import DEMO_COLOR as DEMO_COLOR
 from ._figures import GEN_COLOR as GEN_COLOR
 from ._figures import KEY_COLOR as KEY_COLOR
@@ -22,23 +25,11 @@ from ._figures import PALETTE as PALETTE
 from ._figures import ROUTE_COLORS as ROUTE_COLORS
 from ._figures import TEST_COLOR as TEST_COLOR
 from ._figures import TRIAD_COLORS as TRIAD_COLORS
-from ._figures import (
-    new_figure,
-    new_figure_beside,
-    new_grid,
-    plot_band,
-    plot_boxplot,
-    plot_channels,
-    plot_comparison,
-    plot_demos,
-    plot_keypoint_counts,
-    plot_path,
-    plot_samples,
-    plot_triads,
-    save_figure,
-)
-from ._figures import triad_indices as triad_indices
+from ._figures import new_figure, new_grid, save_figure
 from ._frames import plot_frames
+from ._paths import plot_comparison, plot_demos, plot_path, plot_samples
+from ._triads import plot_triads
+from ._triads import triad_indices as triad_indices
 
 __all__ = [
     "new_figure",

@@ -1,8 +1,9 @@
-"""The geometry of a path's standard-deviation band (drawn by :mod:`ndlfd.plot`).
+"""A path's standard-deviation band: its polygons, and the band drawn.
 
-Plain numpy: the polygons whose union is the band, each turned
-counter-clockwise so that, filled as one path with the non-zero rule, their
-overlaps neither darken nor leave holes.
+:func:`band_polygons` is plain numpy: the polygons whose union is the band,
+each turned counter-clockwise so that, filled as one path with the non-zero
+rule, their overlaps neither darken nor leave holes. :func:`plot_band` draws
+them as one patch (matplotlib imported when it is called).
 """
 
 from __future__ import annotations
@@ -10,8 +11,9 @@ from __future__ import annotations
 import numpy as np
 
 from .._errors import ValidationError
+from ._figures import GEN_COLOR
 
-__all__ = ["band_polygons"]
+__all__ = ["band_polygons", "plot_band"]
 
 
 def _ccw(poly: np.ndarray) -> np.ndarray:
@@ -74,3 +76,69 @@ def band_polygons(values, std, k: float = 1.0) -> list[np.ndarray]:
         )
         pieces.append(quads)
     return [_ccw(poly) for poly in pieces]
+
+
+def plot_band(
+    ax, values, std, *, k: float = 1.0, color=GEN_COLOR, alpha=0.2, label=None
+):
+    """Shade a band of ``k`` standard deviations around a 2-D path.
+
+    The band is the union of, at every point, the ellipse with semi-axes
+    ``k * std`` (independent coordinates) and, along every segment, the strip
+    reaching on both sides along the segment's normal ``n`` to the standard
+    deviation in that direction, ``k * sqrt((n_x s_x)^2 + (n_y s_y)^2)``
+    (:func:`band_polygons`). It is drawn as one patch, so
+    overlapping pieces do not darken each other and a path that crosses
+    itself leaves no holes.
+
+    Parameters
+    ----------
+    ax : Axes
+        Target (2-D) axes.
+    values : array-like of shape (n_samples, 2)
+        The path.
+    std : array-like of shape (n_samples, 2)
+        Standard deviation of each coordinate at each point.
+    k : float, default=1.0
+        Half-width of the band in standard deviations.
+    color : str
+        Fill colour.
+    alpha : float, default=0.2
+        Fill opacity.
+    label : str, optional
+        Legend label.
+
+    Returns
+    -------
+    ax : Axes
+
+    Examples
+    --------
+    >>> from ndlfd.plot import new_figure
+    >>> _, (ax,) = new_figure(1)
+    >>> ax = plot_band(ax, [[0, 0], [1, 0], [2, 0]], [[0, 1], [0, 1], [0, 2]])
+    >>> [float(v) for v in ax.patches[0].get_path().get_extents().bounds]
+    [0.0, -2.0, 2.0, 4.0]
+    """
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path as MplPath
+
+    pieces = band_polygons(values, std, k)
+    verts, codes = [], []
+    for poly in pieces:
+        m = poly.shape[1]
+        code = np.full(m + 1, MplPath.LINETO, dtype=MplPath.code_type)
+        code[0], code[-1] = MplPath.MOVETO, MplPath.CLOSEPOLY
+        verts.append(np.concatenate([poly, poly[:, :1]], axis=1).reshape(-1, 2))
+        codes.append(np.tile(code, poly.shape[0]))
+    patch = PathPatch(
+        MplPath(np.concatenate(verts), np.concatenate(codes)),
+        facecolor=color,
+        edgecolor="none",
+        alpha=alpha,
+        label=label,
+    )
+    ax.add_patch(patch)
+    ax.update_datalim(patch.get_path().vertices)
+    ax.autoscale_view()
+    return ax
