@@ -8,6 +8,8 @@ by hand; rotations are checked against scipy's ``Rotation`` directly.
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 from ndlfd import DataFileError
@@ -361,3 +363,20 @@ def test_hands_in_two_representations_are_an_error(tmp_path):
         r" orientations in one representation",
     ):
         read_csv(p)
+
+
+_POOL = ["x", "y", "z", "qw", "qx", "qy", "qz", "roll", "pitch", "yaw", "gripper",
+         "pos_x", "pos_y", "current_pos_x", "goal_pos_x", "joint_1", "q1", "rx",
+         "ry", "rz", "rotvec_x", "left_pos_x", "left_pos_y", "left_x",
+         "left_gripper", "right_pos_x", "right_gripper", "right_waist", "ee_x",
+         "shoulder_pan.pos", "gripper.pos", "grip.w", "left.x", "quat_w",
+         "main_gripper", "left_joints.a", "right_joints.b", "speed"]  # fmt: skip
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.sampled_from(_POOL), min_size=1, max_size=8, unique=True))
+def test_names_of_one_hand_or_none_read_as_without_hands(names):
+    """Only names of both hands change what a header reads as."""
+    sides = {side for n in names for side in ("left_", "right_") if n.startswith(side)}
+    assume(len(sides) < 2)
+    assert _lab(names) == lab_groups(names, group_of_column)  # no rule: no hand
