@@ -75,7 +75,7 @@ def test_check_frames_normalizes_the_quaternion_sign_and_length():
         ({"o": [1, np.nan]}, 2, "finite"),
         ({"o": [0, 0, 0, 2, 0, 0, 0]}, 3, "unit length"),
         ({"1o": [0, 0]}, 2, "name"),
-        ({"o": [0, 0]}, None, "position group"),
+        ({"o": [0, 0, 0, 0]}, None, r"2 values \(x, y\), 3 .* or 7"),
         ({"o": [[0, 0]]}, 2, r"shape \(1, 2\)"),
     ],
 )
@@ -97,7 +97,9 @@ def test_a_demonstration_keeps_its_frames():
     from ndlfd import with_velocity
 
     assert list(with_velocity(d).frames) == ["object"]
-    assert not d.select("force").frames  # no position: no frames
+    # without a position group (as a joint-space model) the frames stay: a
+    # model of any group may be moved with them
+    np.testing.assert_array_equal(d.select("force").frames["object"], [1.0, 0.5])
     assert d != d.with_frames(None)
     assert d == d.with_frames({"object": [1.0, 0.5]})
     assert "frames=(object)" in repr(d)

@@ -87,12 +87,20 @@ def check_frame_name(name, what: str) -> str:
     return name
 
 
-def pose_size_ok(size: int, position_dims: int) -> bool:
-    """Whether a pose of ``size`` values fits positions of ``position_dims``."""
+def pose_size_ok(size: int, position_dims: int | None) -> bool:
+    """Whether a pose of ``size`` values fits positions of ``position_dims``.
+
+    Without a position group (``None``: a joint-space model) a frame is a
+    pose in the plane or in space: 2, 3 or 7 values.
+    """
+    if position_dims is None:
+        return size in (2, 3, 7)
     return size == position_dims or (position_dims == 3 and size == 7)
 
 
-def _expected(position_dims: int) -> str:
+def _expected(position_dims: int | None) -> str:
+    if position_dims is None:
+        return "2 values (x, y), 3 (x, y, z) or 7 (x, y, z, then a unit quaternion)"
     if position_dims == 3:
         return "3 values (x, y, z) or 7 (x, y, z, then a unit quaternion w, x, y, z)"
     return f"{position_dims} values (a position of the position group's dimension)"
@@ -108,7 +116,8 @@ def check_frames(frames, position_dims, *, what: str = "frames") -> Mapping:
         dimension), in 3-D optionally followed by a unit quaternion
         ``(w, x, y, z)``.
     position_dims : int or None
-        Columns of the position group (``None``: no position group).
+        Columns of the position group (``None``: no position group, as in
+        joint space: a frame is then any pose of 2, 3 or 7 values).
     what : str, default="frames"
         The argument's name, used in messages.
 
@@ -121,8 +130,7 @@ def check_frames(frames, position_dims, *, what: str = "frames") -> Mapping:
     ------
     ValidationError
         Not a mapping, a bad name, a pose of the wrong size, a non-finite
-        value, a quaternion far from unit length, or frames without a
-        position group.
+        value, or a quaternion far from unit length.
 
     Examples
     --------
@@ -139,11 +147,6 @@ def check_frames(frames, position_dims, *, what: str = "frames") -> Mapping:
         )
     if not frames:
         return NO_FRAMES
-    if position_dims is None:
-        raise ValidationError(
-            f"{what} need a position group (a frame's pose is a position);"
-            " this demonstration has none"
-        )
     out = {}
     for name, pose in frames.items():
         check_frame_name(name, what)

@@ -21,6 +21,7 @@ import numpy as np
 
 from ._demo_kernels import gradient, window_derivative, with_room
 from ._errors import ValidationError
+from ._pose_groups import hand_name, is_orientation, is_position, kind, pose_dims
 from ._poses import NO_FRAMES, check_frames
 from ._registry import Registry
 from ._repairs import repaired
@@ -80,7 +81,12 @@ def default_columns(group: str, k: int) -> tuple[str, ...]:
     ('p0', 'p1', 'p2', 'p3')
     >>> default_columns("grip", 1)
     ('grip0',)
+    >>> default_columns("left_orientation", 4)
+    ('left_qw', 'left_qx', 'left_qy', 'left_qz')
     """
+    hand = hand_name(group)
+    if hand:  # a named hand's group: its prefix on the unnamed hand's names
+        return tuple(f"{hand}_{c}" for c in default_columns(kind(group), k))
     axes = ("x", "y", "z")
     if group == "orientation" and k == 4:
         return ("qw", "qx", "qy", "qz")
@@ -169,13 +175,13 @@ def _group_blocks(given: dict, columns, quaternion_order: str):
                 f"{group} must have shape (n_samples, k) or (n_samples,); got"
                 f" an array of shape {a.shape}"
             )
-        if group == "orientation":
+        if is_orientation(group):
             if a.shape[1] != 4:
                 raise ValidationError(
-                    "orientation must have shape (n_samples, 4) (unit"
+                    f"{group} must have shape (n_samples, 4) (unit"
                     f" quaternions); got an array of shape {a.shape}"
                 )
-            a = check_quaternions(a, quaternion_order, name="orientation")
+            a = check_quaternions(a, quaternion_order, name=group)
         blocks.append(a)
         block_groups.append(group)
         groups.extend([group] * a.shape[1])
@@ -301,14 +307,14 @@ class Demonstration:
                 )
             seen.append(g)
         X = np.array(X, dtype=np.float64, order="C", copy=True)
-        if "orientation" in groups:
-            idx = [j for j, g in enumerate(groups) if g == "orientation"]
+        for name in dict.fromkeys(g for g in groups if is_orientation(g)):
+            idx = [j for j, g in enumerate(groups) if g == name]
             if len(idx) != 4:
                 raise ValidationError(
-                    "the orientation group must have 4 columns (a unit quaternion"
+                    f"the {name} group must have 4 columns (a unit quaternion"
                     f" w, x, y, z); got {len(idx)}"
                 )
-            Q = check_quaternions(X[:, idx], name="orientation")
+            Q = check_quaternions(X[:, idx], name=name)
             X[:, idx] = make_continuous(Q)
         t = np.array(t, dtype=np.float64, copy=True)
         t.flags.writeable = False
@@ -317,8 +323,7 @@ class Demonstration:
         object.__setattr__(self, "X", X)
         object.__setattr__(self, "columns", columns)
         object.__setattr__(self, "groups", groups)
-        dims = groups.count("position") or None
-        object.__setattr__(self, "frames", check_frames(self.frames, dims))
+        object.__setattr__(self, "frames", check_frames(self.frames, pose_dims(groups)))
 
     # ------------------------------------------------------------ construction
     @classmethod
@@ -466,7 +471,7 @@ class Demonstration:
             self.X[:, idx],
             tuple(self.columns[j] for j in idx),
             tuple(self.groups[j] for j in idx),
-            self.frames if "position" in groups else NO_FRAMES,
+            self.frames,
         )
 
     def take(self, indices) -> Demonstration:
@@ -537,9 +542,8 @@ class Demonstration:
         >>> d.with_frames({"object": [1.0, 0.5]}).frames["object"]
         array([1. , 0.5])
         """
-        dims = self.groups.count("position") or None
         out = _assembled(self.t, self.X, self.columns, self.groups)
-        object.__setattr__(out, "frames", check_frames(frames, dims))
+        object.__setattr__(out, "frames", check_frames(frames, pose_dims(self.groups)))
         return out
 
     # ------------------------------------------------------------ dunder
@@ -612,13 +616,12 @@ def _with_block(demo: Demonstration, name, a: np.ndarray, cols, X=None):
         finite = X
     new_columns = demo.columns[:lo] + tuple(cols) + demo.columns[hi:]
     new_groups = demo.groups[:lo] + (name,) * a.shape[1] + demo.groups[hi:]
-    checked = name == "orientation" or (name == "position" and demo.frames)
+    checked = is_orientation(name) or (is_position(name) and demo.frames)
     if not checked and _valid_block(a, cols, name, new_columns, finite):
         out = _assembled(demo.t, X, new_columns, new_groups)
         object.__setattr__(out, "frames", demo.frames)
         return out
-    frames = demo.frames if "position" in new_groups else NO_FRAMES
-    return Demonstration(demo.t, X, new_columns, new_groups, frames)
+    return Demonstration(demo.t, X, new_columns, new_groups, demo.frames)
 
 
 def _valid_block(a: np.ndarray, cols, name, columns, finite) -> bool:

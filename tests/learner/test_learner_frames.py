@@ -219,11 +219,17 @@ def test_every_demonstration_must_carry_the_same_frames():
         KeypointHMM().fit(demos)
 
 
-def test_frames_need_the_position_learned():
-    d = _rigid(3)
-    demos = [x.with_group("force", np.ones(N)) for x in d]
-    with pytest.raises(ValidationError, match="position group, which is not learned"):
-        KeypointHMM(groups=("force",)).fit(demos)
+def test_a_model_without_the_position_moves_with_its_frames():
+    # the frames are the context of every group (issue 43): a force-only
+    # model learns how its force varied with the object
+    d = _rigid(6)
+    demos = [x.with_group("force", np.full(N, float(x.frames["object"][0]))) for x in d]
+    model = KeypointHMM(groups=("force",)).fit(demos)
+    new = float(np.mean([x.frames["object"][0] for x in d])) + 0.01
+    pose = np.array(d[0].frames["object"], dtype=float)
+    pose[0] = new
+    path = model.generate(d[0].t, dense=True, frames={"object": pose})
+    np.testing.assert_allclose(path.get("force")[N // 2], new, atol=2e-3)
 
 
 def test_quat_multiply_composes_as_scipy():

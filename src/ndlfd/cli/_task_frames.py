@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
+from .._pose_groups import pose_dims
 from .._poses import check_frames, pose_size_ok
 from ..io import (
     CLI_HINTS,
@@ -206,22 +207,21 @@ def _taken_out(demo, m: ColumnMapping, frames: dict):
             f"{m.source}: --task-frame {missing[0]} names columns"
             f" {','.join(frames[missing[0]])}, which were not read from it"
         )
-    dims = demo.groups.count("position")
+    dims = pose_dims(demo.groups)
     poses, shown = {}, []
     for name in frames:
         g = _hidden(name)
         cols = read[g]
-        if not dims:
-            raise DataFileError(
-                f"{m.source}: --task-frame {name} is a pose in the position"
-                " group's coordinates, but the file has no position group"
-            )
         if not pose_size_ok(len(cols), dims):
             seven = " or 7 (x, y, z, then a unit quaternion qw, qx, qy, qz)"
+            want = (
+                f"{dims} (a position, as the position group of {m.source})"
+                if dims
+                else f"2 or 3 (a position: {m.source} has no position group)"
+            )
             raise ValidationError(
                 f"--task-frame {name} names {len(cols)} column(s); expected"
-                f" {dims} (a position, as the position group of {m.source})"
-                + (seven if dims == 3 else "")
+                f" {want}" + (seven if dims in (3, None) else "")
             )
         block = demo.get(g)
         lo, hi = block.min(axis=0), block.max(axis=0)

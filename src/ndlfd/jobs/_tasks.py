@@ -60,6 +60,10 @@ __all__ = ["EASE_IN", "TASK_METHODS", "TaskResult", "TaskRow", "evaluate_tasks"]
 
 #: The methods compared, in the report's order.
 TASK_METHODS = ("ndlfd-ee", "ndlfd-joint", "object-mean", "promp", "nearest")
+#: Each hand's position columns in the end-effector rows and the object it
+#: takes (Transfer Cube: the right hand the cube; Insertion: the right hand
+#: the peg, the left the socket).
+_HANDS = (([8, 9, 10], 0), ([0, 1, 2], 1))
 #: The fraction of the motion over which object-mean and nearest ease their
 #: shift in (the expert's grasp begins after about a third).
 EASE_IN = 0.25
@@ -116,16 +120,16 @@ def _ee_demo(rec, spec):
     frames = {o: rec.objects[j] for j, o in enumerate(spec.objects)}
     return Demonstration.from_arrays(
         rec.t,
-        position=ee[:, 8:11],
-        orientation=ee[:, 11:15],
-        left=ee[:, 0:3],
-        left_quat=ee[:, 3:7],
+        left_position=ee[:, 0:3],
+        left_orientation=ee[:, 3:7],
+        right_position=ee[:, 8:11],
+        right_orientation=ee[:, 11:15],
         gripper=ee[:, [7, 15]],
         frames=frames,
     )
 
 
-def _joint_demo(rec):
+def _joint_demo(rec, spec):
     from ..demonstration import Demonstration
 
     j = rec.joint_action
@@ -133,6 +137,7 @@ def _joint_demo(rec):
         rec.t,
         joints=j[:, [0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12]],
         gripper=j[:, [6, 13]],
+        frames={o: rec.objects[k] for k, o in enumerate(spec.objects)},
     )
 
 
@@ -142,11 +147,11 @@ def _ee_rows(path) -> np.ndarray:
     grip = g("gripper")
     return np.column_stack(
         [
-            g("left"),
-            g("left_quat"),
+            g("left_position"),
+            g("left_orientation"),
             grip[:, 0],
-            g("position"),
-            g("orientation"),
+            g("right_position"),
+            g("right_orientation"),
             grip[:, 1],
         ]
     )
@@ -169,16 +174,15 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
 
         def gen(objects):
             frames = {o: objects[j] for j, o in enumerate(spec.objects)}
-            path = model.generate(
-                times, dense=True, start={"position": start[8:11]}, frames=frames
-            )
+            at = {"left_position": start[0:3], "right_position": start[8:11]}
+            path = model.generate(times, dense=True, start=at, frames=frames)
             return "ee", _ee_rows(path)
 
         return gen
     if method == "ndlfd-joint":
         from ..learner import KeypointHMM
 
-        model = KeypointHMM().fit([_joint_demo(r) for r in recs])
+        model = KeypointHMM().fit([_joint_demo(r, spec) for r in recs])
         q0 = recs[0].joint_action[0]
 
         def gen(objects):
@@ -186,6 +190,7 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
                 times,
                 dense=True,
                 start={"joints": q0[[0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12]]},
+                frames={o: objects[k] for k, o in enumerate(spec.objects)},
             )
             j, grip = path.get("joints"), path.get("gripper")
             return "joint", np.column_stack(
@@ -194,7 +199,8 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
 
         return gen
     mean = np.mean([_unit_resample(r.ee_action, n) for r in recs], axis=0)
-    placed = np.array([r.objects[0] for r in recs])
+    placed = np.array([np.ravel(r.objects) for r in recs])
+    hands = _HANDS[: len(spec.objects)]  # (columns of the hand, its object)
     # the shift eased in (minimum jerk) over the first EASE_IN of the motion:
     # shifted from its first sample the path would jump away from the start
     s = np.clip(np.linspace(0.0, 1.0, n) / EASE_IN, 0.0, 1.0)
@@ -204,16 +210,20 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
 
         def gen(objects):
             rows = mean.copy()
-            rows[:, 8:11] += ease[:, None] * (objects[0] - shift0)
+            moved = np.ravel(objects) - shift0
+            for cols, k in hands:
+                rows[:, cols] += ease[:, None] * moved[3 * k : 3 * k + 3]
             return "ee", rows
 
         return gen
     if method == "nearest":
 
         def gen(objects):
-            k = int(np.argmin(np.linalg.norm(placed - objects[0], axis=1)))
+            k = int(np.argmin(np.linalg.norm(placed - np.ravel(objects), axis=1)))
             rows = _unit_resample(recs[k].ee_action, n)
-            rows[:, 8:11] += ease[:, None] * (objects[0] - placed[k])
+            moved = np.ravel(objects) - placed[k]
+            for cols, o in hands:
+                rows[:, cols] += ease[:, None] * moved[3 * o : 3 * o + 3]
             return "ee", rows
 
         return gen
@@ -221,24 +231,29 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
         from ..baselines import ProMPBaseline
         from ..demonstration import Demonstration
 
-        demos = [
-            Demonstration.from_arrays(r.t, position=r.ee_action[:, 8:11]) for r in recs
-        ]
-        promp = ProMPBaseline().fit(demos)
-        # the grasp: where the right gripper has closed, as fractions of time
-        grasp = []
-        for r in recs:
-            k = int(np.argmax(r.ee_action[:, 15] < 0.5))
-            grasp.append((k / (len(r.t) - 1), r.ee_action[k, 8:11] - r.objects[0]))
-        at = float(np.mean([g[0] for g in grasp]))
-        offset = np.mean([g[1] for g in grasp], axis=0)
-        start = recs[0].ee_action[0, 8:11]
+        # one ProMP per hand with an object, on its positions, given the start
+        # and a via point at its grasp (where its gripper has closed: the
+        # object's new position plus the mean grasp offset, at the mean time)
+        each = []
+        for cols, o in hands:
+            demos = [Demonstration.from_arrays(r.t, position=r.ee_action[:, cols])
+                     for r in recs]  # fmt: skip
+            grip = cols[-1] + 4 + 1  # the gripper column after the quaternion
+            grasp = []
+            for r in recs:
+                k = int(np.argmax(r.ee_action[:, grip] < 0.5))
+                grasp.append((k / (len(r.t) - 1), r.ee_action[k, cols] - r.objects[o]))
+            at = float(np.mean([g[0] for g in grasp]))
+            offset = np.mean([g[1] for g in grasp], axis=0)
+            each.append((cols, o, ProMPBaseline().fit(demos), at, offset))
+        start = recs[0].ee_action[0]
 
         def gen(objects):
-            tg = float(times[round(at * (len(times) - 1))])  # one of times
-            pos = promp.generate(times, start=start, via=[(tg, objects[0] + offset)])
             rows = mean.copy()
-            rows[:, 8:11] = pos
+            for cols, o, promp, at, offset in each:
+                tg = float(times[round(at * (len(times) - 1))])  # one of times
+                via = [(tg, objects[o] + offset)]
+                rows[:, cols] = promp.generate(times, start=start[cols], via=via)
             return "ee", rows
 
         return gen

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._pose_groups import orientation_blocks
 from ._blend import (
     CONDITION_GRID,
     CONDITION_REACH,
@@ -404,8 +405,8 @@ def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):
     if not observed:
         return plan, False
     pos = group_columns(est.column_groups_, "position")
-    quat_cols = group_columns(est.column_groups_, "orientation")
-    quat_cols = quat_cols if len(quat_cols) == 4 else None  # as the blend's
+    quat_cols = [j for b in orientation_blocks(est.column_groups_) for j in b]
+    quat_cols = quat_cols or None  # as the blend's
     other = make_plan(est, all_t, start, goal, cache, extra, even=True)
     place = (plan.values, plan.taus, plan.index, plan.weights, plan.knots)
     truth = clock_aligned(plan.taus, plan.knots)

@@ -19,10 +19,13 @@ hand is rigid in it) the object's frame decides, and where they agree in the
 world (the start, around a fixed obstacle) the world does. No time is
 needed: the phase comes from the templates. Then each combined template is
 moved along a ridge regression of the templates on their frames' origins
-(:func:`_slopes`): a part of the motion between two frames (the carry from
-the object to the place) moves with both, which no one view gives, and the
-regression finds how much. The weights and slopes are computed on a phase
-grid and smoothed along it (:data:`FRAME_SMOOTH`).
+(:func:`~ndlfd.learner._frame_slopes.frame_slopes`): a part of the motion
+between two frames (the carry from the object to the place) moves with both,
+which no one view gives, and the regression finds how much. The weights and
+slopes are computed on a phase grid and smoothed along it
+(:data:`FRAME_SMOOTH`). Each hand (a position group: ``position``,
+``left_position``, ...) is combined from its own views; a model without a
+hand (joint space) is moved along the slopes alone.
 
 :func:`frame_mixer` returns the step :func:`~ndlfd.learner._blend.warped`
 applies to the time-warped templates: each template becomes the combination
@@ -44,9 +47,11 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
+from .._pose_groups import hands, pose_dims, position_columns
 from .._poses import check_frames, frame_maps
 from ._blend import warped
-from ._conditioning import group_columns
+from ._discrete import DISCRETE_GROUPS
+from ._frame_slopes import frame_features, frame_slopes
 
 __all__ = [
     "FRAME_FLOOR",
@@ -125,13 +130,18 @@ def check_learned_frames(est) -> None:
     if not frames:
         return
     scaler = est.scaler_
-    pos = group_columns(est.column_groups_, "position")
-    lo, hi = scaler.data_min_[pos], scaler.data_max_[pos]
+    found = hands(est.column_groups_)
+    if not found:  # a joint-space model: no positions to compare with
+        return
+    k = len(found[0].position)
+    pos = position_columns(est.column_groups_)
+    lo = scaler.data_min_[pos].reshape(-1, k).min(axis=0)
+    hi = scaler.data_max_[pos].reshape(-1, k).max(axis=0)
     span = float(np.max(hi - lo))
     if not span > 0:
         return
     for name, poses in frames.items():
-        outside = np.maximum(lo - poses[:, : len(pos)], poses[:, : len(pos)] - hi)
+        outside = np.maximum(lo - poses[:, :k], poses[:, :k] - hi)
         far = float(np.max(outside, initial=0.0)) / span
         if far > _WORKSPACES:
             warnings.warn(
@@ -152,8 +162,7 @@ def check_new_frames(est, frames) -> dict | None:
     if frames is None:
         return None
     learned = est.task_frames_
-    dims = est.column_groups_.count("position") or None
-    got = check_frames(frames, dims, what="frames")
+    got = check_frames(frames, pose_dims(est.column_groups_), what="frames")
     if not got:
         return None
     if not learned:
@@ -168,21 +177,20 @@ def check_new_frames(est, frames) -> dict | None:
             f"unknown task frame {unknown[0]!r}; this model learned"
             f" {', '.join(repr(k) for k in learned)}"
         )
-    scaler = est.scaler_
-    pos = group_columns(est.column_groups_, "position")
-    span = max(float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos])), 1e-300)
     for name, pose in got.items():
         size = learned[name].shape[1]
-        origins = learned[name][:, : len(pos)]
-        gap = pose[: len(pos)] - origins.mean(axis=0)
+        k = 3 if size == 7 else size
+        origins = learned[name][:, :k]
+        span, what = _span(est, origins)
+        gap = pose[:k] - origins.mean(axis=0)
         top = float(np.max(np.abs(gap), initial=0.0))  # no overflow in squares
         far = top * float(np.linalg.norm(gap / top)) if top > 0 else 0.0
-        if not far <= _FAR * span:
+        if pose.size == size and not far <= _FAR * span:
             raise ValidationError(
-                f"frames[{name!r}] at {pose[: len(pos)].tolist()} lies {far:.3g}"
+                f"frames[{name!r}] at {pose[:k].tolist()} lies {far:.3g}"
                 f" from where the demonstrations' {name!r} frames were (their"
                 f" mean {origins.mean(axis=0).round(6).tolist()}); expected within"
-                f" {_FAR:g} times the positions' range ({span:.3g}): same units?"
+                f" {_FAR:g} times {what} ({span:.3g}): same units?"
             )
         if pose.size != size:
             kind = (
@@ -193,6 +201,21 @@ def check_new_frames(est, frames) -> dict | None:
                 f" demonstrations' did; got {pose.size}"
             )
     return dict(got)
+
+
+def _span(est, origins) -> tuple[float, str]:
+    """The scale a new frame's distance is judged in, and its name.
+
+    The hands' positions' range; without a hand (joint space), the
+    demonstrations' frame origins' range (at least 1e-300).
+    """
+    pos = position_columns(est.column_groups_)
+    if pos:
+        lo, hi = est.scaler_.data_min_[pos], est.scaler_.data_max_[pos]
+        return max(float(np.max(hi - lo)), 1e-300), "the positions' range"
+    spread = float(np.max(origins.max(axis=0) - origins.min(axis=0), initial=0.0))
+    scale = float(np.max(np.abs(origins), initial=0.0))
+    return max(spread, scale, 1e-300), "the demonstrations' frames' range"
 
 
 def clock_aligned(taus, knots) -> list:
@@ -326,108 +349,6 @@ def _angular_precision(Q: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray
     return 1.0 / (np.tensordot(w, ang2, axes=1) + floor)
 
 
-#: Ridge of the regression on the frames' origins, as a share of their
-#: standardized variance. Leave-one-out on ``synth.pick_place`` (12
-#: demonstrations, ``benchmarks/probe_task_frames.py``): 0.1 shrank every
-#: template's correction by a tenth (DTW/range 0.0016 translated, 0.0040
-#: turned); 1e-3 and 1e-4 gave 0.0016 and 0.0024.
-FRAME_RIDGE = 1e-3
-
-#: With fewer templates than this many per feature (plus two), the
-#: regression is shrunk hard (ridge 1): it would otherwise fit their noise.
-_FEW = 2
-
-
-def _features(est, demos, frames, k, unit: float) -> list:
-    """Candidate regression features of the templates' frames, and the new values.
-
-    The frames' origins; and, when a frame has an orientation, the origins
-    and each such frame's turn from its new pose (a rotation vector). Which
-    one the slopes use is chosen by leave-one-out (:func:`_slopes`): turns
-    that do not move the hand fit noise (on ``synth.pick_place`` with a
-    vertical approach, turned by up to 60 deg: DTW/range 0.0011 with the
-    origins, 0.0020 with the turns too), turns that do are needed (the
-    approach turned with the object: 0.0030 and 0.0025).
-
-    Returns
-    -------
-    candidates : list of (ndarray of shape (n_templates, p), ndarray of shape (p,))
-    """
-    from scipy.spatial.transform import Rotation
-
-    F = np.hstack([est.task_frames_[name][demos][:, :k] / unit for name in frames])
-    f = np.concatenate([pose[:k] / unit for pose in frames.values()])
-    out = [(F, f)]
-    turns = []
-    for name, pose in frames.items():
-        if pose.size == 7:
-            old = est.task_frames_[name][demos]
-            ref = Rotation.from_quat(pose[[4, 5, 6, 3]])
-            turns.append(
-                (ref.inv() * Rotation.from_quat(old[:, [4, 5, 6, 3]])).as_rotvec()
-            )
-    if turns:
-        out.append(
-            (np.hstack([F, *turns]), np.concatenate([f, np.zeros(3 * len(turns))]))
-        )
-    return out
-
-
-def _fit_slopes(Y, w, F, f_new, scored):
-    """One candidate's regression (:func:`_slopes`) and its leave-one-out error.
-
-    The error is over the columns ``scored`` of ``Y`` only (one unit: the
-    position), each template's residual divided by ``1 - h_jj`` (the exact
-    leave-one-out residual of a linear smoother), weighted by ``w``.
-    """
-    mf = w @ F
-    Fc = F - mf
-    sd = np.sqrt(w @ (Fc * Fc))
-    keep = sd > 1e-9 * max(float(sd.max(initial=0.0)), 1e-300)
-    n_t = Y.shape[0]
-    if not keep.any() or n_t < 3:
-        return None, None, np.inf
-    Z = Fc[:, keep] / sd[keep]
-    z_new = (f_new[keep] - mf[keep]) / sd[keep]
-    G = (Z.T * w) @ Z
-    ridge = FRAME_RIDGE if n_t >= _FEW * Z.shape[1] + 2 else 1.0
-    G += ridge * np.eye(G.shape[0])
-    flat = Y.reshape(n_t, -1)
-    D = flat - w @ flat
-    B = np.linalg.solve(G, (Z.T * w) @ D)  # (p, n_out * c)
-    h = w * np.einsum("jp,pq,jq->j", Z, np.linalg.inv(G), Z)
-    E = (D - Z @ B).reshape(Y.shape)[:, :, scored]
-    loo = E / np.maximum(1.0 - h, 1e-6)[:, None, None]
-    return (
-        Z - z_new,
-        B.reshape(-1, *Y.shape[1:]),
-        float(w @ np.sum(loo**2, axis=(1, 2))),
-    )
-
-
-def _slopes(Y, w, candidates, scored):
-    """How the templates' values move with their frames, and each one's move.
-
-    The weighted ridge regression of every value of ``Y`` (n_templates,
-    n_out, c) on standardized features, one slope per row and column, with
-    the candidate features (:func:`_features`) of least leave-one-out error
-    on the columns ``scored``. Moving template ``j`` by ``-(z_j - z_new) B``
-    gives what its values would be had its frames been the new ones, as far
-    as they vary linearly with them (a part of the motion between two frames
-    moves with both, which no single frame's view gives).
-
-    Returns
-    -------
-    dz : ndarray of shape (n_templates, p) or None
-        Each template's standardized features minus the new ones (``None``:
-        no feature varies, or fewer than 3 templates).
-    B : ndarray of shape (p, n_out, c) or None
-    """
-    fits = [_fit_slopes(Y, w, F, f, scored) for F, f in candidates]
-    dz, B, _ = min(fits, key=lambda fit: fit[2])
-    return dz, B
-
-
 def _views(est, demos, frames, k, unit: float) -> list:
     """The maps of each frame's views of the templates: a list of ``(A, b, dq)``.
 
@@ -558,8 +479,80 @@ def _interp(tq, grid, A) -> np.ndarray:
     return A[i] * (1.0 - f) + A[i + 1] * f
 
 
+def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
+    """One hand's product of its frame views (see :func:`frame_mixer`).
+
+    Returns
+    -------
+    combine : callable
+        ``combine(X, out, tq)``: writes the hand's combined position,
+        velocity and orientation of the physical templates ``X`` at phases
+        ``tq`` into ``out``.
+    """
+    pos, vel, quat = hand.position, hand.velocity, hand.orientation
+    seen_g = _frame_views(Xg, maps, pos, vel, quat)
+    picks = [_smooth(_pick_weight(seen, wg, floor), half) for seen in seen_g]
+    views_g = [(Xg[:, :, pos], None, Xg[:, :, quat] if quat else None)]
+    views_g += [
+        _merged(seen, a[None, :, None]) for seen, a in zip(seen_g, picks, strict=True)
+    ]
+    prec = np.array([_smooth(_gauss(v[0], wg, floor), half) for v in views_g])
+    mixes_g = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
+    shares_g = None
+    if quat:
+        a = np.array([_angular_precision(v[2], wg, FRAME_FLOOR**2) for v in views_g])
+        shares_g = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
+
+    def combine(X, out, tq):
+        seen = _frame_views(X, maps, pos, vel, quat)
+        views = [(X[:, :, pos], X[:, :, vel] if vel else None,
+                  X[:, :, quat] if quat else None)]  # fmt: skip
+        views += [
+            _merged(v, np.interp(tq, grid, a)[None, :, None])
+            for v, a in zip(seen, picks, strict=True)
+        ]
+        M = [_interp(tq, grid, m) for m in mixes_g]  # (n_out, k, k) each
+        out[:, :, pos] = sum(
+            np.einsum("tab,jtb->jta", m, v[0]) for m, v in zip(M, views, strict=True)
+        )
+        if vel:
+            out[:, :, vel] = sum(
+                np.einsum("tab,jtb->jta", m, v[1])
+                for m, v in zip(M, views, strict=True)
+            )
+        if quat:
+            a = _interp(tq, grid, shares_g).T  # (n_views, n_out)
+            out[:, :, quat] = np.einsum(
+                "ft,fjtc->jtc", a, np.array([v[2] for v in views])
+            )
+
+    return combine
+
+
+def _moved_columns(groups, found) -> tuple[list, list]:
+    """The columns the slopes move, and those their choice is scored on.
+
+    With hands: every hand's position, velocity and orientation, scored on
+    the positions. Without (joint space): every column but a two-valued
+    gripper's, scored on all of them.
+    """
+    if found:
+        moved = [j for h in found for j in h.moved]
+        return moved, [moved.index(j) for h in found for j in h.position]
+    moved = [j for j, g in enumerate(groups) if g not in DISCRETE_GROUPS]
+    return moved, list(range(len(moved)))
+
+
 def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     """The step that combines the templates' frame views (see the module).
+
+    Each hand (a position group, with its velocity and orientation:
+    :func:`ndlfd._pose_groups.hands`) is combined on its own: its views'
+    product decides, phase by phase, which frame holds that hand. A model
+    without a hand (joint space) has no views; its templates are moved along
+    the slopes alone (:func:`~ndlfd.learner._frame_slopes.frame_slopes`,
+    every column but a gripper's), as a contextual ProMP conditions its
+    weights on a context.
 
     The weights of the views (which of a frame's two views, and each view's
     share of the product) are computed on a fixed phase grid of
@@ -587,21 +580,21 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
         ``tq``, and their weights, to the combined templates.
     """
     groups = est.column_groups_
-    pos = group_columns(groups, "position")
-    vel = group_columns(groups, "velocity")
-    vel = vel if len(vel) == len(pos) else []
-    quat = group_columns(groups, "orientation")
-    k = len(pos)
+    found = hands(groups)
+    pos = [j for h in found for j in h.position]
+    k = len(found[0].position) if found else None
     demos = est.template_indices_[np.asarray(templates, dtype=np.int64)]
     scaler = est.scaler_
     # positions in units of their range: the views' squares stay in float64
     # whatever the data's magnitude (1e-200 underflowed, 1e200 overflowed)
-    unit = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
-    unit = unit if np.isfinite(unit) and unit > 0 else 1.0
-    maps = _views(est, demos, frames, k, unit)
+    unit = 1.0
+    if pos:
+        unit = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
+        unit = unit if np.isfinite(unit) and unit > 0 else 1.0
+    maps = _views(est, demos, frames, k, unit) if found else []
     floor = FRAME_FLOOR**2
-    candidates = _features(est, demos, frames, k, unit)
-    moved = pos + vel + quat
+    candidates = frame_features(est, demos, frames, unit, quadratic=not found)
+    moved, scored = _moved_columns(groups, found)
 
     def physical(W):
         n_t, n_out, d = W.shape
@@ -618,50 +611,30 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     # blend weights (or a condition's) weigh the blend, not what the frames say
     wg = np.full(wg.size, 1.0 / wg.size)
     Xg = physical(Wg)
-    seen_g = _frame_views(Xg, maps, pos, vel, quat)
-    picks = [_smooth(_pick_weight(seen, wg, floor), half) for seen in seen_g]
-    views_g = [(Xg[:, :, pos], None, Xg[:, :, quat] if quat else None)]
-    views_g += [
-        _merged(seen, a[None, :, None]) for seen, a in zip(seen_g, picks, strict=True)
-    ]
-    prec = np.array([_smooth(_gauss(v[0], wg, floor), half) for v in views_g])
-    mixes_g = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
-    shares_g = None
-    if quat:
-        a = np.array([_angular_precision(v[2], wg, FRAME_FLOOR**2) for v in views_g])
-        shares_g = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
+    mixers = [_hand_mixer(h, maps, Xg, wg, grid, half, floor) for h in found]
 
     def combined(X, tq):
         """The templates (physical) with their views combined, at phases ``tq``."""
-        seen = _frame_views(X, maps, pos, vel, quat)
-        views = [(X[:, :, pos], X[:, :, vel] if vel else None,
-                  X[:, :, quat] if quat else None)]  # fmt: skip
-        views += [
-            _merged(v, np.interp(tq, grid, a)[None, :, None])
-            for v, a in zip(seen, picks, strict=True)
-        ]
         out = X.copy()
-        M = [_interp(tq, grid, m) for m in mixes_g]  # (n_out, k, k) each
-        out[:, :, pos] = sum(
-            np.einsum("tab,jtb->jta", m, v[0]) for m, v in zip(M, views, strict=True)
-        )
-        if vel:
-            out[:, :, vel] = sum(
-                np.einsum("tab,jtb->jta", m, v[1])
-                for m, v in zip(M, views, strict=True)
-            )
-        if quat:
-            a = _interp(tq, grid, shares_g).T  # (n_views, n_out)
-            out[:, :, quat] = np.einsum(
-                "ft,fjtc->jtc", a, np.array([v[2] for v in views])
-            )
+        for combine in mixers:
+            combine(X, out, tq)
         return out
 
     # the slopes on the origins, on the grid, smoothed: per row they carry the
     # templates' noise, amplified where the new origins lie far out
-    dz, B = _slopes(combined(Xg, grid)[:, :, moved], wg, candidates, list(range(k)))
+    dz, B = frame_slopes(combined(Xg, grid)[:, :, moved], wg, candidates, scored)
     if B is not None:
         B = np.moveaxis(_smooth(np.moveaxis(B, 1, 0), half), 0, 1)
+    elif not found:
+        warnings.warn(
+            f"this model learned no relation between its task frames"
+            f" ({', '.join(frames)}) and its path: it has no hand (position"
+            " group) to move, and its demonstrations' frames did not vary (or"
+            " were fewer than 3); the path is generated as without frames",
+            NdlfdWarning,
+            stacklevel=5,
+        )
+    quats = [h.orientation for h in found if h.orientation]
 
     def mix(W: np.ndarray, w: np.ndarray, tq: np.ndarray) -> np.ndarray:
         tq = np.asarray(tq, dtype=np.float64)
@@ -669,9 +642,10 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
         if B is not None:
             Bq = np.moveaxis(_interp(tq, grid, np.moveaxis(B, 1, 0)), 0, 1)
             out[:, :, moved] -= np.einsum("jp,ptc->jtc", dz, Bq)
-        if quat:
+        for quat in quats:
             Q = out[:, :, quat]
             Q /= np.maximum(np.linalg.norm(Q, axis=-1, keepdims=True), 1e-300)
+            out[:, :, quat] = Q
         out[:, :, pos] *= unit
         U = scaler.transform(out.reshape(-1, out.shape[2]), weighted=False)
         return U.reshape(out.shape)

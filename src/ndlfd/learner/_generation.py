@@ -29,6 +29,7 @@ import numpy as np
 
 from .. import hmm
 from .._errors import DecodeError, ValidationError
+from .._pose_groups import orientation_blocks
 from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
@@ -158,16 +159,18 @@ def key_times(all_t: np.ndarray, key_tau: np.ndarray) -> np.ndarray:
 
 
 def _quat_cols(column_groups):
-    cols = group_columns(column_groups, "orientation")
-    return cols if len(cols) == 4 else None
+    """Every orientation group's 4 columns, one group after another (or None)."""
+    cols = [j for b in orientation_blocks(column_groups) for j in b]
+    return cols or None
 
 
 def _renormalize(X: np.ndarray, column_groups) -> np.ndarray:
-    cols = _quat_cols(column_groups)
-    if cols is None:
+    blocks = orientation_blocks(column_groups)
+    if not blocks:
         return X
     X = X.copy()
-    X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
+    for cols in blocks:
+        X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
     return X
 
 

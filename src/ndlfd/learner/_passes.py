@@ -239,12 +239,6 @@ def _probe_item(spec: _PassSpec, i: int, item):
         groups,
     )
     frames = frame_spec(demos[0])
-    if frames and "position" not in groups:
-        raise ValidationError(
-            f"{where()}: task frames ({', '.join(n for n, _ in frames)}) are poses"
-            f" of the position group, which is not learned (groups {groups});"
-            " learn the position or leave the frames out"
-        )
     if spec.cache is not None and isinstance(item, Demonstration):
         spec.cache.put(i, d)
     return groups, d.columns, d.groups, d.n_samples, frames, first_quaternion(d)

@@ -44,6 +44,7 @@ import numpy as np
 from .. import hmm
 from .._errors import ModelFormatError
 from .._fileformat import load_npz, save_npz
+from .._pose_groups import pose_dims
 from .._poses import pose_size_ok
 from ..codebook import Codebook, TimeBins
 from ..io import ColumnMapping
@@ -305,7 +306,7 @@ def _common(arrays, meta, path, make, **older) -> Loaded:
 
 def _frames_of(obj, col_groups, path) -> tuple:
     """The task frames' names and pose sizes of a model file, checked."""
-    dims = col_groups.count("position")
+    dims = pose_dims(col_groups)
     ok = isinstance(obj, list) and all(
         isinstance(e, list)
         and len(e) == 2
@@ -317,7 +318,7 @@ def _frames_of(obj, col_groups, path) -> tuple:
     if not ok or len({e[0] for e in obj}) != len(obj):
         raise ModelFormatError(
             f"{path}: malformed task frames {obj!r} (tampered file?); expected"
-            f" [[name, size], ...] with poses of {dims} or 7 values"
+            f" [[name, size], ...] with poses of {dims or '2, 3'} or 7 values"
         )
     return tuple((name, size) for name, size in obj)
 

@@ -25,6 +25,7 @@ from functools import cached_property
 import numpy as np
 
 from .._errors import ValidationError
+from .._pose_groups import kind, orientation_blocks
 from .._registry import Registry
 from .._validation import check_positive_int
 from ..codebook import Codebook, TimeBins
@@ -39,6 +40,7 @@ __all__ = [
     "OTHER_LEVELS",
     "DemoSpec",
     "Reduced",
+    "default_levels",
     "first_quaternion",
     "frame_spec",
     "levels_by_group",
@@ -218,8 +220,25 @@ def levels_by_group(levels, groups: Sequence[str]) -> dict[str, int]:
         if g in lv:
             out[g] = check_positive_int(lv[g], f"levels[{g!r}]")
         else:
-            out[g] = DEFAULT_LEVELS.get(g, OTHER_LEVELS)
+            out[g] = default_levels(g)
     return out
+
+
+def default_levels(group: str) -> int:
+    """A group's levels when ``levels`` does not name it (:data:`DEFAULT_LEVELS`).
+
+    A hand's group by its kind (``left_position``: a position), a group
+    named ``<prefix>_<name>`` as ``<name>`` (``left_joints``: joints).
+
+    Examples
+    --------
+    >>> default_levels("right_orientation"), default_levels("left_joints")
+    (10, 20)
+    """
+    for name in (group, kind(group), group.rsplit("_", 1)[-1]):
+        if name in DEFAULT_LEVELS:
+            return DEFAULT_LEVELS[name]
+    return OTHER_LEVELS
 
 
 def scaler_from_ranges(ranges, columns, col_groups, *, normalization, weights):
@@ -299,11 +318,11 @@ def _frames_text(spec) -> str:
 
 
 def first_quaternion(d: Demonstration) -> tuple[float, ...]:
-    """A demonstration's first orientation (w, x, y, z), or ``()`` without one."""
-    if "orientation" not in d.group_names:
-        return ()
-    cols = d.columns_of("orientation")
-    return tuple(float(v) for v in d.X[0, cols]) if cols.size == 4 else ()
+    """A demonstration's first orientations (w, x, y, z), or ``()`` without one.
+
+    One quaternion per orientation group (every hand's), one after another.
+    """
+    return tuple(float(v) for b in orientation_blocks(d.groups) for v in d.X[0, b])
 
 
 def same_side(d: Demonstration, ref: tuple[float, ...]) -> Demonstration:
@@ -315,7 +334,7 @@ def same_side(d: Demonstration, ref: tuple[float, ...]) -> Demonstration:
     continuous (:func:`~ndlfd.orientation.make_continuous`), so one sign
     decides for all of them: the first sample's, against ``ref`` (its
     rotation from ``ref`` is below 180 degrees exactly when they point the
-    same way).
+    same way). Each orientation group (hand) is decided on its own.
 
     Examples
     --------
@@ -324,16 +343,23 @@ def same_side(d: Demonstration, ref: tuple[float, ...]) -> Demonstration:
     array([-0., -1., -0., -0.])
     """
     q = first_quaternion(d)
-    if not ref or not q or float(np.dot(q, ref)) >= 0.0:
+    if not ref or len(q) != len(ref):
         return d
-    return negated_orientation(d)
+    blocks = orientation_blocks(d.groups)
+    away = [
+        d.groups[b[0]]
+        for k, b in enumerate(blocks)
+        if float(np.dot(q[4 * k : 4 * k + 4], ref[4 * k : 4 * k + 4])) < 0.0
+    ]
+    return negated_orientation(d, away) if away else d
 
 
-def negated_orientation(d: Demonstration) -> Demonstration:
-    """``d`` with its orientation group's quaternions ``-q``: the same rotations."""
+def negated_orientation(d: Demonstration, groups=("orientation",)) -> Demonstration:
+    """``d`` with the quaternions of ``groups`` negated (``-q``: the same rotations)."""
     X = d.X.copy()
-    cols = d.columns_of("orientation")
-    X[:, cols] = -X[:, cols]
+    for g in groups:
+        cols = d.columns_of(g)
+        X[:, cols] = -X[:, cols]
     return Demonstration(d.t, X, d.columns, d.groups, d.frames)
 
 

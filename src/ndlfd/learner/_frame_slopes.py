@@ -1,0 +1,149 @@
+"""Task frames in generation: how the templates move with their frames' poses.
+
+A ridge regression of every value of the templates on their frames'
+origins (and turns; for a joint-space model also their squares), the
+candidate features chosen by exact leave-one-out: what
+:func:`~ndlfd.learner._frames.frame_mixer` moves each combined template
+along, so that a part of the motion between two frames moves with both,
+and a model without a hand moves with its frames at all.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "FRAME_RIDGE",
+    "fit_slopes",
+    "frame_features",
+    "frame_slopes",
+    "quadratic_features",
+]
+
+#: Ridge of the regression on the frames' origins, as a share of their
+#: standardized variance. Leave-one-out on ``synth.pick_place`` (12
+#: demonstrations, ``benchmarks/probe_task_frames.py``): 0.1 shrank every
+#: template's correction by a tenth (DTW/range 0.0016 translated, 0.0040
+#: turned); 1e-3 and 1e-4 gave 0.0016 and 0.0024.
+FRAME_RIDGE = 1e-3
+
+#: With fewer templates than this many per feature (plus two), the
+#: regression is shrunk hard (ridge 1): it would otherwise fit their noise.
+_FEW = 2
+
+
+def frame_features(est, demos, frames, unit: float, *, quadratic=False) -> list:
+    """Candidate regression features of the templates' frames, and the new values.
+
+    The frames' origins; and, when a frame has an orientation, the origins
+    and each such frame's turn from its new pose (a rotation vector). Which
+    one the slopes use is chosen by leave-one-out (:func:`frame_slopes`): turns
+    that do not move the hand fit noise (on ``synth.pick_place`` with a
+    vertical approach, turned by up to 60 deg: DTW/range 0.0011 with the
+    origins, 0.0020 with the turns too), turns that do are needed (the
+    approach turned with the object: 0.0030 and 0.0025).
+
+    Returns
+    -------
+    candidates : list of (ndarray of shape (n_templates, p), ndarray of shape (p,))
+    """
+    from scipy.spatial.transform import Rotation
+
+    def k(pose):  # a frame's position: 2 or 3 values (7: then a quaternion)
+        return 3 if pose.size == 7 else pose.size
+
+    F = np.hstack(
+        [est.task_frames_[n][demos][:, : k(p)] / unit for n, p in frames.items()]
+    )
+    f = np.concatenate([pose[: k(pose)] / unit for pose in frames.values()])
+    out = [(F, f)]
+    turns = []
+    for name, pose in frames.items():
+        if pose.size == 7:
+            old = est.task_frames_[name][demos]
+            ref = Rotation.from_quat(pose[[4, 5, 6, 3]])
+            turns.append(
+                (ref.inv() * Rotation.from_quat(old[:, [4, 5, 6, 3]])).as_rotvec()
+            )
+    if turns:
+        out.append(
+            (np.hstack([F, *turns]), np.concatenate([f, np.zeros(3 * len(turns))]))
+        )
+    if quadratic:
+        out.append(quadratic_features(F, f))
+    return out
+
+
+def quadratic_features(F: np.ndarray, f: np.ndarray) -> tuple:
+    """The features with their squares and products about the templates' mean.
+
+    A joint-space model's angles are a curved function of a frame's origin
+    (the inverse kinematics); a second-order term lets the slopes follow the
+    curve where the templates span it. Measured on a planar 2-link arm
+    reaching a target moved +-12 cm (reach 1 m; ``tests/learner/hands_data``,
+    30 demonstrations, 10 new targets): the tip's end error median 6.0 mm,
+    largest 8.2 mm with the origins alone; see the test for the quadratic.
+    """
+    c = F.mean(axis=0)
+    D, d = F - c, f - c
+    i, j = np.triu_indices(F.shape[1])
+    return np.hstack([F, D[:, i] * D[:, j]]), np.concatenate([f, d[i] * d[j]])
+
+
+def fit_slopes(Y, w, F, f_new, scored):
+    """One candidate's regression (:func:`frame_slopes`) and its leave-one-out error.
+
+    The error is over the columns ``scored`` of ``Y`` only (one unit: the
+    position), each template's residual divided by ``1 - h_jj`` (the exact
+    leave-one-out residual of a linear smoother), weighted by ``w``.
+    """
+    mf = w @ F
+    Fc = F - mf
+    sd = np.sqrt(w @ (Fc * Fc))
+    # a feature that does not vary is left out: its spread is rounding's
+    # (the weighted mean of equal values is not exactly their value), which
+    # standardized would be noise the slopes fit
+    ref = max(float(sd.max(initial=0.0)), float(np.abs(F).max(initial=0.0)))
+    keep = sd > 1e-9 * max(ref, 1e-300)
+    n_t = Y.shape[0]
+    if not keep.any() or n_t < 3:
+        return None, None, np.inf
+    Z = Fc[:, keep] / sd[keep]
+    z_new = (f_new[keep] - mf[keep]) / sd[keep]
+    G = (Z.T * w) @ Z
+    ridge = FRAME_RIDGE if n_t >= _FEW * Z.shape[1] + 2 else 1.0
+    G += ridge * np.eye(G.shape[0])
+    flat = Y.reshape(n_t, -1)
+    D = flat - w @ flat
+    B = np.linalg.solve(G, (Z.T * w) @ D)  # (p, n_out * c)
+    h = w * np.einsum("jp,pq,jq->j", Z, np.linalg.inv(G), Z)
+    E = (D - Z @ B).reshape(Y.shape)[:, :, scored]
+    loo = E / np.maximum(1.0 - h, 1e-6)[:, None, None]
+    return (
+        Z - z_new,
+        B.reshape(-1, *Y.shape[1:]),
+        float(w @ np.sum(loo**2, axis=(1, 2))),
+    )
+
+
+def frame_slopes(Y, w, candidates, scored):
+    """How the templates' values move with their frames, and each one's move.
+
+    The weighted ridge regression of every value of ``Y`` (n_templates,
+    n_out, c) on standardized features, one slope per row and column, with
+    the candidate features (:func:`frame_features`) of least leave-one-out error
+    on the columns ``scored``. Moving template ``j`` by ``-(z_j - z_new) B``
+    gives what its values would be had its frames been the new ones, as far
+    as they vary linearly with them (a part of the motion between two frames
+    moves with both, which no single frame's view gives).
+
+    Returns
+    -------
+    dz : ndarray of shape (n_templates, p) or None
+        Each template's standardized features minus the new ones (``None``:
+        no feature varies, or fewer than 3 templates).
+    B : ndarray of shape (p, n_out, c) or None
+    """
+    fits = [fit_slopes(Y, w, F, f, scored) for F, f in candidates]
+    dz, B, _ = min(fits, key=lambda fit: fit[2])
+    return dz, B

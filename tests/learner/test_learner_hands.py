@@ -1,0 +1,115 @@
+"""Several hands (pose groups) and task frames for any model (issue 43).
+
+Known answers from tasks built so (``hands_data``): the right hand rigid in
+an object's frame at the grasp, then in the world at a fixed handover; the
+left hand in the world throughout; a planar 2-link arm whose joints reach a
+target, the target as the frame of a joint-space model.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+from hands_data import (
+    GRASP,
+    HANDOVER,
+    forward,
+    object_pose,
+    planar_arm,
+    planar_target,
+    two_hands,
+)
+from scipy.interpolate import interp1d
+
+from ndlfd import Demonstration, KeypointHMM, NdlfdWarning, ValidationError
+
+
+@pytest.fixture(scope="module")
+def handover():
+    demos, _ = two_hands(12, seed=1, flip_signs=True)
+    return demos, KeypointHMM().fit(demos)
+
+
+def _continuous_unit(Q):
+    norms = np.linalg.norm(Q, axis=1)
+    dots = np.sum(Q[1:] * Q[:-1], axis=1)
+    return float(np.max(np.abs(norms - 1.0))), float(dots.min())
+
+
+def test_a_second_hands_quaternions_are_continuous_and_unit(handover):
+    demos, model = handover
+    raw = two_hands(1, seed=1, flip_signs=True)[0][0]
+    for g in ("left_orientation", "right_orientation"):
+        off, worst = _continuous_unit(raw.get(g))
+        assert off < 1e-12 and worst > 0.99  # made continuous on construction
+    o, _ = object_pose(np.random.default_rng(3), spread=0.1)
+    path = model.generate(demos[0].t, dense=True, frames={"object": o})
+    for g in ("left_orientation", "right_orientation"):
+        off, worst = _continuous_unit(path.get(g))
+        assert off < 1e-12, g
+        assert worst > 0.99, g  # no sign flip between two rows (0.3 deg apart)
+
+
+def test_each_hand_follows_its_frame_in_each_phase(handover):
+    """Right: on the new object, then at the handover; left: in the world."""
+    demos, model = handover
+    left = np.mean([d.get("left_position") for d in demos], axis=0)
+    curve = interp1d(np.linspace(0, 1, len(left)), left, axis=0)(
+        np.linspace(0, 1, 20000)
+    )
+    rng = np.random.default_rng(7)
+    for _ in range(4):
+        o, _ = object_pose(rng, spread=0.1)  # up to 2 cm outside the shown
+        path = model.generate(demos[0].t, dense=True, frames={"object": o})
+        R, L = path.get("right_position"), path.get("left_position")
+        reach = np.linalg.norm(R - (o + GRASP), axis=1)
+        assert reach.min() < 0.002  # the noise: 0.5 mm per sample
+        held = reach < 0.005
+        assert held.sum() >= 20  # held there (0.15 of the motion: 30 rows)
+        assert np.linalg.norm(R[-1] - HANDOVER) < 0.002
+        off_curve = np.sqrt(((L[:, None] - curve[None]) ** 2).sum(-1)).min(axis=1)
+        assert off_curve.max() < 0.002  # the left hand where it always went
+        # the world did not move the left hand with the object: its end is fixed
+        assert np.linalg.norm(L[-1] - left[-1]) < 0.002
+
+
+def test_a_named_hand_needs_three_position_columns():
+    t = np.linspace(0, 1, 5)
+    with pytest.raises(ValidationError, match="'left_position' must have 3 columns"):
+        Demonstration.from_arrays(t, left_position=np.zeros((5, 2)))
+    with pytest.raises(ValidationError, match="left_orientation must have shape"):
+        Demonstration.from_arrays(
+            t, left_position=np.zeros((5, 3)), left_orientation=np.ones((5, 3))
+        )
+
+
+def test_a_joint_space_model_reaches_a_moved_target():
+    """Within 1 % of the reach (1 m) at the end, for targets it was not shown."""
+    demos, _ = planar_arm(30, seed=2)
+    model = KeypointHMM().fit(demos)
+    rng = np.random.default_rng(11)
+    for _ in range(8):
+        p = planar_target(rng)
+        q = model.generate(demos[0].t, dense=True, frames={"target": p}).get("joints")
+        assert np.linalg.norm(forward(q[-1]) - p) < 0.01
+        assert np.linalg.norm(q[0] - demos[0].get("joints")[0]) < 0.02  # from home
+
+
+def test_a_joint_space_model_without_a_relation_says_so():
+    demos, _ = planar_arm(6, seed=2)
+    same = [d.with_frames({"target": [0.5, 0.3]}) for d in demos]
+    model = KeypointHMM().fit(same)
+    with pytest.warns(NdlfdWarning, match="learned no relation"):
+        model.generate(same[0].t, frames={"target": [0.6, 0.3]})
+
+
+def test_a_frame_of_a_joint_space_model_is_checked():
+    demos, _ = planar_arm(6, seed=2)
+    model = KeypointHMM().fit(demos)
+    with pytest.raises(ValidationError, match=r"frames\['target'\] must hold 2"):
+        model.generate(demos[0].t, frames={"target": [0.6, 0.3, 0.1]})
+    with pytest.raises(ValidationError, match="unknown task frame 'goal'"):
+        model.generate(demos[0].t, frames={"goal": [0.6, 0.3]})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        model.generate(demos[0].t, frames={"target": [0.6, 0.3]})
