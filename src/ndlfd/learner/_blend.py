@@ -653,11 +653,13 @@ def warped(
             for tau, i, U in zip(tau_list, index_list, U_list, strict=True)
         ]
     )  # (n_demos, n_out, n_dims)
-    if quat_cols is not None and len(quat_cols) == 4:
-        ref = W[int(np.argmax(w))][:, quat_cols]
+    quats = [] if quat_cols is None or len(quat_cols) % 4 else quat_cols
+    for b in range(0, len(quats), 4):  # each orientation group's 4 columns
+        cols = list(quats[b : b + 4])
+        ref = W[int(np.argmax(w))][:, cols]
         for j in range(W.shape[0]):
-            flip = np.sum(W[j][:, quat_cols] * ref, axis=1) < 0
-            W[j][np.ix_(flip, quat_cols)] *= -1.0
+            flip = np.sum(W[j][:, cols] * ref, axis=1) < 0
+            W[j][np.ix_(flip, cols)] *= -1.0
     if mix is not None:
         W = mix(W, w, np.asarray(tq, dtype=np.float64))
     return W, w
