@@ -200,3 +200,58 @@ def _private_calls():
 
 def test_no_module_calls_another_modules_private_functions():
     assert list(_private_calls()) == []
+
+
+#: Stages of several modules kept in one package each (issue 41): the package,
+#: and the prefixes of ground-floor modules that would put a piece of it
+#: beside the package instead.
+STAGE_PACKAGES = {
+    "ndlfd.dp": ("_dp", "_simplify"),
+    "ndlfd.plot": ("_plot", "_frame_plot", "_band"),
+}
+
+
+def _beside(package: str, modules) -> list[str]:
+    """Ground-floor modules named like a piece of ``package``'s stage."""
+    prefixes = STAGE_PACKAGES[package]
+    return [
+        m
+        for m in modules
+        if m.count(".") == 1
+        and m != package
+        and m.rpartition(".")[2].startswith(prefixes)
+    ]
+
+
+def _reexports_only(name: str) -> list[str]:
+    """What a package's ``__init__`` does besides importing and ``__all__``."""
+    tree = ast.parse(MODULES[name].read_text())
+    extra = []
+    for node in tree.body:
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            continue
+        if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
+            continue  # the docstring
+        targets = getattr(node, "targets", None) or [getattr(node, "target", None)]
+        if [ast.unparse(t) for t in targets if t is not None] == ["__all__"]:
+            continue
+        extra.append(f"{MODULES[name].relative_to(ROOT.parent)}:{node.lineno}")
+    return extra
+
+
+@pytest.mark.parametrize("package", sorted(STAGE_PACKAGES))
+def test_a_stage_is_one_package(package):
+    assert _is_package(package)
+    assert _beside(package, MODULES) == []
+    # the package's __init__ only re-exports what its private modules define
+    assert _reexports_only(package) == []
+    inside = [m for m in MODULES if m.startswith(package + ".")]
+    assert inside and all(m.rpartition(".")[2].startswith("_") for m in inside)
+
+
+def test_the_stage_check_sees_a_flat_module():
+    flat = ["ndlfd._dp_kernels", "ndlfd._simplify", "ndlfd.dp", "ndlfd.dp._tree",
+            "ndlfd.cli._simplify", "ndlfd.normalize"]  # fmt: skip
+    assert _beside("ndlfd.dp", flat) == ["ndlfd._dp_kernels", "ndlfd._simplify"]
+    flat = ["ndlfd.plot", "ndlfd._band", "ndlfd._frame_plot", "ndlfd.plot._band"]
+    assert _beside("ndlfd.plot", flat) == ["ndlfd._band", "ndlfd._frame_plot"]
