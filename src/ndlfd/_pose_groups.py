@@ -26,6 +26,7 @@ from ._errors import ValidationError
 
 __all__ = [
     "Hand",
+    "default_columns",
     "hand_group",
     "hand_name",
     "hands",
@@ -195,3 +196,47 @@ def pose_dims(groups) -> int | None:
                 f" {len(h.position)}"
             )
     return len(found[0].position)
+
+
+def default_columns(group: str, k: int) -> tuple[str, ...]:
+    """Default column names of a group with ``k`` columns.
+
+    ``position``: ``x, y, z`` (k <= 3) else ``p0, p1, ...``; ``velocity``:
+    ``vx, vy, vz`` else ``v0, ...``; ``orientation``: ``qw, qx, qy, qz``;
+    ``force``: ``fx, fy, fz`` else ``f0, ...``; any other group ``<group>0, ...``.
+
+    Parameters
+    ----------
+    group : str
+        The group's name.
+    k : int
+        Its number of columns.
+
+    Returns
+    -------
+    columns : tuple of str of length k
+
+    Examples
+    --------
+    >>> default_columns("velocity", 2)
+    ('vx', 'vy')
+    >>> default_columns("position", 4)
+    ('p0', 'p1', 'p2', 'p3')
+    >>> default_columns("grip", 1)
+    ('grip0',)
+    >>> default_columns("left_orientation", 4)
+    ('left_qw', 'left_qx', 'left_qy', 'left_qz')
+    """
+    hand = hand_name(group)
+    if hand:  # a named hand's group: its prefix on the unnamed hand's names
+        return tuple(f"{hand}_{c}" for c in default_columns(kind(group), k))
+    axes = ("x", "y", "z")
+    if group == "orientation" and k == 4:
+        return ("qw", "qx", "qy", "qz")
+    prefix = {"position": ("", "p"), "velocity": ("v", "v"), "force": ("f", "f")}
+    if group in prefix:
+        short, long = prefix[group]
+        if k <= 3:
+            return tuple(short + a for a in axes[:k])
+        return tuple(f"{long}{i}" for i in range(k))
+    return tuple(f"{group}{i}" for i in range(k))

@@ -21,7 +21,13 @@ import numpy as np
 
 from ._demo_kernels import gradient, window_derivative, with_room
 from ._errors import ValidationError
-from ._pose_groups import hand_name, is_orientation, is_position, kind, pose_dims
+from ._pose_groups import (
+    default_columns,
+    hand_group,
+    is_orientation,
+    is_position,
+    pose_dims,
+)
 from ._poses import NO_FRAMES, check_frames
 from ._registry import Registry
 from ._repairs import repaired
@@ -53,50 +59,6 @@ KNOWN_GROUPS = ("position", "velocity", "orientation", "force")
 
 _NAME_BAD = re.compile(r"[,\r\n#]")
 _GROUP_OK = re.compile(r"^[A-Za-z_][A-Za-z0-9_\-]*$")
-
-
-def default_columns(group: str, k: int) -> tuple[str, ...]:
-    """Default column names of a group with ``k`` columns.
-
-    ``position``: ``x, y, z`` (k <= 3) else ``p0, p1, ...``; ``velocity``:
-    ``vx, vy, vz`` else ``v0, ...``; ``orientation``: ``qw, qx, qy, qz``;
-    ``force``: ``fx, fy, fz`` else ``f0, ...``; any other group ``<group>0, ...``.
-
-    Parameters
-    ----------
-    group : str
-        The group's name.
-    k : int
-        Its number of columns.
-
-    Returns
-    -------
-    columns : tuple of str of length k
-
-    Examples
-    --------
-    >>> default_columns("velocity", 2)
-    ('vx', 'vy')
-    >>> default_columns("position", 4)
-    ('p0', 'p1', 'p2', 'p3')
-    >>> default_columns("grip", 1)
-    ('grip0',)
-    >>> default_columns("left_orientation", 4)
-    ('left_qw', 'left_qx', 'left_qy', 'left_qz')
-    """
-    hand = hand_name(group)
-    if hand:  # a named hand's group: its prefix on the unnamed hand's names
-        return tuple(f"{hand}_{c}" for c in default_columns(kind(group), k))
-    axes = ("x", "y", "z")
-    if group == "orientation" and k == 4:
-        return ("qw", "qx", "qy", "qz")
-    prefix = {"position": ("", "p"), "velocity": ("v", "v"), "force": ("f", "f")}
-    if group in prefix:
-        short, long = prefix[group]
-        if k <= 3:
-            return tuple(short + a for a in axes[:k])
-        return tuple(f"{long}{i}" for i in range(k))
-    return tuple(f"{group}{i}" for i in range(k))
 
 
 def unit_time(t) -> np.ndarray:
@@ -664,6 +626,7 @@ def with_velocity(
     polyorder: int = 2,
     half_width: float | None = None,
     overwrite: bool = False,
+    hand: str = "",
 ) -> Demonstration:
     """Add a velocity group derived from the position group and the real time stamps.
 
@@ -711,6 +674,10 @@ def with_velocity(
         When the demonstration already has a velocity group it is returned
         unchanged unless ``overwrite=True``, which recomputes the velocity in
         place of the old one.
+    hand : str, default=""
+        Whose velocity: ``""`` the ``position`` group's (``velocity``), a
+        hand's name that of its ``<hand>_position`` (``<hand>_velocity``,
+        columns ``<hand>_vx, ...``).
 
     Returns
     -------
@@ -729,9 +696,10 @@ def with_velocity(
         raise ValidationError(
             f"demo must be a Demonstration; got {type(demo).__name__}"
         )
-    if "velocity" in demo.groups and not overwrite:
+    pos_group, vel_group = hand_group(hand, "position"), hand_group(hand, "velocity")
+    if vel_group in demo.groups and not overwrite:
         return demo
-    P = demo.get("position")  # read-only; smoothing makes a new array
+    P = demo.get(pos_group)  # read-only; smoothing makes a new array
     n = demo.n_samples
     if n < 2:
         raise ValidationError(
@@ -754,7 +722,7 @@ def with_velocity(
         # into the new columns of the wider array when velocity is appended;
         # steps within JITTER_TOL of the smallest cannot be jittery: skip the
         # percentiles
-        if "velocity" not in demo.groups:
+        if vel_group not in demo.groups:
             wide = with_room(demo.X, P.shape[1])
         out = None if wide is None else wide[:, demo.n_dims :]
         V, steady = gradient(demo.t, P, JITTER_TOL, out=out)
@@ -782,10 +750,10 @@ def with_velocity(
         V = window_derivative(demo.t, P, half_width)
     elif V is None:
         V, _ = gradient(demo.t, P, JITTER_TOL)
-    names = default_columns("velocity", V.shape[1])
+    names = default_columns(vel_group, V.shape[1])
     taken = set(demo.columns)
-    if "velocity" in demo.groups:  # overwritten: its own names are free
-        taken -= {demo.columns[j] for j in demo.columns_of("velocity")}
+    if vel_group in demo.groups:  # overwritten: its own names are free
+        taken -= {demo.columns[j] for j in demo.columns_of(vel_group)}
     if taken.intersection(names):
-        names = tuple(f"velocity.{c}" for c in names)
-    return _with_block(demo, "velocity", V, names, wide)
+        names = tuple(f"{vel_group}.{c}" for c in names)
+    return _with_block(demo, vel_group, V, names, wide)

@@ -58,6 +58,8 @@ from ._norm_limits import (
     norm_constraints,
     row_norm,
 )
+from ._pose_groups import hand_group, hand_name, hands
+from ._pose_groups import kind as group_kind
 from ._trajectory import curve_peaks, rest_curve
 from ._validation import check_positive_int
 from .demonstration import Demonstration
@@ -189,11 +191,21 @@ def check_limits(limits, demo: Demonstration) -> dict[str, np.ndarray]:
 
 def _position_groups(demo: Demonstration) -> list[str]:
     """The groups whose speed can be limited (vectors of positions)."""
-    return [g for g in demo.group_names if g not in _NOT_POSITIONS]
+    return [
+        g
+        for g in demo.group_names
+        if g not in _NOT_POSITIONS
+        and group_kind(g) not in _NOT_POSITIONS
+        and not g.endswith("_joints")
+    ]
 
 
 def _quaternion_groups(demo: Demonstration) -> list[str]:
-    return [g for g in _UNLIMITED if demo.has_group(g) and demo.columns_of(g).size == 4]
+    return [
+        g
+        for g in demo.group_names
+        if group_kind(g) in _UNLIMITED and demo.columns_of(g).size == 4
+    ]
 
 
 def _norm_group(demo: Demonstration, key, kind) -> np.ndarray:
@@ -226,13 +238,15 @@ def _limited_columns(demo: Demonstration, key) -> np.ndarray:
             f"no group or column {key!r} to limit; the path has the groups"
             f" {', '.join(demo.group_names)} and the columns {', '.join(demo.columns)}"
         )
-    if group in _UNLIMITED:
+    if group_kind(group) in _UNLIMITED:
         raise ValidationError(
             f"{key!r} holds quaternions and cannot be limited column by "
             "column; limit its rotation: {'orientation': {'angular_velocity': w,"
             " 'angular_acceleration': a}} (rad/s, rad/s^2)"
         )
-    if group == "velocity" and demo.has_group("position"):
+    if group_kind(group) == "velocity" and demo.has_group(
+        hand_group(hand_name(group), "position")
+    ):
         raise ValidationError(
             "limit the position group's velocity and acceleration "
             "(limits={'position': {'velocity': ...}}), not the velocity group"
@@ -326,13 +340,15 @@ def _within(peaks, lim, tol: float = TOLERANCE) -> bool:
 
 def _roles(path: Demonstration):
     """Columns scaled by TOPP-RA, quaternion columns, held columns, derived velocity."""
-    derived = path.has_group("velocity") and path.has_group("position")
+    # every hand's velocity is derived again from its positions
+    derived = [(h.position, h.velocity) for h in hands(path.groups) if h.velocity]
+    skip = {path.groups[c[0]] for _, c in derived}
     quat, held, spline = [], [], []
     for g in path.group_names:
         cols = list(path.columns_of(g))
-        if g in _UNLIMITED and len(cols) == 4:
+        if group_kind(g) in _UNLIMITED and len(cols) == 4:
             quat.append(cols)
-        elif g == "velocity" and derived:
+        elif g in skip:
             continue
         elif g == "gripper" and _is_discrete(path, cols):
             held += cols
@@ -429,9 +445,8 @@ def _resample(path, clock, new_t, spline, curves, held, derived) -> Demonstratio
     if held:
         j = np.where(s[:, 0] >= 1.0, i + 1, i)
         X[:, held] = path.X[j][:, held]
-    if derived:
-        P = X[:, path.columns_of("position")]
-        X[:, path.columns_of("velocity")] = np.gradient(P, new_t, axis=0, edge_order=2)
+    for pos, vel in derived:
+        X[:, vel] = np.gradient(X[:, pos], new_t, axis=0, edge_order=2)
     return Demonstration(new_t + path.t[0], X, path.columns, path.groups)
 
 

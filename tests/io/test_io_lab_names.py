@@ -87,7 +87,9 @@ def test_library_alone_warns_once_per_file_and_the_goal_is_learned_on_request(
 
 def test_sets_that_cannot_be_told_give_a_mapping_to_paste(tmp_path):
     p = tmp_path / "arms.csv"
-    names = ["t", "left_pos_x", "left_pos_y", "right_pos_x", "right_pos_y"]
+    # two sets of one group, not hands (left_/right_ with 3 columns are
+    # two hands' poses: tests/io/test_io_two_arms.py)
+    names = ["t", "arm1_pos_x", "arm1_pos_y", "arm2_pos_x", "arm2_pos_y"]
     p.write_text(",".join(names) + "\n0,1,2,3,4\n1,1,2,3,4\n")
     with pytest.raises(DataFileError) as err:
         read_csv(p)
@@ -95,14 +97,14 @@ def test_sets_that_cannot_be_told_give_a_mapping_to_paste(tmp_path):
     assert "2 sets of columns name the group 'position'" in msg
     line = msg.split("in place of your groups/drop: ")[1]
     assert line == (
-        "groups={'position': ['left_pos_x', 'left_pos_y'], 'right_position':"
-        " ['right_pos_x', 'right_pos_y']}"
+        "groups={'position': ['arm1_pos_x', 'arm1_pos_y'], 'arm2_xy':"
+        " ['arm2_pos_x', 'arm2_pos_y']}"
     )
-    # pasted, it reads
-    pasted = {"position": ["left_pos_x", "left_pos_y"],
-              "right_position": ["right_pos_x", "right_pos_y"]}  # fmt: skip
+    # pasted, it reads (a second set of 2 columns is no hand: hands are 3-D)
+    pasted = {"position": ["arm1_pos_x", "arm1_pos_y"],
+              "arm2_xy": ["arm2_pos_x", "arm2_pos_y"]}  # fmt: skip
     d = read_csv(p, groups=pasted)
-    assert d.group_names == ("position", "right_position")
+    assert d.group_names == ("position", "arm2_xy")
 
 
 def test_unknown_names_error_gives_groups_and_drop(tmp_path):

@@ -113,3 +113,30 @@ def test_a_frame_of_a_joint_space_model_is_checked():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         model.generate(demos[0].t, frames={"target": [0.6, 0.3]})
+
+
+def test_every_hand_is_limited_as_a_pose(handover):
+    """Angular limits on a named hand's rotation, a speed limit on another's."""
+    pytest.importorskip("toppra")
+    from ndlfd.limits import TOLERANCE, path_peaks, time_scale
+
+    demos, model = handover
+    o, _ = object_pose(np.random.default_rng(1))
+    path = model.generate(demos[0].t, dense=True, frames={"object": o})
+    before = path_peaks(path)
+    right = path.columns_of("right_orientation")
+    left = path.columns_of("left_position")
+    w = 0.5 * float(before["angular_velocity"][right].max())
+    s = 0.5 * float(before["speed"][left].max())
+    lim = {"right_orientation": {"angular_velocity": w}, "left_position": {"speed": s}}
+    slow = time_scale(path, lim)
+    after = path_peaks(slow)
+    assert after["angular_velocity"][right].max() <= w * (1 + TOLERANCE)
+    assert after["speed"][left].max() <= s * (1 + TOLERANCE)
+    assert slow.duration > path.duration
+    # the velocity of each hand is the derivative of its positions again
+    for hand in ("left", "right"):
+        P, V = slow.get(f"{hand}_position"), slow.get(f"{hand}_velocity")
+        np.testing.assert_allclose(
+            V, np.gradient(P, slow.t, axis=0, edge_order=2), atol=1e-9
+        )

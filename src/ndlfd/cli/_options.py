@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
+from .._pose_groups import is_orientation
 from .._repairs import repaired
 from .._validation import check_times
 from ..demonstration import with_velocity
@@ -319,6 +320,11 @@ def column_options(args: argparse.Namespace) -> dict:
         if name in groups:
             raise ValidationError(f"--group {name} is given twice")
         cols, rep = _representation_suffix(name, cols, entry)
+        if rep is not None and representation not in (None, rep):
+            raise ValidationError(
+                f"--group {entry}: every orientation of a file is in one"
+                f" representation; got {representation} and {rep}"
+            )
         if rep is not None:
             representation = rep
         groups[name] = split_names(cols, f"--group {name}")
@@ -373,10 +379,10 @@ def _representation_suffix(name: str, cols: str, entry: str):
         check_representation(rep)
     except ValidationError as exc:
         raise ValidationError(f"--group {entry}: {exc}") from None
-    if name != "orientation":
+    if not is_orientation(name):
         raise ValidationError(
-            f"--group {entry}: a representation ({rep}) is for the orientation"
-            f" group; got it on {name!r}"
+            f"--group {entry}: a representation ({rep}) is for an orientation"
+            f" group (orientation, <hand>_orientation); got it on {name!r}"
         )
     return head, rep
 

@@ -58,6 +58,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, MissingExtraError, NdlfdWarning, ValidationError
+from .._pose_groups import pose_dims
 from .._repairs import repaired
 from ..demonstration import Demonstration
 from ._bag_frames import bag_frame_poses, check_bag_frames, read_bag_frames
@@ -644,7 +645,7 @@ def read_bag_mapped(
             bad_rows=bad_rows,
         )
         if held:  # the task frames over this demonstration
-            dims = demo.groups.count("position")
+            dims = pose_dims(demo.groups)
             poses = bag_frame_poses(source, held, at[seg], dims, base, how)
             demo = demo.with_frames(poses)
         span = None

@@ -21,7 +21,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
-from .._poses import check_frame_name
+from .._poses import check_frame_name, pose_size_ok
 
 __all__ = [
     "FRAME_ANGLE_TOLERANCE",
@@ -95,16 +95,20 @@ def check_frame_sources(frames, what: str, example: str) -> dict[str, str] | Non
     return out or None
 
 
-def sized_pose(values: np.ndarray, dims: int, where: str, what: str) -> np.ndarray:
-    """``values`` (n, k) checked against a position group of ``dims`` columns."""
+def sized_pose(values: np.ndarray, dims, where: str, what: str) -> np.ndarray:
+    """``values`` (n, k) checked against a position group of ``dims`` columns.
+
+    Without a position group (``dims`` 0 or ``None``: a joint-space model) a
+    frame is a pose in the plane or in space: 2, 3 or 7 values.
+    """
     k = values.shape[1]
+    if pose_size_ok(k, dims or None):
+        return values
     if not dims:
         raise DataFileError(
-            f"{where}: {what} is a pose in the position group's coordinates, but"
-            " the demonstration has no position group"
+            f"{where}: {what} has {k} value(s); expected 2 (x, y), 3 (x, y, z)"
+            " or 7 (x, y, z, then a unit quaternion qw, qx, qy, qz)"
         )
-    if k == dims or (dims == 3 and k == 7):
-        return values
     seven = " or 7 (x, y, z, then a unit quaternion qw, qx, qy, qz)"
     raise DataFileError(
         f"{where}: {what} has {k} value(s); expected {dims} (a position, as the"

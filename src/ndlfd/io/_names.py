@@ -623,7 +623,10 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
         for s in sets[1:]:
             prefix = lab.prefixes.get(s[0], "")
             prefix = re.sub(r"[^A-Za-z0-9_]+", "_", prefix).strip("_") or "other"
-            groups.setdefault(f"{g}_{prefix}" if group_hand(g) else f"{prefix}_{g}", s)
+            name = f"{g}_{prefix}" if group_hand(g) else f"{prefix}_{g}"
+            if g == "position" and len(s) != 3:  # a hand's position is 3-D
+                name = f"{prefix}_{'xyz'[: len(s)] if len(s) <= 3 else 'p'}"
+            groups.setdefault(name, s)
     rep = None
     for g, cols in lab.unsure:
         groups.setdefault(g, cols)

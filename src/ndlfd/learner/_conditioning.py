@@ -16,6 +16,7 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import ValidationError
+from .._pose_groups import orientation_blocks
 from ._discrete import DISCRETE_GROUPS
 from ._extrapolation import warn_far_condition
 from ._rests import NO_PROGRESS, contact_window, path_rests, smoothed
@@ -325,20 +326,22 @@ def orient_condition(cond, points, scaler, column_groups, what: str) -> dict | N
     """
     if cond is None or isinstance(cond, OrientedCondition):
         return cond
-    cols = group_columns(column_groups, "orientation")
-    if "orientation" in cond and len(cols) == 4:
-        q = cond["orientation"]
+    for cols in orientation_blocks(column_groups):  # every hand's
+        name = column_groups[cols[0]]
+        if name not in cond:
+            continue
+        q = cond[name]
         norm = float(np.linalg.norm(q))
         if not norm > 1e-12:
             raise ValidationError(
-                f"{what}['orientation'] must be a quaternion w, x, y, z of non-zero"
+                f"{what}[{name!r}] must be a quaternion w, x, y, z of non-zero"
                 f" norm; got {q.tolist()}"
             )
         q = q / norm
         if points is not None:
             P = scaler.inverse_transform(points, weighted=False)
             q = -q if float(q @ P[:, cols].mean(axis=0)) < 0.0 else q
-        cond = {**cond, "orientation": q}
+        cond = {**cond, name: q}
     if what in ("start", "goal"):  # a via point's values are another matter
         warn_far_condition(cond, points, scaler, column_groups, what)
     return OrientedCondition(cond)

@@ -29,7 +29,7 @@ import numpy as np
 
 from .. import hmm
 from .._errors import DecodeError, ValidationError
-from .._pose_groups import orientation_blocks
+from .._pose_groups import hands, orientation_blocks
 from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
@@ -45,7 +45,7 @@ from ._blend import (
 )
 from ._cache import ModelCache
 from ._choice import CLOCK_RIDGE, frame_ends, plan_end_shift, via_plan
-from ._conditioning import group_columns, log_weights_for, orient_condition, pin
+from ._conditioning import log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_physical, snap_two_valued, two_valued_columns
 from ._frames import check_new_frames, clock_aligned, frame_parts
@@ -554,10 +554,10 @@ def _derive_velocity(X, tq, key_tau, all_t, column_groups) -> np.ndarray:
     normalized times ``key_tau``), whose velocity is interpolated from the
     dense derivative.
     """
-    pos = group_columns(column_groups, "position")
-    vel = group_columns(column_groups, "velocity")
-    if pos and len(pos) == len(vel):
-        n = all_t.size
+    n = all_t.size
+    for pos, vel in ((h.position, h.velocity) for h in hands(column_groups)):
+        if not vel:  # every hand's velocity that was learned
+            continue
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             V = np.gradient(X[:n, pos], all_t, axis=0)
         if not np.isfinite(V).all():

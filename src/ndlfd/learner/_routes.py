@@ -76,6 +76,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._errors import ValidationError
+from .._pose_groups import kind
 from .._validation import check_positive_int, check_work_size
 from ._curves import frechet_matrix, route_curves
 
@@ -180,8 +181,9 @@ def route_columns(column_groups, route_groups=None) -> np.ndarray:
     column_groups : sequence of str
         The group of each learned column.
     route_groups : sequence of str, optional
-        The groups to judge on; by default ``position`` if learned, else every
-        group but velocity, orientation, force and gripper, else all.
+        The groups to judge on; by default every hand's position
+        (``position``, ``left_position``, ...) if learned, else every group
+        but velocity, orientation, force and gripper, else all.
 
     Returns
     -------
@@ -195,13 +197,16 @@ def route_columns(column_groups, route_groups=None) -> np.ndarray:
     array([0, 1])
     >>> route_columns(("velocity",))
     array([0])
+    >>> route_columns(("left_position",) * 3 + ("left_orientation",) * 4)
+    array([0, 1, 2])
     >>> route_columns(("position", "gripper"), route_groups=["gripper"])
     array([1])
     """
     groups = np.asarray(column_groups, dtype=object)
     if route_groups is not None:
         return np.flatnonzero(np.isin(groups, list(route_groups)))
-    for chosen in (groups == "position", ~np.isin(groups, _NOT_ROUTE)):
+    kinds = np.array([kind(g) for g in column_groups], dtype=object)
+    for chosen in (kinds == "position", ~np.isin(kinds, _NOT_ROUTE)):
         if chosen.any():
             return np.flatnonzero(chosen)
     return np.arange(groups.size, dtype=np.int64)

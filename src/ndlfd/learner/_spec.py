@@ -25,7 +25,7 @@ from functools import cached_property
 import numpy as np
 
 from .._errors import ValidationError
-from .._pose_groups import kind, orientation_blocks
+from .._pose_groups import hand_group, hands, kind, orientation_blocks
 from .._registry import Registry
 from .._validation import check_positive_int
 from ..codebook import Codebook, TimeBins
@@ -114,10 +114,15 @@ def resolve_groups(groups, first: Demonstration, *, derive_velocity=True):
     if groups is None:
         return tuple(first.group_names)
     if isinstance(groups, str) and groups == "auto":
-        have = set(first.group_names)
-        if derive_velocity and "position" in have:
-            have.add("velocity")
-        auto = tuple(g for g in AUTO_GROUPS if g in have)
+        have = list(first.group_names)
+        if derive_velocity:  # every hand's velocity (position: velocity)
+            have += [
+                hand_group(h.name, "velocity")
+                for h in hands(first.groups)
+                if hand_group(h.name, "velocity") not in have
+            ]
+        # the kinds in AUTO_GROUPS' order (each hand's in the order it came)
+        auto = tuple(g for k in AUTO_GROUPS for g in have if kind(g) == k)
         return auto + tuple(g for g in first.group_names if g not in auto)
     if isinstance(groups, str):
         return (groups,)
@@ -155,13 +160,10 @@ def prepare(
         With exactly ``groups``.
     """
     have = demo.group_names
-    if (
-        "velocity" in groups
-        and "velocity" not in have
-        and "position" in have
-        and derive_velocity
-    ):
-        demo = with_velocity(demo)
+    if derive_velocity:
+        for h in hands(demo.groups):
+            if hand_group(h.name, "velocity") in groups and not h.velocity:
+                demo = with_velocity(demo, hand=h.name)
         have = demo.group_names
     if have == tuple(groups):
         return demo  # already these groups in this order: select would copy it
