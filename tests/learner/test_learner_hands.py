@@ -140,3 +140,33 @@ def test_every_hand_is_limited_as_a_pose(handover):
         np.testing.assert_allclose(
             V, np.gradient(P, slow.t, axis=0, edge_order=2), atol=1e-9
         )
+
+
+def test_a_frame_moves_only_the_hands_it_names():
+    demos, objs = two_hands(12, seed=1)
+    o = np.array([0.22, 0.35, 0.0])  # 12 cm from the objects' mean
+    away = float(np.linalg.norm(o - np.mean(objs, axis=0)))
+    right = KeypointHMM(frame_hands={"object": ["right"]}).fit(demos)
+    left = KeypointHMM(frame_hands={"object": ["left_position"]}).fit(demos)
+    reach = {}
+    for name, model in (("right", right), ("left", left)):
+        path = model.generate(demos[0].t, dense=True, frames={"object": o})
+        R = path.get("right_position")
+        reach[name] = float(np.linalg.norm(R - (o + GRASP), axis=1).min())
+    assert reach["right"] < 0.002
+    assert reach["left"] > 0.5 * away  # the right hand went where it always went
+
+
+@pytest.mark.parametrize(
+    ("frame_hands", "match"),
+    [
+        ({"object": ["middle"]}, "names the hand 'middle'; this model's hands are"),
+        ({"cube": ["left"]}, "names the frame 'cube', which the demonstrations"),
+        ({"object": "left"}, "must map a frame's name to a non-empty list"),
+        ({"object": []}, "must map a frame's name to a non-empty list"),
+    ],
+)
+def test_frame_hands_is_checked(frame_hands, match):
+    demos, _ = two_hands(4, seed=1, n_samples=60)
+    with pytest.raises(ValidationError, match=match):
+        KeypointHMM(frame_hands=frame_hands).fit(demos)

@@ -45,10 +45,10 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 INPUTS = DATA / "identity_inputs.npz"
 PATHS = DATA / "identity_paths.npz"
 
-#: Parameters added after the known answers were made (issue 26's routes):
-#: the metadata digest is of the file without them (they are at their
-#: defaults, None, which is checked).
-LATER_PARAMS = ("n_routes", "route_groups")
+#: Parameters added after the known answers were made (issue 26's routes,
+#: issue 43's frame_hands): the metadata digest is of the file without them
+#: (they are at their defaults, None, which is checked).
+LATER_PARAMS = ("n_routes", "route_groups", "frame_hands")
 
 #: Tolerance of a generated path against the stored one, relative to each
 #: group's range (see the module's docstring).

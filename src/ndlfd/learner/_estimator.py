@@ -12,6 +12,7 @@ and holds the parameters, the learned attributes and the entry points.
 from __future__ import annotations
 
 import os
+from functools import partial
 
 import numpy as np
 
@@ -20,7 +21,7 @@ from ..limits import limited
 from ._blend import MATCH_WINDOW
 from ._cache import ModelCache
 from ._conditioning import check_condition
-from ._frames import check_learned_frames, split_frames
+from ._frames import check_frame_hands, check_learned_frames, split_frames
 from ._generation import GENERATIONS, decode_key_points, observations
 from ._params import ParamsMixin, check_fitted, check_params
 from ._passes import collect_statistics, scan_ranges
@@ -99,8 +100,12 @@ class KeypointHMM(ParamsMixin):
         How many routes the demonstrations take; by default found
         (:mod:`ndlfd.learner._routes`: gaps on the route groups).
     route_groups : list of str, optional
-        The groups routes are judged on; by default ``position``, else every
-        group but velocity, orientation, force and gripper.
+        The groups routes are judged on; by default every hand's position,
+        else every group but velocity, orientation, force and gripper.
+    frame_hands : mapping of str to list of str, optional
+        Which hands each task frame may move (``{"socket": ["left"]}``: a hand
+        by its name, ``position`` the unnamed one); by default any, each phase
+        as the demonstrations agree (:mod:`ndlfd.learner._frames`).
     random_state : None, int or Generator, default=None
         Chooses the templates when there are more than ``max_templates``
         demonstrations (:mod:`ndlfd.learner._templates`); ``None`` is seed 0.
@@ -171,6 +176,7 @@ class KeypointHMM(ParamsMixin):
         match_window=MATCH_WINDOW,
         n_routes=None,
         route_groups=None,
+        frame_hands=None,
         random_state=None,
     ):
         self.groups = groups
@@ -192,6 +198,7 @@ class KeypointHMM(ParamsMixin):
         self.match_window = match_window
         self.n_routes = n_routes
         self.route_groups = route_groups
+        self.frame_hands = frame_hands
         self.random_state = random_state
 
     # --------------------------------------------------------------------- fit
@@ -399,8 +406,7 @@ class KeypointHMM(ParamsMixin):
     def save(self, path: str | os.PathLike) -> None:
         """Save the fitted learner (``.npz`` + JSON metadata, never pickle).
 
-        Format version 4, or 1 for a model loaded from a version-1 file
-        (:mod:`ndlfd.learner._persist`).
+        Format version 5, or 1 for a model loaded from a version-1 file.
 
         Parameters
         ----------
@@ -411,7 +417,7 @@ class KeypointHMM(ParamsMixin):
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> KeypointHMM:
-        """Load a learner written by :meth:`save` (format versions 1 to 4).
+        """Load a learner written by :meth:`save` (format versions 1 to 5).
 
         Parameters
         ----------
@@ -421,19 +427,20 @@ class KeypointHMM(ParamsMixin):
         -------
         model : KeypointHMM
         """
-
-        def make(params):  # the estimator of the file's checked parameters
-            check_params({**cls().get_params(), **params})
-            return cls(**params)
-
         with model_file_errors(path):
-            file = load_model(path, make)
+            file = load_model(path, partial(_checked, cls))
             self = file.estimator
             _set_fitted(self, file.spec(tuple(self.groups)), file.stats)
             vars(self).update(file.v1)  # a version-1 file: key points and HMM
             self.n_states_used_ = file.n_states_used
             self.n_clipped_ = file.n_clipped
         return self
+
+
+def _checked(cls, params: dict):
+    """The estimator of a model file's parameters, checked."""
+    check_params({**cls().get_params(), **params})
+    return cls(**params)
 
 
 def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
@@ -456,5 +463,6 @@ def _set_fitted(est, spec: DemoSpec, stats: FitStats | None) -> None:
         est.routes_ = model_routes(est, est._cache)
         est.task_frames_ = split_frames(stats.frames, spec.frames)
         check_learned_frames(est)
+        check_frame_hands(est)
     else:
         est.task_frames_ = {}

@@ -55,6 +55,7 @@ from ._frame_slopes import frame_features, frame_slopes
 
 __all__ = [
     "FRAME_FLOOR",
+    "check_frame_hands",
     "check_learned_frames",
     "check_new_frames",
     "clock_aligned",
@@ -151,6 +152,48 @@ def check_learned_frames(est) -> None:
                 NdlfdWarning,
                 stacklevel=3,
             )
+
+
+def _hand_label(name: str) -> str:
+    return name or "position"
+
+
+def check_frame_hands(est) -> None:
+    """Check ``frame_hands`` against the learned frames and hands (after fit).
+
+    Raises
+    ------
+    ValidationError
+        A frame the demonstrations did not carry, or a hand the model has not.
+    """
+    fh = getattr(est, "frame_hands", None)
+    if not fh:
+        return
+    frames = est.task_frames_
+    labels = [_hand_label(h.name) for h in hands(est.column_groups_)]
+    for name, named in fh.items():
+        if name not in frames:
+            raise ValidationError(
+                f"frame_hands names the frame {name!r}, which the demonstrations"
+                f" did not carry; their frames: {', '.join(frames) or 'none'}"
+            )
+        for h in named:
+            h = h.removesuffix("_position") if h != "position" else h
+            if h not in labels:
+                raise ValidationError(
+                    f"frame_hands[{name!r}] names the hand {h!r}; this model's"
+                    f" hands are {', '.join(map(repr, labels)) or 'none'}"
+                    " (a hand is a position group: position, <hand>_position)"
+                )
+
+
+def _allowed(est, frame: str, hand: str) -> bool:
+    """Whether ``frame`` may move ``hand`` (``frame_hands``; default: yes)."""
+    fh = getattr(est, "frame_hands", None)
+    if not fh or frame not in fh:
+        return True
+    named = {h if h == "position" else h.removesuffix("_position") for h in fh[frame]}
+    return _hand_label(hand) in named
 
 
 def check_new_frames(est, frames) -> dict | None:
@@ -438,6 +481,11 @@ def _smooth(A: np.ndarray, half: int) -> np.ndarray:
     return (c[2 * half + 1 :] - c[: -2 * half - 1]) / (2 * half + 1)
 
 
+def _smooth_along(B: np.ndarray, half: int) -> np.ndarray:
+    """Slopes ``(p, n_grid, c)`` smoothed along the grid (:func:`_smooth`)."""
+    return np.moveaxis(_smooth(np.moveaxis(B, 1, 0), half), 0, 1)
+
+
 def _frame_views(X, maps, pos, vel, quat):
     """Every frame's views of templates in physical units: lists of (P, V, Q)."""
     P = X[:, :, pos]
@@ -529,18 +577,23 @@ def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
     return combine
 
 
-def _moved_columns(groups, found) -> tuple[list, list]:
-    """The columns the slopes move, and those their choice is scored on.
+def _slope_parts(est, groups, found, frames) -> list:
+    """What the slopes move: ``(columns, scored, frames)`` per regression.
 
-    With hands: every hand's position, velocity and orientation, scored on
-    the positions. Without (joint space): every column but a two-valued
-    gripper's, scored on all of them.
+    With hands: one per hand, its position, velocity and orientation moved
+    on the frames that may move it (``frame_hands``), the choice of features
+    scored on its position. Without (joint space): every column but a
+    two-valued gripper's, on every frame, scored on all of them.
     """
-    if found:
-        moved = [j for h in found for j in h.moved]
-        return moved, [moved.index(j) for h in found for j in h.position]
-    moved = [j for j, g in enumerate(groups) if g not in DISCRETE_GROUPS]
-    return moved, list(range(len(moved)))
+    if not found:
+        moved = [j for j, g in enumerate(groups) if g not in DISCRETE_GROUPS]
+        return [(moved, list(range(len(moved))), dict(frames))]
+    out = []
+    for h in found:
+        own = {f: p for f, p in frames.items() if _allowed(est, f, h.name)}
+        if own:
+            out.append((h.moved, list(range(len(h.position))), own))
+    return out
 
 
 def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
@@ -593,8 +646,6 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
         unit = unit if np.isfinite(unit) and unit > 0 else 1.0
     maps = _views(est, demos, frames, k, unit) if found else []
     floor = FRAME_FLOOR**2
-    candidates = frame_features(est, demos, frames, unit, quadratic=not found)
-    moved, scored = _moved_columns(groups, found)
 
     def physical(W):
         n_t, n_out, d = W.shape
@@ -611,7 +662,10 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     # blend weights (or a condition's) weigh the blend, not what the frames say
     wg = np.full(wg.size, 1.0 / wg.size)
     Xg = physical(Wg)
-    mixers = [_hand_mixer(h, maps, Xg, wg, grid, half, floor) for h in found]
+    mixers = []
+    for h in found:  # each hand from the views of the frames that may move it
+        own = [m for m, f in zip(maps, frames, strict=True) if _allowed(est, f, h.name)]
+        mixers.append(_hand_mixer(h, own, Xg, wg, grid, half, floor))
 
     def combined(X, tq):
         """The templates (physical) with their views combined, at phases ``tq``."""
@@ -622,10 +676,14 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
 
     # the slopes on the origins, on the grid, smoothed: per row they carry the
     # templates' noise, amplified where the new origins lie far out
-    dz, B = frame_slopes(combined(Xg, grid)[:, :, moved], wg, candidates, scored)
-    if B is not None:
-        B = np.moveaxis(_smooth(np.moveaxis(B, 1, 0), half), 0, 1)
-    elif not found:
+    Cg = combined(Xg, grid)
+    slopes = []  # (columns, dz, B) of each regression
+    for moved, scored, own in _slope_parts(est, groups, found, frames):
+        candidates = frame_features(est, demos, own, unit, quadratic=not found)
+        dz, B = frame_slopes(Cg[:, :, moved], wg, candidates, scored)
+        if B is not None:
+            slopes.append((moved, dz, _smooth_along(B, half)))
+    if not slopes and not found:
         warnings.warn(
             f"this model learned no relation between its task frames"
             f" ({', '.join(frames)}) and its path: it has no hand (position"
@@ -639,7 +697,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     def mix(W: np.ndarray, w: np.ndarray, tq: np.ndarray) -> np.ndarray:
         tq = np.asarray(tq, dtype=np.float64)
         out = combined(physical(W), tq)
-        if B is not None:
+        for moved, dz, B in slopes:
             Bq = np.moveaxis(_interp(tq, grid, np.moveaxis(B, 1, 0)), 0, 1)
             out[:, :, moved] -= np.einsum("jp,ptc->jtc", dz, Bq)
         for quat in quats:

@@ -48,6 +48,7 @@ PARAM_NAMES = (
     "match_window",
     "n_routes",
     "route_groups",
+    "frame_hands",
     "random_state",
 )
 
@@ -104,6 +105,22 @@ def check_params(p: Mapping) -> None:
         raise ValidationError(
             "route_groups must be a non-empty list of group names, e.g."
             f" ['position']; got {rg!r}"
+        )
+    fh = p["frame_hands"]
+    if fh is not None and not (
+        isinstance(fh, Mapping)
+        and all(
+            isinstance(k, str)
+            and not isinstance(v, str)
+            and isinstance(v, (list, tuple))
+            and len(v) > 0
+            and all(isinstance(h, str) for h in v)
+            for k, v in fh.items()
+        )
+    ):
+        raise ValidationError(
+            "frame_hands must map a frame's name to a non-empty list of hands,"
+            f" e.g. {{'socket': ['left'], 'peg': ['right']}}; got {fh!r}"
         )
     rs = p["random_state"]
     if not (rs is None or isinstance(rs, (np.random.Generator, np.random.RandomState))):
