@@ -527,6 +527,25 @@ def _interp(tq, grid, A) -> np.ndarray:
     return A[i] * (1.0 - f) + A[i + 1] * f
 
 
+def _mixed(M: list, V: list) -> np.ndarray:
+    """``sum_f M[f] @ V[f]`` row by row: ``(n_out, k, k)`` on ``(n, n_out, k)``.
+
+    The same sums as ``np.einsum("tab,jtb->jta", ...)`` added over the views
+    (up to rounding), a column at a time: twice as fast for 3-D positions.
+
+    Examples
+    --------
+    >>> M = [np.eye(2)[None] * 2.0]
+    >>> _mixed(M, [np.ones((1, 1, 2))])
+    array([[[2., 2.]]])
+    """
+    out = np.zeros(V[0].shape)
+    for m, v in zip(M, V, strict=True):
+        for b in range(v.shape[2]):
+            out += m[None, :, :, b] * v[:, :, None, b]
+    return out
+
+
 def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
     """One hand's product of its frame views (see :func:`frame_mixer`).
 
@@ -560,18 +579,13 @@ def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
             for v, a in zip(seen, picks, strict=True)
         ]
         M = [_interp(tq, grid, m) for m in mixes_g]  # (n_out, k, k) each
-        out[:, :, pos] = sum(
-            np.einsum("tab,jtb->jta", m, v[0]) for m, v in zip(M, views, strict=True)
-        )
+        out[:, :, pos] = _mixed(M, [v[0] for v in views])
         if vel:
-            out[:, :, vel] = sum(
-                np.einsum("tab,jtb->jta", m, v[1])
-                for m, v in zip(M, views, strict=True)
-            )
+            out[:, :, vel] = _mixed(M, [v[1] for v in views])
         if quat:
-            a = _interp(tq, grid, shares_g).T  # (n_views, n_out)
-            out[:, :, quat] = np.einsum(
-                "ft,fjtc->jtc", a, np.array([v[2] for v in views])
+            a = _interp(tq, grid, shares_g)  # (n_out, n_views)
+            out[:, :, quat] = sum(
+                a[None, :, f, None] * v[2] for f, v in enumerate(views)
             )
 
     return combine
@@ -596,7 +610,7 @@ def _slope_parts(est, groups, found, frames) -> list:
     return out
 
 
-def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
+def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=None):
     """The step that combines the templates' frame views (see the module).
 
     Each hand (a position group, with its velocity and orientation:
@@ -624,6 +638,9 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     warp : callable
         ``warp(tq) -> (W, w)``: the templates time-warped to phases ``tq``
         and their weights (:func:`~ndlfd.learner._blend.warped`).
+    grid_warp : callable, optional
+        ``grid_warp() -> (W, w)``: ``warp`` on the phase grid (the same for
+        any frames: a replanning robot's plan pays it once).
 
     Returns
     -------
@@ -657,7 +674,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp):
     # the weights, on the grid, smoothed
     grid = np.linspace(0.0, 1.0, _GRID)
     half = round(FRAME_SMOOTH * (_GRID - 1))
-    Wg, wg = warp(grid)
+    Wg, wg = grid_warp() if grid_warp is not None else warp(grid)
     # the frames' statistics from every template alike: a sample's random
     # blend weights (or a condition's) weigh the blend, not what the frames say
     wg = np.full(wg.size, 1.0 / wg.size)
@@ -733,11 +750,16 @@ def frame_parts(est, plan, frames, quat_cols, cache):
     def warp(p):
         return warped(*templates, p, quat_cols=quat_cols)
 
-    def make():
-        return frame_mixer(est, plan.templates, frames, warp)
-
     if not np.isfinite(plan.logp) or not hasattr(cache, "memo"):
-        return index, make()
-    key = ("frames", plan.knots.tobytes(), np.asarray(plan.templates).tobytes(),
-           tuple((k, v.tobytes()) for k, v in frames.items()))  # fmt: skip
+        return index, frame_mixer(est, plan.templates, frames, warp)
+    plan_key = (plan.knots.tobytes(), np.asarray(plan.templates).tobytes())
+
+    def grid_warp():
+        grid = np.linspace(0.0, 1.0, _GRID)
+        return cache.memo(("frame grid", *plan_key), lambda: warp(grid))
+
+    def make():
+        return frame_mixer(est, plan.templates, frames, warp, grid_warp)
+
+    key = ("frames", *plan_key, tuple((k, v.tobytes()) for k, v in frames.items()))
     return index, cache.memo(key, make)
