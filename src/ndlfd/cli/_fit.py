@@ -11,7 +11,9 @@ from dataclasses import replace
 import numpy as np
 
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
+from .._pose_groups import hand_group, hand_name, hands, kind
 from .._repairs import collecting_repairs
+from ..demonstration import with_velocity
 from ..dp import DISTANCES
 from ..io import CLI_HINTS, demo_files
 from ..learner import (
@@ -25,6 +27,7 @@ from ..learner import (
     route_columns,
 )
 from ..limits import path_peaks
+from ._conditions import parse_named
 from ._options import (
     add_column_options,
     add_route_options,
@@ -59,6 +62,102 @@ def _parse_levels(text: str | None):
     for g, v in levels.items():
         check_range(v, f"--levels {g}", low=2)
     return levels
+
+
+#: What ``--frame-hands`` looks like.
+_FRAME_HANDS_EXAMPLE = "FRAME=HAND[,HAND...] (e.g. socket=left or cube=left,right)"
+
+
+def parse_frame_hands(texts: list[str] | None) -> dict | None:
+    """Repeated ``--frame-hands`` flags as ``{frame: [hand, ...]}`` (or ``None``).
+
+    ``KeypointHMM``'s ``frame_hands``: the hands each task frame may move, a
+    hand by its name (``left`` for ``left_position``; ``position`` the
+    unnamed one). A frame given twice, an empty hand or a hand named twice is
+    an error naming the flag.
+
+    Examples
+    --------
+    >>> parse_frame_hands(["socket=left", "peg=right"])
+    {'socket': ['left'], 'peg': ['right']}
+    >>> parse_frame_hands(None) is None
+    True
+    """
+    if not texts:
+        return None
+    return parse_named(texts, "--frame-hands", _FRAME_HANDS_EXAMPLE, split_names)
+
+
+def check_frame_hands(frame_hands: dict | None, frames, groups) -> None:
+    """``--frame-hands`` against the frames and hands of the first file read.
+
+    The checks of ``KeypointHMM.fit`` (a frame the demonstrations carry, a
+    hand the model has), made before the files are read on the workers and
+    worded for the flags.
+
+    Parameters
+    ----------
+    frame_hands : dict of str to list of str, or None
+    frames : iterable of str
+        The task frames of the first demonstration (``--task-frame``).
+    groups : sequence of str
+        The groups learned.
+
+    Raises
+    ------
+    ValidationError
+        A frame the demonstrations do not carry, or a hand the groups have not.
+
+    Examples
+    --------
+    >>> check_frame_hands({"cube": ["arm"]}, ["cube"], ["left_position", "gripper"])
+    Traceback (most recent call last):
+    ...
+    ndlfd._errors.ValidationError: --frame-hands cube names the hand 'arm'; ...
+    """
+    if not frame_hands:
+        return
+    frames = list(frames)
+    labels = [h.name or "position" for h in hands(list(groups))]
+    for name, named in frame_hands.items():
+        if name not in frames:
+            given = (
+                ", ".join(frames) if frames else "none (give them with --task-frame)"
+            )
+            raise ValidationError(
+                f"--frame-hands names the frame {name!r}, which the"
+                f" demonstrations do not carry; their task frames: {given}"
+            )
+        for h in named:
+            hand = h if h == "position" else h.removesuffix("_position")
+            if hand not in labels:
+                have = ", ".join(map(repr, labels)) if labels else "none"
+                raise ValidationError(
+                    f"--frame-hands {name} names the hand {h!r}; the learned"
+                    f" hands are {have} (a hand is a position group: position or"
+                    " <hand>_position, e.g. left_position)"
+                )
+
+
+def _hand_velocities(demo, groups, source, news):
+    """The named hands' velocities in ``groups`` that ``demo`` lacks, derived.
+
+    As the fit derives them (``with_velocity(hand=...)``): the first file is
+    checked against the groups with them (the unnamed hand's velocity is
+    derived by ``prepare_groups``).
+    """
+    for g in groups:
+        hand = hand_name(g)
+        position = hand_group(hand, "position") if hand else None
+        if (
+            position is not None
+            and kind(g) == "velocity"
+            and not demo.has_group(g)
+            and demo.has_group(position)
+        ):
+            with noting(source, news):
+                demo = with_velocity(demo, hand=hand)
+    return demo
 
 
 def _connect(address: str | None):
@@ -119,6 +218,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     out = check_output(args.output)
     groups = split_names(args.groups, "--groups")
     frames = parse_frame_columns(args.task_frame)
+    frame_hands = parse_frame_hands(args.frame_hands)
     levels = _parse_levels(args.levels)
     weights = None
     if args.weights is not None:
@@ -171,8 +271,13 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                     f"{what} names {', '.join(unknown)}, which is not learned;"
                     f" the learned groups are {', '.join(groups)} (--groups)"
                 )
+    hand_news: list = []
+    named = _hand_velocities(first, groups, first_map.source, hand_news)
+    tell(hand_news)
     with collecting_repairs():
-        _, derived = prepare_groups([first], [first_map], groups)
+        _, derived = prepare_groups([named], [first_map], groups)
+    derived = derived or named is not first
+    check_frame_hands(frame_hands, first.frames, groups)
     defaults = KeypointHMM()
     model = KeypointHMM(
         groups=groups,
@@ -191,6 +296,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
         match_window=args.match_window,
         n_routes=args.routes,
         route_groups=args.route_groups,
+        frame_hands=frame_hands,
         random_state=args.random_state,
     )
     check_params(model.get_params())  # as fit does, before connecting
@@ -239,7 +345,7 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     )
     say(args, describe_routes(model))
     if model.task_frames_:
-        say(args, describe_frames(model.task_frames_))
+        say(args, describe_frames(model.task_frames_, frame_hands))
     peaks = demos_peaks_line([d for d, _ in pairs], groups)
     if peaks:  # of the first file only: the others are read on the workers
         whose = (
@@ -259,8 +365,15 @@ def _cmd_fit(args: argparse.Namespace) -> int:
     return 0
 
 
-def describe_frames(frames: dict) -> str:
+def describe_frames(frames: dict, frame_hands: dict | None = None) -> str:
     """One line: the task frames learned, and how to give new poses of them.
+
+    Parameters
+    ----------
+    frames : dict of str to ndarray of shape (n_demos, n_values)
+        The model's ``task_frames_``.
+    frame_hands : dict of str to list of str, optional
+        The hands each frame may move (``--frame-hands``), said per frame.
 
     Examples
     --------
@@ -269,13 +382,19 @@ def describe_frames(frames: dict) -> str:
     >>> print(describe_frames({"object": poses}))
     task frames of the 6 demonstrations: object (3 values; moved over 0.1); new
     poses: ndlfd generate --task-frame object=X,Y,Z
+    >>> print(describe_frames({"object": poses}, {"object": ["right"]}))
+    task frames of the 6 demonstrations: object (3 values; moved over 0.1; moves
+    right only); new poses: ndlfd generate --task-frame object=X,Y,Z
     """
     values = {2: "X,Y", 3: "X,Y,Z", 7: "X,Y,Z,QW,QX,QY,QZ"}
     each, example = [], []
     for name, poses in frames.items():
         size = poses.shape[1]
         quat = ", position and unit quaternion w,x,y,z" if size == 7 else ""
-        each.append(f"{name} ({size} values{quat}; {_frame_spread(poses)})")
+        moves = ""
+        if frame_hands and name in frame_hands:
+            moves = f"; moves {', '.join(frame_hands[name])} only"
+        each.append(f"{name} ({size} values{quat}; {_frame_spread(poses)}{moves})")
         example.append(f"--task-frame {name}={values.get(size, 'V1,...')}")
     n_demos = next(iter(frames.values())).shape[0]
     return (
@@ -561,5 +680,15 @@ def add_fit(sub) -> None:
         " (object=tf:object_frame, in the demonstrations' base frame); of a"
         " LeRobot dataset, a feature (object=observation.object_pose); it must"
         " stay within 5 mm and 3 degrees over each demonstration",
+    )
+    p.add_argument(
+        "--frame-hands",
+        action="append",
+        metavar="FRAME=HAND[,HAND...]",
+        help="the hands task frame FRAME may move (a hand by its name: left for"
+        " left_position, position for the unnamed one); the others ignore it;"
+        " by default a frame may move every hand, each phase as the"
+        " demonstrations agree; repeatable, one frame each, e.g."
+        " --frame-hands socket=left --frame-hands peg=right",
     )
     p.set_defaults(func=_cmd_fit)
