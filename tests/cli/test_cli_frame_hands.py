@@ -143,6 +143,11 @@ def test_the_lab_names_are_two_hands_and_the_cube_a_frame(capsys, tmp_path, two_
     assert rc == 0, err
     line = next(e for e in err if e.startswith("task frames"))
     assert "cube (3 values; moved over" in line and "; moves right only)" in line
+    # the peaks of each hand's positions, none of a quaternion or of the
+    # velocities derived from the positions
+    peaks = next(e for e in err if e.startswith("demonstrations' peaks"))
+    said = [part.split(" velocity ")[0] for part in peaks.split(": ", 1)[1].split("; ")]
+    assert said == ["left_position", "right_position"], peaks
 
 
 @pytest.mark.parametrize("cube", NEW_CUBES)

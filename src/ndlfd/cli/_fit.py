@@ -466,8 +466,9 @@ def demos_peaks_line(demos, groups) -> str:
 
     The largest over ``demos`` of :func:`ndlfd.limits.path_peaks`, column by
     column, as ``generate`` reports a path's peaks: not of an orientation
-    (quaternions), a velocity beside a position (derived from it when
-    learned), or a gripper on two values (it switches in one sample).
+    (quaternions, of any hand), a hand's velocity beside its position
+    (derived from it when learned), or a gripper on two values (it switches
+    in one sample).
     Demonstrations of fewer than 3 samples have no peaks; the line is empty
     when no group has any.
 
@@ -504,8 +505,8 @@ def demos_peaks_line(demos, groups) -> str:
     for g in groups:
         if (
             g not in top
-            or g == "orientation"  # a quaternion
-            or (g == "velocity" and "position" in top)  # derived
+            or kind(g) == "orientation"  # a quaternion (any hand's)
+            or (kind(g) == "velocity" and _position_of(g) in top)  # derived
             or (g == "gripper" and _two_valued(demos, g))  # switches
         ):
             continue
@@ -517,6 +518,11 @@ def demos_peaks_line(demos, groups) -> str:
             f"acceleration {va[ia, 1]:.3g} /s^2 ({names[ia]})"
         )
     return "; ".join(parts)
+
+
+def _position_of(velocity: str) -> str:
+    """The position group a hand's velocity group is derived from."""
+    return hand_group(hand_name(velocity), "position")
 
 
 def _two_valued(demos, group: str) -> bool:
