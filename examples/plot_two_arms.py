@@ -96,8 +96,8 @@ if HAVE_SIM:
 # The path is generated from where the hands start, with the cube's new pose
 # as the frame, and run open loop: each row's two hand poses are turned into
 # joints by inverse kinematics (``ndlfd.sim.run_hands``) and commanded.
-# Success is the task's own reward at its maximum: the left hand holds the
-# cube in the air, the right has let go.
+# Success is the task's own reward at its maximum (gym-aloha's "successful
+# transfer"): the left hand's fingers on the cube, the cube off the table.
 if HAVE_SIM:
     cubes = np.array([[0.02, 0.43, 0.05], [0.10, 0.56, 0.05], [0.18, 0.45, 0.05]])
     times = np.arange(round(np.mean([r.t[-1] for r in recordings]) / 0.02) + 1) * 0.02
