@@ -1,236 +1,117 @@
-"""The README's shell examples really run (its Python examples run as doctests)."""
+"""The README gets out of the way (issue 41), and its quickstart really runs.
 
-import os
+Its shell quickstart (``$ ndlfd`` lines) and its Python quickstart (a script)
+run on the recordings they name, written here; its joint-trajectory commands
+run in tests/cli/test_cli_bag.py. The examples that moved to the user guides
+run in tests/test_guides.py.
+"""
+
 import re
-import shlex
-import subprocess
-import sys
-from pathlib import Path
+import runpy
 
 import numpy as np
 import pytest
 
-from ndlfd import Demonstration, synth
-from ndlfd.io import read_csv, write_csv, write_table
+from doc_blocks import (
+    README,
+    ROOT,
+    commands,
+    python_blocks,
+    run,
+    section,
+    write_recordings,
+)
+from ndlfd.io import read_csv
 
-README = Path(__file__).resolve().parents[1] / "README.md"
-BIN = Path(sys.executable).parent / "ndlfd"
-
-
-_ROBOT_DATA = "## From ROS 2 and LeRobot"
-
-
-def _shell_examples(section: str | None = None) -> list[list[str]]:
-    """The README's ``$ ndlfd`` lines: of one section, or outside the robot data."""
-    text = README.read_text(encoding="utf-8")
-    if section is not None:
-        text = text.split(section, 1)[1]
-        text = re.split(r"^##+ ", text, flags=re.M)[0]
-    elif _ROBOT_DATA in text:  # run by their own tests (they need the extras)
-        head, rest = text.split(_ROBOT_DATA, 1)
-        text = head + rest[rest.index("\n## ") :]
-    lines = re.findall(r"^\$ (ndlfd .+)$", text, re.M)
-    return [shlex.split(m, comments=True) for m in lines]
+TEXT = README.read_text(encoding="utf-8")
+#: run with a robot's bags by tests/cli/test_cli_bag.py
+TRAJECTORIES = "### Joint trajectories for a ROS 2 controller"
 
 
-def _run(args, cwd):
-    env = dict(os.environ, PYTHONWARNINGS="error")
-    # this source tree, also from the examples' folder (PYTHONPATH=src)
-    paths = env.get("PYTHONPATH", "").split(os.pathsep)
-    env["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in paths if p)
-    r = subprocess.run(
-        [str(BIN), *args[1:]],
-        cwd=cwd,
-        capture_output=True,
-        text=True,
-        env=env,
-        timeout=600,
-    )
-    assert r.returncode == 0, f"{shlex.join(args)} failed: {r.stderr}"
+def _quickstart() -> list[list[str]]:
+    return commands(section(TEXT, "## Quickstart: your CSV files to a path and a plot"))
 
 
-def test_readme_shell_examples_run(tmp_path):
-    examples = _shell_examples()
-    assert [e[1] for e in examples] == [
-        "simplify",
-        "fit",
-        "generate",
-        "generate",
-        "generate",
-        "generate",
-        "generate",
-        "sample",
-        "evaluate",
-        "reproduce",
-        "fit",
-        "generate",
-        "plot",
-    ]
-    # the files the examples name
-    rng = np.random.default_rng(0)
-    walk = np.column_stack(
-        [np.arange(500) * 0.1, np.cumsum(rng.normal(size=(500, 2)), 0)]
-    )
-    write_table(tmp_path / "walk.csv", ["t", "x", "y"], walk)
-    train, test = synth.make_dataset("square", n_demos=15, random_state=2)
-    (tmp_path / "demos").mkdir()
-    for i, d in enumerate(train):
-        write_csv(d, tmp_path / "demos" / f"d{i}.csv")
-    # what a robot executed so far: the held-out square's first 30 %, from 0 s
-    n = int(0.3 * test.n_samples)
-    so_far = Demonstration(test.t[:n] - test.t[0], test.X[:n], test.columns,
-                           test.groups)  # fmt: skip
-    write_csv(so_far, tmp_path / "so-far.csv")
-    # "Your own data": the picture's recordings (docs/images/plot-own-data.png)
-    own, _ = synth.make_dataset("square", n_demos=6, noise=0.02, random_state=2)
-    (tmp_path / "recordings").mkdir()
-    for i, d in enumerate(own):
-        rows = np.column_stack([d.t, d.get("position")]).tolist()
-        text = ["time;pos_x;pos_y"] + [";".join(f"{v:.6g}" for v in r) for r in rows]
-        (tmp_path / "recordings" / f"reach{i}.csv").write_text("\n".join(text) + "\n")
+def test_readme_is_short():
+    assert len(README.read_bytes()) <= 8192
+
+
+def test_the_two_commands_are_on_the_first_screen():
+    # within the first 25 lines, as the set-up commands, in a console block
+    lines = TEXT.splitlines()[:25]
+    for command in ("make demo", "make test"):
+        assert any(ln.startswith(command + " ") for ln in lines), command
+    assert "```console" in lines
+
+
+def test_readme_links_lead_somewhere():
+    links = re.findall(r"\]\(([^)\s]+)\)", TEXT)
+    local = [link for link in links if "://" not in link]
+    assert "docs/images/routes.png" in local  # the one picture
+    for link in local:
+        target, _, anchor = link.partition("#")
+        path = ROOT / target
+        assert path.exists(), link
+        if anchor:  # a heading of the page, as GitHub names its anchor
+            headings = re.findall(r"^#+ (.+)$", path.read_text(), re.M)
+            assert anchor in {_slug(h) for h in headings}, link
+
+
+def _slug(heading: str) -> str:
+    """GitHub's anchor of a Markdown heading."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def test_slug_of_known_headings():
+    assert _slug("Pick-and-place with moved objects (protocols `task` and "
+                 "`frames`, issue 29)") == (
+        "pick-and-place-with-moved-objects-protocols-task-and-frames-issue-29"
+    )  # fmt: skip
+    assert _slug("Two commands") == "two-commands"
+
+
+def test_readme_shell_quickstart_runs(tmp_path):
+    pytest.importorskip("matplotlib")
+    examples = _quickstart()
+    assert [e[1] for e in examples] == ["fit", "generate", "plot"]
+    # every README command is the quickstart's or the trajectories'
+    trajectories = commands(section(TEXT, TRAJECTORIES))
+    assert examples + trajectories == commands(TEXT)
+    write_recordings(tmp_path / "recordings")
     for args in examples:
-        if args[1] == "reproduce":
-            args = [*args, "--quick"]  # the full run is checked by its own test
-        if args[1] == "evaluate":  # the full run is docs/evaluation.md
-            args = [*args, "--shapes", "Line", "--folds", "1", "--no-plot"]
-        _run(args, tmp_path)
-    assert read_csv(tmp_path / "keypoints.csv").n_samples < 500
-    path = read_csv(tmp_path / "path.csv")
-    assert path.n_samples == 400 and path.t[-1] == 8.0
-    at_100 = read_csv(tmp_path / "path-100hz.csv")  # --rate: stamps k / 100
-    np.testing.assert_array_equal(at_100.t, np.arange(801) / 100.0)
-    here = read_csv(tmp_path / "from-here.csv").get("position")[0]
-    np.testing.assert_array_equal(here, [0.5, 0.0])
-    via = read_csv(tmp_path / "via.csv")  # through the via point at t = 4
-    at = [np.interp(4.0, via.t, c) for c in via.get("position").T]
-    np.testing.assert_allclose(at, [10.0, 10.5], atol=0.01)
-    so_far = read_csv(tmp_path / "so-far.csv")
-    rest = read_csv(tmp_path / "rest.csv")  # the prefix, then its continuation
-    np.testing.assert_array_equal(rest.t[:n], so_far.t)
-    np.testing.assert_allclose(rest.get("position")[:n], so_far.get("position"))
-    continuations = sorted((tmp_path / "continuations").glob("sample_*.csv"))
-    assert len(continuations) == 20
-    assert (tmp_path / "evaluation" / "summary.md").exists()
-    assert (tmp_path / "docs" / "reproduction" / "report.md").exists()
+        run(args, tmp_path)
     # the generated path keeps the recordings' names (fit recorded them)
     assert (tmp_path / "reach.csv").read_text().startswith("time,pos_x,pos_y,")
+    assert "`time,pos_x,pos_y,vx,vy`" in TEXT  # as it says
     reach = read_csv(tmp_path / "reach.csv", groups={"position": ["pos_x", "pos_y"]})
     assert reach.n_samples == 200 and reach.columns[:2] == ("pos_x", "pos_y")
     assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_readme_whole_robot_log_examples_run(tmp_path):
-    pytest.importorskip("matplotlib")
-    sys.path.insert(0, str(Path(__file__).parent / "io"))
-    from lab_logs import FRANKA_COLUMNS, write_franka
+def test_readme_python_quickstart_runs(tmp_path, monkeypatch):
+    mpl = pytest.importorskip("matplotlib")
+    mpl.use("Agg")
+    import matplotlib.pyplot as plt
 
-    examples = _shell_examples("### A whole robot log")
-    assert [e[1] for e in examples] == ["fit", "generate", "plot"]
-    write_franka(tmp_path / "logs", n_demos=5, n=120)  # 27 columns, no time, 20 Hz
-    assert (tmp_path / "logs" / "task0.csv").read_text().split("\n")[0] == ",".join(
-        FRANKA_COLUMNS
-    )
-    for args in examples:
-        _run(args, tmp_path)
-    path = read_csv(tmp_path / "task-path.csv")
-    assert path.n_samples == 120 and path.t[-1] == 119 / 20
-    assert not any(c.startswith("goal_") for c in path.columns)
-    assert set(path.group_names) >= {"position", "orientation", "force", "joints"}
-    assert (tmp_path / "task.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-
-
-def test_readme_ros_bag_examples_run(tmp_path):
-    pytest.importorskip("rosbags")
-    pytest.importorskip("matplotlib")
-    from bag_samples import pick_place_messages, write_bag
-    from ndlfd.io import read_bag
-
-    examples = _shell_examples("### ROS 2 bags")
-    assert [e[1] for e in examples] == ["fit", "generate", "generate", "plot"]
-    # the picture's bags (docs/images/ros-pick-triads.png)
-    (tmp_path / "bags").mkdir()
-    for i in range(6):
-        _, _, _, poses, grip = pick_place_messages(seed=i)
-        write_bag(tmp_path / "bags" / f"pick{i}", {"/ee_pose": poses, "/gripper": grip})
-    for args in examples:
-        _run(args, tmp_path)
-    (path,) = read_bag(tmp_path / "pick.mcap", ["/ndlfd/path", "/ndlfd/path/gripper"])
-    assert path.n_samples == 300 and path.t[-1] == 6.0
-    assert path.group_names == ("position", "orientation", "gripper")
-    assert (tmp_path / "pick.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-
-
-def test_readme_lerobot_examples_run(tmp_path):
-    pytest.importorskip("pyarrow")
-    from lerobot_writer import write_lerobot
-
-    examples = _shell_examples("### LeRobot datasets")
-    assert [e[1] for e in examples] == ["fit", "generate"]
-    # a v3.0 dataset of 41 picks (x, y, z, roll, pitch, yaw, gripper), as
-    # LeRobot writes it
-    s = np.linspace(0, 1, 50)
-    picks = [
-        np.column_stack([s, s**2, 0 * s + 0.01 * i, 0.1 * s, 0 * s, s - 0.5, s > 0.5])
-        for i in range(41)
-    ]
-    names = ["x", "y", "z", "roll", "pitch", "yaw", "gripper"]
-    write_lerobot(tmp_path / "pick_cube", [{"observation.state": p} for p in picks],
-                  {"observation.state": names})  # fmt: skip
-    for args in examples:
-        _run(args, tmp_path)
-    pick = (tmp_path / "pick.csv").read_text().splitlines()[0]
-    assert pick == "timestamp,x,y,z,roll,pitch,yaw,gripper,vx,vy,vz"
-    assert f"`{pick}`" in README.read_text(encoding="utf-8")  # as it says
-
-
-def test_readme_so101_examples_run(tmp_path):
-    pytest.importorskip("pyarrow")
-    pytest.importorskip("matplotlib")
-    from lerobot_writer import SO101_STATE, write_so101
-    from ndlfd.io import read_parquet
-
-    examples = _shell_examples("### An SO-101 arm")
-    assert [e[1] for e in examples] == ["fit", "generate", "generate", "plot"]
-    write_so101(tmp_path / "so101_pick", n_demos=12)  # LeRobot v3.0, as it writes
-    for args in examples:
-        _run(args, tmp_path)
-    header = (tmp_path / "next.csv").read_text().splitlines()[0]
-    assert header == ",".join(["timestamp", *SO101_STATE])
-    assert f"`{header}`" in README.read_text(encoding="utf-8")
-    back = read_parquet(tmp_path / "next.parquet")
-    assert back.groups == ("joints",) * 5 + ("gripper",)
-    assert (tmp_path / "so101.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-
-
-def test_readme_so101_to_ros2_examples_run(tmp_path):
-    pytest.importorskip("pyarrow")
-    pytest.importorskip("rosbags")
-    from rosbags.rosbag2 import Reader
-
-    from bag_samples import STORE
-    from lerobot_writer import write_so101
-
-    examples = _shell_examples("### From a LeRobot SO-101 dataset to a ROS 2")
-    assert [e[1] for e in examples] == ["fit", "generate"]
-    write_so101(tmp_path / "so101_pick", n_demos=12)  # LeRobot v3.0, as it writes
-    for args in examples:
-        _run(args, tmp_path)
-    flags = examples[1]
-    names = flags[flags.index("--joint-names") + 1].split(",")
-    start = [float(v) for v in flags[flags.index("--start") + 1][7:].split(",")]
-    with Reader(tmp_path / "so101_traj") as reader:
-        (conn,) = reader.connections
-        ((_, _, raw),) = list(reader.messages())
-        msg = STORE.deserialize_cdr(raw, conn.msgtype)
-    assert conn.msgtype == "trajectory_msgs/msg/JointTrajectory"
-    assert list(msg.joint_names) == names
-    P = np.array([p.positions for p in msg.points])
-    V = np.array([p.velocities for p in msg.points])
-    # radians, from the given start, within 30 deg/s per joint, at rest at both ends
-    np.testing.assert_allclose(P[0, :5], np.deg2rad(start), rtol=0, atol=1e-9)
-    assert np.abs(V[:, :5]).max() <= np.deg2rad(30.0) * (1 + 1e-3)
-    assert np.all(V[[0, -1]] == 0.0)
-    stamps = [
-        p.time_from_start.sec + p.time_from_start.nanosec * 1e-9 for p in msg.points
-    ]
-    assert np.all(np.diff(stamps) > 0) and stamps[-1] > 4.0  # slowed down
+    (script,) = python_blocks(TEXT)
+    code = [ln for ln in script.splitlines() if ln and not ln.startswith("#")]
+    assert len(code) <= 10  # a ten-line quickstart
+    recordings = write_recordings(tmp_path / "recordings")
+    (tmp_path / "quickstart.py").write_text(script)
+    monkeypatch.chdir(tmp_path)
+    try:
+        runpy.run_path(str(tmp_path / "quickstart.py"), run_name="__main__")
+    finally:
+        plt.close("all")
+    path = read_csv(tmp_path / "reach.csv", groups={"position": ["pos_x", "pos_y"]})
+    assert path.columns[:2] == ("pos_x", "pos_y")
+    # a path on the recordings' square: its corners within the recordings' span
+    first = read_csv(recordings / "reach0.csv", time_column="time",
+                     groups={"position": ["pos_x", "pos_y"]})  # fmt: skip
+    assert path.n_samples == first.n_samples
+    lo, hi = first.get("position").min(0), first.get("position").max(0)
+    span = hi - lo
+    P = path.get("position")
+    assert np.all(P.min(0) > lo - 0.2 * span) and np.all(P.max(0) < hi + 0.2 * span)
+    assert (tmp_path / "reach.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
