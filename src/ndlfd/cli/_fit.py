@@ -13,7 +13,6 @@ import numpy as np
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
 from .._pose_groups import hand_group, hand_name, hands, kind
 from .._repairs import collecting_repairs
-from ..demonstration import with_velocity
 from ..dp import DISTANCES
 from ..io import CLI_HINTS, demo_files
 from ..learner import (
@@ -139,27 +138,6 @@ def check_frame_hands(frame_hands: dict | None, frames, groups) -> None:
                 )
 
 
-def _hand_velocities(demo, groups, source, news):
-    """The named hands' velocities in ``groups`` that ``demo`` lacks, derived.
-
-    As the fit derives them (``with_velocity(hand=...)``): the first file is
-    checked against the groups with them (the unnamed hand's velocity is
-    derived by ``prepare_groups``).
-    """
-    for g in groups:
-        hand = hand_name(g)
-        position = hand_group(hand, "position") if hand else None
-        if (
-            position is not None
-            and kind(g) == "velocity"
-            and not demo.has_group(g)
-            and demo.has_group(position)
-        ):
-            with noting(source, news):
-                demo = with_velocity(demo, hand=hand)
-    return demo
-
-
 def _connect(address: str | None):
     """A Dask client of the scheduler at ``address`` (None: no client)."""
     if address is None:
@@ -271,12 +249,8 @@ def _cmd_fit(args: argparse.Namespace) -> int:
                     f"{what} names {', '.join(unknown)}, which is not learned;"
                     f" the learned groups are {', '.join(groups)} (--groups)"
                 )
-    hand_news: list = []
-    named = _hand_velocities(first, groups, first_map.source, hand_news)
-    tell(hand_news)
     with collecting_repairs():
-        _, derived = prepare_groups([named], [first_map], groups)
-    derived = derived or named is not first
+        _, derived = prepare_groups([first], [first_map], groups)
     check_frame_hands(frame_hands, first.frames, groups)
     defaults = KeypointHMM()
     model = KeypointHMM(

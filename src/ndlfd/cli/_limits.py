@@ -13,6 +13,8 @@ import argparse
 import numpy as np
 
 from .._errors import ValidationError
+from .._pose_groups import hand_group, hand_name, is_orientation
+from .._pose_groups import kind as group_kind
 from .._trajectory import rest_points
 from ..demonstration import Demonstration
 from ..limits import KINDS, NORM_KINDS, path_peaks, time_scale
@@ -155,7 +157,7 @@ def peaks_line(path: Demonstration, peaks: dict | None = None) -> str:
     parts = []
     for g in path.group_names:
         cols = path.columns_of(g)
-        if g == "orientation" and cols.size == 4:
+        if is_orientation(g) and cols.size == 4:
             w = peaks["angular_velocity"][cols[0]]
             a = peaks["angular_acceleration"][cols[0]]
             parts.append(
@@ -164,8 +166,11 @@ def peaks_line(path: Demonstration, peaks: dict | None = None) -> str:
             )
             continue
         if (
-            g == "orientation"
-            or (g == "velocity" and path.has_group("position"))  # derived
+            is_orientation(g)
+            or (
+                group_kind(g) == "velocity"  # derived from its hand's position
+                and path.has_group(hand_group(hand_name(g), "position"))
+            )
             or (g == "gripper" and np.unique(path.X[:, cols]).size <= 2)  # switches
         ):
             continue

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
-from .._pose_groups import is_orientation
+from .._pose_groups import hand_group, hand_name, is_orientation, kind
 from .._repairs import repaired
 from .._validation import check_times
 from ..demonstration import with_velocity
@@ -486,15 +486,18 @@ def prepare_groups(demos, maps, groups: list[str]):
     out, news = [], []
     derived = False
     for d, m in zip(demos, maps, strict=True):
-        if "velocity" in groups and not d.has_group("velocity"):
-            if not d.has_group("position"):
+        for vel in [g for g in groups if kind(g) == "velocity"]:  # every hand's
+            if d.has_group(vel):
+                continue
+            hand = hand_name(vel)
+            if not d.has_group(hand_group(hand, "position")):
                 raise ValidationError(
-                    f"--groups asks for velocity, but {m.source} has neither"
-                    f" velocity nor position to derive it from; it has"
-                    f" {', '.join(d.group_names)}"
+                    f"--groups asks for {vel}, but {m.source} has neither"
+                    f" {vel} nor {hand_group(hand, 'position')} to derive it from;"
+                    f" it has {', '.join(d.group_names)}"
                 )
             with noting(m.source, news):
-                d = with_velocity(d)
+                d = with_velocity(d, hand=hand)
             derived = True
         missing = [g for g in groups if not d.has_group(g)]
         if missing:
