@@ -132,49 +132,59 @@ def _plans(n=4, seed=7):
     return out
 
 
-@pytest.mark.filterwarnings("ignore:time stamps are jittery")
-def test_a_cartesian_grasp_is_held_where_the_via_point_puts_it():
-    _, model = cartesian_set()
+def _held(model, space, plans):
+    """Drift over the next 0.5 s and dip below the object (m), every path."""
     drift, dip = [], []
     for obj in map(np.array, OBJECTS):
-        for t, tv, hold in _plans():
-            for start in (None, {"position": HOME + [0.03, -0.04, 0.0]}):
-                path = model.generate(t, dense=True, start=start,
-                                      via=[(tv, {"position": obj})])  # fmt: skip
-                P = path.get("position")
-                np.testing.assert_allclose(P[t == tv][0], obj, atol=1e-9)
-                drift.append(np.linalg.norm(P[hold] - obj, axis=1).max())
-                dip.append(obj[2] - P[:, 2].min())
+        if space == "joints":
+            at = obj[[0, 2]]
+            via = {"joints": ik(at[None])[0]}
+            off = {"joints": ik(HOME[None, [0, 2]])[0] + 0.05}
+        else:
+            at, via = obj, {"position": obj}
+            off = {"position": HOME + [0.03, -0.04, 0.0]}
+        for t, tv, hold in plans:
+            for start in (None, off):
+                path = model.generate(t, dense=True, start=start, via=[(tv, via)])
+                H = fk(path.get("joints")) if space == "joints" else path.get(space)
+                np.testing.assert_allclose(H[t == tv][0], at, atol=1e-9)
+                drift.append(np.linalg.norm(H[hold] - at, axis=1).max())
+                dip.append(at[-1] - H[:, -1].min())
+    return np.array(drift), np.array(dip)
+
+
+@pytest.mark.filterwarnings("ignore:time stamps are jittery")
+@pytest.mark.parametrize("seed", [0, 10, 34])
+def test_a_cartesian_grasp_is_held_where_the_via_point_puts_it(seed):
+    # seeds 10 and 34: sets whose hold the clock could not reach in time
+    # (before: largest 26.3 and 19.5 mm, dips as deep; now 0.8 and 1.6)
+    _, model = cartesian_set(seed=seed)
+    drift, dip = _held(model, "position", _plans(seed=7 if seed == 0 else 1000 + seed))
     # before: median 7.0 mm, up to 36.6 (the hand lifted early or the
-    # offset faded away), dips up to 12.5 mm; now median 0.8, at most 0.9,
-    # dips at most 0.5 (the demonstrations' noise: 0.5 mm)
-    assert max(drift) <= 0.005, (np.median(drift), max(drift))
+    # offset faded away), dips up to 12.5 mm; then (seed 0) median 0.8, at
+    # most 0.9; now 0.8 and 1.0, and over 40 sets (benchmarks/probe_rests.py)
+    # median 0.6, at most 1.6, dips at most 1.2 (the demonstrations' noise:
+    # 0.5 mm)
+    assert np.median(drift) <= 0.0013, np.median(drift)
+    assert max(drift) <= 0.0025, (np.median(drift), max(drift))
     assert max(dip) <= 0.0015, max(dip)
 
 
 @pytest.mark.filterwarnings("ignore:time stamps are jittery")
-def test_a_joint_space_grasp_is_held_where_the_via_point_puts_it():
-    # a joint-space via point does not warp the blend's clock (the blend is
-    # conditioned on positions only), so a plan whose hold falls off the
-    # blend's can still leave early; the offset no longer fades in the rest
-    _, model = joint_set()
-    drift, dip = [], []
-    for obj in map(np.array, OBJECTS):
-        obj = obj[[0, 2]]
-        q = ik(obj[None])[0]
-        for t, tv, hold in _plans():
-            for start in (None, {"joints": ik(HOME[None, [0, 2]])[0] + 0.05}):
-                path = model.generate(t, dense=True, start=start,
-                                      via=[(tv, {"joints": q})])  # fmt: skip
-                H = fk(path.get("joints"))
-                np.testing.assert_allclose(H[t == tv][0], obj, atol=1e-9)
-                drift.append(np.linalg.norm(H[hold] - obj, axis=1).max())
-                dip.append(obj[1] - H[:, 1].min())
-    # before: median 3.1 mm, up to 6.0; dips up to 2.1 mm. Now median 0.9,
-    # up to 4.9 (seeds 1-3 of the set: medians 1.2, 1.4, 0.9 from 4.0, 3.8,
-    # 3.1; their largest 16.3, 6.4, 3.7 from 17.0, 6.5, 4.8)
-    assert np.median(drift) <= 0.002, np.median(drift)
-    assert max(drift) <= 0.006, max(drift)
+@pytest.mark.parametrize("seed", [0, 27, 30])
+def test_a_joint_space_grasp_is_held_where_the_via_point_puts_it(seed):
+    # a joint via point warps the blend's clock to the hold's start and
+    # conditions the blend as a position does (._via.place_groups); the
+    # templates' holds are aligned in the blend (._rests.hold_knots): before,
+    # the blend's hold was theirs smeared (seed 27: it lifted after 0.36 s)
+    _, model = joint_set(seed=seed)
+    drift, dip = _held(model, "joints", _plans(seed=7 if seed == 0 else 1000 + seed))
+    # before: median 3.1 mm, up to 6.0, dips up to 2.1 (seed 0), then 0.9
+    # and 4.9; seeds 27 and 30 up to 19.8 and 41.0, dips as deep; over 40
+    # sets median 1.3, up to 41.0. Now 1.2, 0.6, 1.2 on these, and over 40
+    # sets median 0.6, at most 2.1, dips at most 1.6
+    assert np.median(drift) <= 0.0015, np.median(drift)
+    assert max(drift) <= 0.003, (np.median(drift), max(drift))
     assert max(dip) <= 0.002, max(dip)
 
 
@@ -249,3 +259,40 @@ def test_a_start_offset_is_not_faded_across_a_joint_space_rest():
     shift = out[held] - X[held]
     assert np.ptp(shift, axis=0).max() <= 1e-12
     assert shift.max() > 0.05  # part of the offset is still there
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(
+    starts=st.lists(st.floats(0.35, 0.45), min_size=3, max_size=5),
+    length=st.floats(0.12, 0.2),
+    middle=st.floats(0.2, 0.8),
+)
+def test_a_conditioned_blend_holds_where_its_templates_do(starts, length, middle):
+    # templates that move, hold still (both columns) from their own start
+    # for `length`, and move on, warped linearly between the ends and a knot
+    # anywhere: unconditioned their blend creeps where they hold at
+    # different times; conditioned (on both columns) it holds still from
+    # their mean start to their mean end, as each does (the holds overlap:
+    # starts at most 0.1 apart)
+    from ndlfd.learner._blend import WARP_SMOOTH, blend, skeleton_times
+
+    tau = np.linspace(0.0, 1.0, 401)
+    U, index = [], []
+    for a in starts:
+        s = np.clip(tau - np.clip(tau - a, 0.0, length), 0.0, None)  # time moving
+        s = s / s[-1]
+        U.append(np.column_stack([np.sin(2.5 * s), s**2]))
+        index.append(np.array([0, round(middle * 400), 400]))
+    w = np.ones(len(starts))
+    knots = skeleton_times([tau] * len(starts), index, w / w.sum())
+    rows = np.linspace(0.0, 1.0, 1001)
+    observed = [(500, [0, 1], np.array([np.sin(2.5 * 0.5), 0.25]))]
+    got = blend(U, [tau] * len(starts), index, w, knots, rows, observed=observed)
+    hold = (np.mean(starts), np.mean(starts) + length)  # the found rests are
+    inside = (rows > hold[0] + WARP_SMOOTH + 0.01) & (
+        rows < hold[1] - WARP_SMOOTH - 0.01
+    )
+    assert np.ptp(got[inside], axis=0).max() <= 1e-4  # REST_PACE: 1e-3 of a pace
+    plain = blend(U, [tau] * len(starts), index, w, knots, rows)
+    if np.ptp(starts) > 0.05:  # the templates' holds apart: the plain blend creeps
+        assert np.ptp(plain[inside], axis=0).max() > 1e-3

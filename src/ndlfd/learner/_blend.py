@@ -41,6 +41,7 @@ import numpy as np
 from numba import njit
 
 from .._parallel import thread_pool
+from ._rests import hold_knots, moving_average, rest_clock
 
 __all__ = [
     "CONDITION_GRID",
@@ -187,27 +188,6 @@ def align_many(
     if workers <= 1:
         return [one(U) for U in U_list]
     return list(thread_pool(workers).map(one, U_list))
-
-
-def moving_average(U: np.ndarray, half: int) -> np.ndarray:
-    """Mean of the rows ``i - half .. i + half`` (fewer at the ends) of each row.
-
-    Examples
-    --------
-    >>> moving_average(np.array([[0.0], [3.0], [0.0], [3.0]]), 1)
-    array([[1.5],
-           [1. ],
-           [2. ],
-           [1.5]])
-    """
-    U = np.asarray(U, dtype=np.float64)
-    if half <= 0:
-        return U
-    n = U.shape[0]
-    c = np.concatenate([np.zeros((1, U.shape[1])), np.cumsum(U, axis=0)])
-    i = np.arange(n)
-    lo, hi = np.maximum(i - half, 0), np.minimum(i + half + 1, n)
-    return (c[hi] - c[lo]) / (hi - lo)[:, None]
 
 
 def align_to_skeleton(
@@ -503,10 +483,14 @@ def blend(
         Four quaternion columns, sign-aligned to the heaviest demonstration
         before averaging.
     observed : sequence of (int, list of int, ndarray), optional
-        Rows of ``tq``, columns and values observed (normalized): the mean
-        is conditioned on them (:func:`condition_offsets`), the shift
-        averaged over :data:`CONDITION_SMOOTH` either side (the ends kept by
-        point reflection, as :func:`_window_rows` does).
+        Rows of ``tq``, columns and values observed (normalized): the holds
+        the templates share on those columns are aligned first
+        (:func:`~ndlfd.learner._rests.hold_knots`), the mean is conditioned
+        on them (:func:`condition_offsets`), the shift averaged over
+        :data:`CONDITION_SMOOTH` either side of the time spent moving
+        (:func:`~ndlfd.learner._rests.rest_clock` of the holds: the shift
+        holds still in them; the ends kept by point reflection, as
+        :func:`_window_rows` does).
     ridge : float, default=:data:`CONDITION_RIDGE`
         The observations' noise (:func:`condition_offsets`).
     mix : callable, optional
@@ -537,6 +521,12 @@ def blend(
     array([[0.],
            [1.]])
     """
+    holds = np.zeros((0, 2))
+    if observed is not None:  # the templates' shared holds aligned (._rests)
+        cols = sorted({c for _, obs_cols, _ in observed for c in obs_cols})
+        knots, index_list, holds = hold_knots(
+            U_list, tau_list, index_list, weights, knots, cols
+        )
     W, w = warped(
         U_list, tau_list, index_list, weights, knots, tq, quat_cols, mix, step
     )
@@ -549,7 +539,10 @@ def blend(
         )
         shift = np.tensordot(coef, Wg - np.tensordot(w, Wg, axes=1)[None], axes=1)
         rows = np.asarray(tq, dtype=np.float64)
-        mean += _window_rows(shift, grid, rows, CONDITION_SMOOTH)
+        # over the time spent moving: what the shift does around a hold is
+        # not smeared into it (the path holds still where the templates do)
+        clock = rest_clock(grid, holds)
+        mean += _window_rows(shift, clock, rest_clock(rows, holds), CONDITION_SMOOTH)
     return mean
 
 

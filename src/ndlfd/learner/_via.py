@@ -15,11 +15,14 @@ the path to pass through ``values`` at ``time``. Two steps:
   largest total weight, as for a start (:mod:`ndlfd.learner._routes`);
 * *the phase and the shape* (:mod:`ndlfd.learner._phase`,
   :func:`blend_observations`): the blend's clock is warped so it reaches
-  the via point's closest pass at the via time, and the blend is conditioned
-  on the start's and via points' positions (a Gaussian over the aligned
-  templates' deviations, :func:`~ndlfd.learner._blend.condition_offsets`),
-  so a wide or late via point carries over the whole motion as the templates
-  that are so carry it;
+  the via point's closest pass (or a grasp's start) at the via time, and
+  the blend is conditioned on the start's and via points' positions (joints
+  for a model without a position: :func:`place_groups`; a Gaussian over
+  the aligned templates' deviations,
+  :func:`~ndlfd.learner._blend.condition_offsets`, the holds they share
+  aligned, :func:`~ndlfd.learner._rests.hold_knots`), so a wide or late via
+  point carries over the whole motion as the templates that are so carry
+  it;
 * *the offsets* (:func:`apply_via`): the blended path, already pinned to a
   start and goal, is shifted, per group, by an offset that equals the
   remaining difference at every via time and fades by a minimum-jerk ramp to
@@ -90,7 +93,7 @@ from ._conditioning import (
 )
 from ._filtering import path_log_likelihoods
 from ._rests import contact_window, path_rests, rest_clock
-from ._routes import segment_paths
+from ._routes import route_columns, segment_paths
 from ._spec import negated_orientation, prepare
 
 __all__ = [
@@ -109,6 +112,7 @@ __all__ = [
     "observed_log_weights",
     "orient_prefix",
     "orient_via",
+    "place_groups",
     "prefix_rows",
     "stamp_tolerance",
     "via_log_weights",
@@ -695,13 +699,32 @@ def _end_velocity(tq: np.ndarray, X: np.ndarray) -> np.ndarray:
     return window_derivative(tq[-k:], X[-k:], tq[-1] - tq[-k])[-1]
 
 
+def place_groups(column_groups) -> tuple[str, ...]:
+    """The groups that say where the path is: what a via point's clock and blend follow.
+
+    The position if the model learned one; else the groups a route is judged
+    on (:func:`~ndlfd.learner._routes.route_columns`: a robot's joints, not
+    its gripper, orientation or velocity).
+
+    Examples
+    --------
+    >>> place_groups(("position", "position", "gripper"))
+    ('position',)
+    >>> place_groups(("joints", "joints", "gripper"))
+    ('joints',)
+    """
+    cg = tuple(column_groups)
+    return tuple(dict.fromkeys(cg[c] for c in route_columns(cg)))
+
+
 def blend_observations(
     est, tq: np.ndarray, *, start=None, via=None, prefix=None, goal=None
 ):
     """What the blend is conditioned on: a start and goal with via points, or a prefix.
 
-    The positions of a start, the via points and a goal (only when a via
-    point gives a position: the demonstrations' deviations then carry all of
+    The positions (or, for a model without one, the joints:
+    :func:`place_groups`) of a start, the via points and a goal (only when a
+    via point gives them: the demonstrations' deviations then carry all of
     them over the motion, as they co-vary; a pick-and-place whose place
     follows its goal), or of up to :data:`PREFIX_POINTS` samples of a prefix
     (:func:`prefix_rows`), as values at normalized times, normalized as the
@@ -732,13 +755,13 @@ def blend_observations(
     scaler, cg = est.scaler_, est.column_groups_
     taus, observed = [], []
     if via is not None:
+        place = place_groups(cg)
         ends = [(0.0, start)] if start is not None else []
         for tau, cond in ends + via + ([(1.0, goal)] if goal is not None else []):
-            if cond is None or "position" not in cond:
+            given = {g: cond[g] for g in place if cond is not None and g in cond}
+            if not given:
                 continue
-            cols, target = condition_target(
-                {"position": cond["position"]}, scaler, cg, weighted=False
-            )
+            cols, target = condition_target(given, scaler, cg, weighted=False)
             observed.append((len(taus), cols, target))
             taus.append(tau)
         if not any(0.0 < tau < 1.0 for tau in taus):
