@@ -54,6 +54,7 @@ __all__ = [
     "frame_ends",
     "plan_end_shift",
     "prefers_clock",
+    "via_frame_mix",
     "via_plan",
 ]
 
@@ -339,9 +340,14 @@ def end_frame_shift(
     world = np.tensordot(w, P, axes=1)
     views = [(world, np.tensordot(w, np.sum((P - world) ** 2, axis=2), axes=1))]
     for tau, cs, target in ends:
-        at = 0 if tau <= 0.0 else -1
         here = [cols.index(c) for c in cs]
-        own = np.stack([v[at, cs] for v in values])  # each template's point
+        # each template's point at the phase (its first or last sample at 0, 1)
+        own = np.stack(
+            [
+                [np.interp(tau, t, v[:, c]) for c in cs]
+                for v, t in zip(values, taus, strict=True)
+            ]
+        )
         rel = P[:, :, here] - own[:, None, :]
         mean = np.tensordot(w, rel, axes=1)
         pred = world.copy()
@@ -363,6 +369,42 @@ def plan_end_shift(est, plan, rows, ends) -> np.ndarray:
     return end_frame_shift(plan.values, plan.taus, plan.weights, rows,
                            end_observations(est, *ends), END_FLOOR,
                            END_SMOOTH)  # fmt: skip
+
+
+def via_frame_mix(est, plan, obs_tau, observed):
+    """The step moving the templates with a start, via points and a goal as frames.
+
+    As :func:`end_frame_shift` (each condition's position a frame, the views
+    combined per phase), with a via point's frame at its phase, every
+    template's point there on its own clock; applied to the templates
+    (``mix(W, w, tq) -> W``) before the blend is conditioned on the same
+    points, so the path meets them exactly and moves with them in between.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    plan : Plan
+    obs_tau : ndarray
+        The observations' phases (:func:`~ndlfd.learner._via.blend_observations`).
+    observed : list of (int, list of int, ndarray)
+        Each observation's index into ``obs_tau``, columns and normalized values.
+    """
+    pos = set(group_columns(est.column_groups_, "position"))
+    ends = []
+    for k, cs, v in observed:
+        keep = [i for i, c in enumerate(cs) if c in pos]
+        if keep:
+            ends.append((float(obs_tau[k]), [cs[i] for i in keep], np.asarray(v)[keep]))
+    grid = np.linspace(0.0, 1.0, CONDITION_GRID)
+    on = end_frame_shift(plan.values, plan.taus, plan.weights, grid, ends, END_FLOOR,
+                         END_SMOOTH)  # fmt: skip
+
+    def mix(W, w, tq):
+        tq = np.asarray(tq, dtype=np.float64)
+        return W + np.column_stack([np.interp(tq, grid, c) for c in on.T])[None]
+
+    return mix
 
 
 def via_plan(est, make_plan, all_t, start, goal, via, extra, cache, plan=None):

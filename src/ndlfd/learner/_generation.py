@@ -29,11 +29,9 @@ import numpy as np
 
 from .. import hmm
 from .._errors import DecodeError, ValidationError
-from .._pose_groups import hands, orientation_blocks
 from .._registry import Registry
 from .._validation import check_times
 from ..demonstration import Demonstration, unit_time
-from ..orientation import normalize_quaternions
 from ._blend import (
     CONDITION_REACH,
     CONDITION_RIDGE,
@@ -44,11 +42,18 @@ from ._blend import (
     spread,
 )
 from ._cache import ModelCache
-from ._choice import CLOCK_RIDGE, frame_ends, plan_end_shift, via_plan
+from ._choice import (
+    CLOCK_RIDGE,
+    frame_ends,
+    plan_end_shift,
+    via_frame_mix,
+    via_plan,
+)
 from ._conditioning import log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_physical, snap_two_valued, two_valued_columns
 from ._frames import check_new_frames, clock_aligned, frame_parts
+from ._hands import derive_velocity, quat_columns, renormalized
 from ._phase import warp_for
 from ._prefix_route import route_prior
 from ._routes import choose_route
@@ -156,22 +161,6 @@ def key_times(all_t: np.ndarray, key_tau: np.ndarray) -> np.ndarray:
     t = all_t[0] + key_tau * (all_t[-1] - all_t[0])
     t[-1] = all_t[-1]  # exact, not up to the rounding of the product
     return t
-
-
-def _quat_cols(column_groups):
-    """Every orientation group's 4 columns, one group after another (or None)."""
-    cols = [j for b in orientation_blocks(column_groups) for j in b]
-    return cols or None
-
-
-def _renormalize(X: np.ndarray, column_groups) -> np.ndarray:
-    blocks = orientation_blocks(column_groups)
-    if not blocks:
-        return X
-    X = X.copy()
-    for cols in blocks:
-        X[:, cols] = normalize_quaternions(X[:, cols], zero="identity")
-    return X
 
 
 def orient_conditions(est, start, goal) -> tuple:
@@ -547,32 +536,6 @@ def decode_key_points(est, times_or_demo, cache: ModelCache):
     return key_times(all_t, plan.key_tau), plan.states, plan.logp
 
 
-def _derive_velocity(X, tq, key_tau, all_t, column_groups) -> np.ndarray:
-    """Velocity columns as the derivative of the generated positions.
-
-    ``X`` holds the dense rows (at ``all_t``) followed by the key rows (at
-    normalized times ``key_tau``), whose velocity is interpolated from the
-    dense derivative.
-    """
-    n = all_t.size
-    for pos, vel in ((h.position, h.velocity) for h in hands(column_groups)):
-        if not vel:  # every hand's velocity that was learned
-            continue
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            V = np.gradient(X[:n, pos], all_t, axis=0)
-        if not np.isfinite(V).all():
-            raise ValidationError(
-                "the generated velocity (the derivative of the positions over the"
-                " requested time stamps) is not finite in float64: expected time"
-                f" steps of at least 1e-150 and values below 1e300; got steps from"
-                f" {float(np.diff(all_t).min()):.3g} and values up to"
-                f" {float(np.abs(X[:n, pos]).max()):.3g}"
-            )
-        X[:n, vel] = V
-        X[n:, vel] = np.column_stack([np.interp(key_tau, tq, c) for c in V.T])
-    return X
-
-
 def render(
     est,
     plan: Plan,
@@ -638,8 +601,11 @@ def render(
     obs_tau, observed = blend_observations(est, tq, start=start, via=via,
                                            prefix=prefix, goal=goal)  # fmt: skip
     n_at = at.size  # the observations' rows come after, dropped after the blend
-    qc = _quat_cols(groups)
+    qc = quat_columns(groups)
     index, mix = frame_parts(est, plan, frames, qc, cache)  # (plan.index, None)
+    moved_first = via is not None and ends is not None and ends[1] is not None
+    if moved_first:  # start, via points and goal as frames, before conditioning
+        mix = via_frame_mix(est, plan, obs_tau, observed)
     templates = (plan.values, plan.taus, index, plan.weights, plan.knots)
     step = output_step(tq)  # every read of the templates is for this path
     if clock:  # a via point's templates on their own clocks (._choice)
@@ -666,21 +632,21 @@ def render(
     U = blend(*templates, np.concatenate([phase_at, phase_obs]), quat_cols=qc,
               observed=observed, ridge=ridge, mix=mix, step=step,
               reach=reach)[:n_at]  # fmt: skip
-    if ends is not None and ends[1] is not None:  # start and goal as frames
-        U = U + plan_end_shift(est, plan, at, ends)
+    if not moved_first and ends is not None and ends[1] is not None:
+        U = U + plan_end_shift(est, plan, at, ends)  # start and goal as frames
     if "two-valued" not in cache:  # the training data's only: once per model
         cache["two-valued"] = two_valued_columns(est.train_values_, groups)
     U = snap_two_valued(U, cache["two-valued"])
-    X = _renormalize(est.scaler_.inverse_transform(U, weighted=False), groups)
-    X = _renormalize(pin(X, at, start, goal, groups, tq.size), groups)
+    X = renormalized(est.scaler_.inverse_transform(U, weighted=False), groups)
+    X = renormalized(pin(X, at, start, goal, groups, tq.size), groups)
     if via is not None:
-        X = _renormalize(apply_via(X, at, via, groups, tq.size), groups)
+        X = renormalized(apply_via(X, at, via, groups, tq.size), groups)
     if prefix is not None:
         X = X[: tq.size]
-        X = _renormalize(continue_from(X, tq, prefix, groups), groups)
+        X = renormalized(continue_from(X, tq, prefix, groups), groups)
     X = snap_physical(est.scaler_, X, cache["two-valued"])  # the offsets moved them
     key_tau = plan.key_tau if prefix is None else plan.key_tau[:0]  # no key rows
-    X = _derive_velocity(X, tq, key_tau, all_t, groups)
+    X = derive_velocity(X, tq, key_tau, all_t, groups)
     if prefix is not None:
         X[: prefix.t.size] = prefix.X  # the observed samples, velocity too
     if dense or prefix is not None:
@@ -721,14 +687,16 @@ def generate_blend(
         extra = observed_log_weights(est, prefix, tq, cache)
         route = prefix_route(est, prefix, all_t.size, goal, cache)
     ends = (None, None)  # a goal that places the task (._choice): templates even
-    if via is None and prefix is None and frames is None:
+    if prefix is None and frames is None:
         ends = frame_ends(est, start, goal)
     plan = make_plan(est, all_t, start, goal, cache, extra, route,
                      even=frames if ends[1] is None else True)  # fmt: skip
     clock = False
     if via is not None and frames is None:  # by place or by clock (._choice)
-        plan, clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache,
-                               plan)  # fmt: skip
+        by, clock = via_plan(est, make_plan, all_t, start, goal, via, extra, cache,
+                             None if ends[1] is not None else plan)  # fmt: skip
+        if clock or ends[1] is None:  # by place with a goal: via points as frames
+            plan, ends = by, (None, None)
     path, _, std = render(est, plan, all_t, start, goal, dense=dense, cache=cache,
                           via=via, prefix=prefix, with_std=return_std,
                           frames=frames, clock=clock, ends=ends)  # fmt: skip
@@ -775,16 +743,16 @@ def generate_paper(
     start, goal = orient_conditions(est, start, goal)
     key_t, states, _, all_t = decode_paper(est, times_or_demo)
     X = est.scaler_.inverse_transform(state_centres(est, states), weighted=False)
-    X = _renormalize(X, groups)
+    X = renormalized(X, groups)
     if dense:
         X = np.column_stack(
             [np.interp(all_t, key_t, X[:, c]) for c in range(X.shape[1])]
         )
-        X = _renormalize(X, groups)
+        X = renormalized(X, groups)
         key_t = all_t
     if start is not None or goal is not None:
         tq = unit_time(np.r_[all_t[0], key_t, all_t[-1]])[1:-1]
-        X = _renormalize(pin(X, tq, start, goal, groups), groups)
+        X = renormalized(pin(X, tq, start, goal, groups), groups)
     return Demonstration(key_t, X, est.columns_, groups)
 
 
