@@ -158,3 +158,27 @@ def test_the_warm_up_says_what_it_compiles_while_it_does():
         assert kernel(2) == 3
     assert report.kernels == 0
     assert again.getvalue() == ""  # compiled already: nothing said
+
+
+@SETTINGS
+@given(
+    st.lists(st.integers(-20, 20), min_size=1, max_size=40),
+    st.one_of(st.integers(-25, 25).map(lambda k: k / 2), st.just(float("nan"))),
+)
+def test_the_blend_s_bisection_is_numpy_searchsorted_right(knots, x):
+    """_blend._after: numpy.searchsorted(side="right"), ties and NaN included."""
+    from ndlfd.learner._blend import _after
+
+    tau = np.sort(np.array(knots, dtype=np.float64) / 2)
+    assert _after(tau, x) == np.searchsorted(tau, x, side="right")
+
+
+@pytest.mark.parametrize("d", [1, 3])
+def test_one_sample_is_read_as_its_row_everywhere(d):
+    """_blend._interp_rows of a single sample: that row at every time (np.interp)."""
+    from ndlfd.learner._blend import _interp_rows
+
+    U = np.arange(1.0, d + 1.0)[None, :]
+    at = np.array([-1.0, 0.0, 0.5, 2.0])
+    want = np.stack([np.interp(at, [0.0], U[:, c]) for c in range(d)], axis=1)
+    assert _interp_rows(U, np.zeros(1), at).tobytes() == want.tobytes()
