@@ -15,6 +15,7 @@ What :mod:`ndlfd.learner._routes` judges routes on:
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
@@ -131,17 +132,6 @@ def _frechet_row(A, i, B, lo, hi, prev, cur):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
-def _frechet(A, B, band, prev, cur):  # pragma: no cover - compiled
-    """Discrete Fréchet distance of two curves, pairings within ``band`` points."""
-    n, k = A.shape[0], B.shape[0]
-    for i in range(n):
-        cur[:] = np.inf
-        _frechet_row(A, i, B, max(0, i - band), min(k, i + band + 1), prev, cur)
-        prev, cur = cur, prev
-    return np.sqrt(prev[k - 1])
-
-
-@njit(cache=True, nogil=True)
 def _open_end_rows(P, curves, out):  # pragma: no cover - compiled
     """Open-end Fréchet of ``P[:i+1]`` to each curve, for every ``i`` (squared)."""
     k = curves.shape[1]
@@ -188,15 +178,41 @@ def open_end_frechet(P: np.ndarray, curves: np.ndarray) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
-def _frechet_rows(curves, others, lo, hi, lower, band):  # pragma: no cover
-    """Fréchet distances of curves ``lo..hi-1`` to every other (or to ``others``)."""
-    m = others.shape[0]
-    out = np.zeros((hi - lo, m))
-    prev = np.empty(others.shape[1])
-    cur = np.empty(others.shape[1])
+def _frechet_rows(curves, others, lo, hi, lower, band, out):  # pragma: no cover
+    """Fréchet distances of curves ``lo..hi-1`` to every other (or to ``others``).
+
+    Into ``out`` (``(hi - lo, m)``, zeros). Each distance is the table of
+    :func:`_frechet_row` (squared) filled row by row within ``band`` points
+    of the diagonal, written out here in one flat loop: with the row and the
+    distance as functions of their own, and the output made here, it
+    compiled in twice the time (0.95 s of CPU instead of 0.44 on a first
+    run).
+    """
+    m, k = others.shape[0], others.shape[1]
+    n, d = curves.shape[1], curves.shape[2]
+    prev = np.empty(k)
+    cur = np.empty(k)
     for i in range(lo, hi):
-        for j in range(i + 1 if lower else 0, m):
-            out[i - lo, j] = _frechet(curves[i], others[j], band, prev, cur)
+        for o in range(i + 1 if lower else 0, m):
+            for r in range(n):
+                for j in range(k):
+                    cur[j] = np.inf
+                for j in range(max(0, r - band), min(k, r + band + 1)):
+                    s = 0.0
+                    for c in range(d):
+                        diff = curves[i, r, c] - others[o, j, c]
+                        s += diff * diff
+                    if r == 0 and j == 0:
+                        best = s
+                    elif r == 0:
+                        best = cur[j - 1]
+                    elif j == 0:
+                        best = prev[0]
+                    else:
+                        best = min(prev[j], prev[j - 1], cur[j - 1])
+                    cur[j] = max(best, s)
+                prev, cur = cur, prev
+            out[i - lo, o] = math.sqrt(prev[k - 1])
     return out
 
 
@@ -250,7 +266,8 @@ def frechet_matrix(
         cuts = cuts.astype(np.int64)
 
     def rows(k):
-        return _frechet_rows(curves, others, cuts[k], cuts[k + 1], lower, band)
+        out = np.zeros((cuts[k + 1] - cuts[k], others.shape[0]))
+        return _frechet_rows(curves, others, cuts[k], cuts[k + 1], lower, band, out)
 
     if workers == 1:
         D = rows(0)
