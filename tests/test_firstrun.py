@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import io
 import re
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -182,3 +184,64 @@ def test_one_sample_is_read_as_its_row_everywhere(d):
     at = np.array([-1.0, 0.0, 0.5, 2.0])
     want = np.stack([np.interp(at, [0.0], U[:, c]) for c in range(d)], axis=1)
     assert _interp_rows(U, np.zeros(1), at).tobytes() == want.tobytes()
+
+
+def test_the_second_process_compiles_what_a_generation_calls():
+    """compile_generation's made-up calls: a generation's very signatures.
+
+    After it, a fit and a generation (keys, then dense with the band, as the
+    demo's warm-up runs them) add no signature to the generation's kernels,
+    so what a second process compiled into the cache is what is loaded.
+    """
+    from ndlfd import synth
+    from ndlfd.hmm._kernels import viterbi_sparse
+    from ndlfd.learner import KeypointHMM, _blend
+    from ndlfd.learner._warm import compile_generation
+
+    kernels = (viterbi_sparse, _blend._align_kernel, _blend._window_rows)
+    assert compile_generation() >= 0
+    before = [set(k.signatures) for k in kernels]
+    assert all(len(s) >= 1 for s in before)
+    train, test = synth.make_dataset("square", n_demos=4, random_state=0)
+    for kw in ({}, demo.DEMO_SETTINGS["square"]):
+        model = KeypointHMM(**kw).fit(train)
+        model.generate(test.t)
+        model.generate(test.t, dense=True, return_std=True)
+    assert [set(k.signatures) for k in kernels] == before
+
+
+def _fake(second, code):
+    """``second`` running ``code`` instead of the generation's kernels."""
+    second.proc = subprocess.Popen(
+        [sys.executable, "-c", code], stdout=subprocess.PIPE, text=True
+    )
+    return second
+
+
+def test_the_second_process_says_what_it_compiled_and_is_counted_once():
+    """_SecondProcess.join: waited for, it says so; its kernels counted once."""
+    second = demo._SecondProcess()
+    assert second.proc is not None
+    assert second.join() >= 0  # the real one: the cached kernels, or compiled
+    assert second.join() == 0  # joined already
+    said = "import json, time; time.sleep({}); print(json.dumps({}))"
+    out = io.StringIO()
+    _fake(second, said.format(1.0, {"kernels": 3, "seconds": 1.25}))
+    assert second.join(out) == 3
+    assert out.getvalue() == (
+        "compiling the generation kernels (decoder, blend) in a second process"
+        " ... 1.2 s, 3 kernels\n"
+    )
+    assert second.join(out) == 0
+    out = io.StringIO()  # finished before it is joined: said in one line
+    _fake(second, said.format(0.0, {"kernels": 1, "seconds": 0.5})).proc.wait()
+    assert second.join(out) == 1
+    assert out.getvalue() == (
+        "compiled the generation kernels (decoder, blend) in a second process"
+        " meanwhile: 0.5 s, 1 kernel\n"
+    )
+    out = io.StringIO()  # all from the cache: nothing to say
+    _fake(second, said.format(0.0, {"kernels": 0, "seconds": 0.1})).proc.wait()
+    assert second.join(out) == 0 and out.getvalue() == ""
+    _fake(second, "raise SystemExit(1)").proc.wait()  # failed: compiled here
+    assert second.join() == 0
