@@ -13,8 +13,13 @@ Run: ``.venv/bin/python benchmarks/probe_board.py [n_demos ...]`` (default 5 6 7
 Measured (issue 39) with 10 seeds (``run(n, seeds=range(10))``), start+goal,
 ndlfd over the better peer: before (the goal an offset faded in) 1.42x,
 1.56x, 1.48x for 5, 6, 7 demonstrations; with the goal a frame
-(``_choice.end_frame_shift``) 0.85x, 1.04x, 1.04x. Start+contact+goal (a
-via point) is not changed by it: 1.55x, 2.19x, 1.16x with 3 seeds.
+(``_choice.end_frame_shift``) 0.85x, 1.04x, 1.04x; with the views'
+residuals regressed on the ends (``_choice.end_slopes``, where leaving
+each template out says it helps) 0.74x, 1.02x, 0.87x. Start+first
+contact+goal (via points as frames, ``_choice.via_frame_mix``) 0.80x,
+0.81x, 0.83x. What is left at 6: a board's spread is split into routes in
+20 of 60 folds (2 templates followed; ``n_routes=1`` gives 0.79x, 0.89x,
+0.85x for 5, 6, 7).
 """
 
 from __future__ import annotations
