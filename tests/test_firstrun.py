@@ -245,3 +245,29 @@ def test_the_second_process_says_what_it_compiled_and_is_counted_once():
     assert second.join(out) == 0 and out.getvalue() == ""
     _fake(second, "raise SystemExit(1)").proc.wait()  # failed: compiled here
     assert second.join() == 0
+
+
+@pytest.mark.parametrize("frozen", [(False, False), (True, False), (False, True)])
+def test_the_derivative_kernels_compile_one_version_for_any_writability(frozen):
+    """_demo_kernels: the kernels get read-only views, the callers' arrays as they were.
+
+    Writability is part of numba's array type; every compiled version takes
+    read-only times and values, so the callers' mix compiles one each.
+    """
+    from ndlfd import _demo_kernels as D
+
+    t = np.array([0.0, 1.0, 2.5, 3.0])
+    P = np.column_stack([t**2, np.sin(t)])
+    for a, f in zip((t, P), frozen, strict=True):
+        a.flags.writeable = not f
+    V, _ = D.gradient(t, P, 0.1)
+    assert V.tobytes() == np.gradient(P, t, axis=0, edge_order=2).tobytes()
+    W = D.with_room(P, 2)
+    D.gradient(t, P, 0.1, out=W[:, 2:])
+    assert W.tobytes() == np.column_stack([P, V]).tobytes()
+    slopes = D.window_derivative(t, P, 10.0)  # every sample: one line each column
+    assert np.allclose(slopes, np.polyfit(t, P, 1)[0][None, :].repeat(4, axis=0))
+    assert [a.flags.writeable for a in (t, P)] == [not f for f in frozen]
+    for kernel, n_read in ((D._gradient, 2), (D._with_room, 1), (D._window_slopes, 2)):
+        for sig in kernel.signatures:
+            assert not any(a.mutable for a in sig[:n_read]), (kernel, sig)

@@ -22,6 +22,19 @@ from numba import njit
 __all__ = ["gradient", "window_derivative", "with_room"]
 
 
+def _read_only(a: np.ndarray) -> np.ndarray:
+    """A read-only view of ``a`` (``a`` itself left as it is).
+
+    Writability is part of numba's array type: a kernel given the caller's
+    arrays as they come compiled a version per combination (``_gradient``
+    up to five, ``_window_slopes`` four, in a run of the tests); given
+    read-only views of its inputs, one.
+    """
+    view = a.view()
+    view.flags.writeable = False
+    return view
+
+
 @njit(cache=True, nogil=True, error_model="numpy")
 def _gradient(t, P, tol, V):  # pragma: no cover - compiled
     # V (any layout, for example the right columns of a wider array) gets the
@@ -116,9 +129,10 @@ def gradient(
     >>> V.ravel(), steady
     (array([2., 2., 2.]), True)
     """
-    P = np.ascontiguousarray(P, dtype=np.float64)
+    P = _read_only(np.ascontiguousarray(P, dtype=np.float64))
+    t = _read_only(np.ascontiguousarray(t, dtype=np.float64))
     V = np.empty(P.shape) if out is None else out
-    steady = _gradient(np.ascontiguousarray(t, dtype=np.float64), P, float(tol), V)
+    steady = _gradient(t, P, float(tol), V)
     return V, bool(steady)
 
 
@@ -154,7 +168,7 @@ def with_room(X: np.ndarray, k: int) -> np.ndarray:
     array([[1.],
            [2.]])
     """
-    return _with_room(np.ascontiguousarray(X, dtype=np.float64), int(k))
+    return _with_room(_read_only(np.ascontiguousarray(X, dtype=np.float64)), int(k))
 
 
 @njit(cache=True, nogil=True)
@@ -221,4 +235,5 @@ def window_derivative(t, P, half_width: float) -> np.ndarray:
     hi = np.maximum(
         np.searchsorted(t, t + half_width, side="right"), np.minimum(idx + 2, n)
     )
-    return _window_slopes(t, P, lo.astype(np.int64), hi.astype(np.int64))
+    lo, hi = lo.astype(np.int64), hi.astype(np.int64)
+    return _window_slopes(_read_only(t), _read_only(P), lo, hi)
