@@ -11,6 +11,7 @@ in before the goal and the path stayed where the board was on average.
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -22,6 +23,7 @@ from ndlfd.learner._choice import (
     end_frame_shift,
     end_slopes,
     frame_ends,
+    frame_routes,
 )
 from ndlfd.metrics import dtw_distance
 
@@ -151,3 +153,29 @@ def test_the_board_turn_told_by_the_goal_helps(monkeypatch):
     # mostly equal: the leave-one-out test keeps the views alone)
     assert np.median(slopes) <= 0.9 * np.median(views)
     assert np.mean(slopes) <= 0.9 * np.mean(views)
+
+
+@pytest.mark.parametrize(("n", "seed"), [(5, 0), (6, 4), (7, 9)])
+def test_a_board_spread_split_into_routes_is_one_route_seen_from_its_ends(n, seed):
+    # the board's pose spread is split where a gap happens to open; moved to
+    # the same ends by the views, the demonstrations are one route
+    demos, _ = synth.task_board(n, random_state=seed)
+    model = KeypointHMM().fit(demos)
+    assert model.routes_.max() > 0  # the split this test is about
+    P = demos[0].get("position")
+    ends = frame_ends(model, {"position": P[0]}, {"position": P[-1]})
+    np.testing.assert_array_equal(frame_routes(model, ends), 0)
+
+
+@pytest.mark.parametrize("lift", [0.0, 2.0])
+def test_routes_that_differ_wherever_the_ends_are_stay_apart(lift):
+    # over or under an obstacle, from the same start (or starts 2 apart, one
+    # per route) to the same goal: seen from the ends they still differ
+    demos = synth.obstacle(7, 5, lift=lift)
+    model = KeypointHMM().fit(demos)
+    P = demos[0].get("position")
+    ends = frame_ends(model, {"position": P[0]}, {"position": P[-1]})
+    assert ends[0] is not None and ends[1] is not None
+    np.testing.assert_array_equal(frame_routes(model, ends), [0] * 7 + [1] * 5)
+    # no end a frame: the fit's routes
+    np.testing.assert_array_equal(frame_routes(model, (None, None)), model.routes_)

@@ -39,8 +39,10 @@ from ._blend import (
     warped,
 )
 from ._conditioning import condition_target, group_columns
+from ._curves import route_curves
 from ._extrapolation import FAR_SPREADS, envelope_distance
 from ._frames import clock_aligned
+from ._routes import route_columns, route_labels
 from ._via import blend_observations
 
 __all__ = [
@@ -54,6 +56,7 @@ __all__ = [
     "end_observations",
     "end_slopes",
     "frame_ends",
+    "frame_routes",
     "plan_end_shift",
     "prefers_clock",
     "via_frame_mix",
@@ -482,6 +485,53 @@ def end_slopes(resid, w, F, f, ridge: float) -> np.ndarray:
     if d > far:
         z = z * (far / d)
     return (z @ B).reshape(resid.shape[1:])
+
+
+def frame_routes(est, ends) -> np.ndarray:
+    """The routes of the training demonstrations seen from a start and goal as frames.
+
+    Each template is moved by :func:`end_frame_shift`'s views from its own
+    ends to the templates' mean ends (every template weighing the same), and
+    the routes are found again on the moved templates
+    (:func:`~ndlfd.learner._routes.route_labels`). Demonstrations that differ
+    only by where the task is (a board that moved: their spread, split where
+    a gap happens to open) are one route; routes that differ wherever the
+    ends are (a detour left or right) stay apart.
+
+    Parameters
+    ----------
+    est : KeypointHMM
+        Fitted.
+    ends : tuple of (dict or None)
+        :func:`frame_ends`' ``(start, goal)``.
+
+    Returns
+    -------
+    routes : ndarray of shape (n_demos,), dtype int64
+        ``est.routes_`` when it has one route, ``n_routes`` is set, not every
+        demonstration is a template, or no end is a frame.
+    """
+    routes = est.routes_
+    obs = end_observations(est, *ends)
+    n = len(est.train_values_)
+    if (routes.max() == 0 or getattr(est, "n_routes", None) is not None
+            or not obs or n != int(est.n_demos_) or n < 3):  # fmt: skip
+        return routes
+    values, taus = est.train_values_, est.train_tau_
+    grid = np.linspace(0.0, 1.0, CONDITION_GRID)
+    w = np.full(n, 1.0 / n)
+    cols, combined, owns, _ = _end_views(values, taus, w, grid, obs, END_FLOOR)
+    world = combined(None)
+    moved = []
+    for j, (v, t) in enumerate(zip(values, taus, strict=True)):
+        back = world - combined([o[j] for o in owns])
+        m = np.array(v, dtype=np.float64)
+        for i, c in enumerate(cols):
+            m[:, c] += np.interp(t, grid, back[:, i])
+        moved.append(m)
+    rcols = route_columns(est.column_groups_, getattr(est, "route_groups", None))
+    curves = route_curves(moved, taus, rcols)
+    return route_labels(curves, est.template_indices_, n)
 
 
 def plan_end_shift(est, plan, rows, ends) -> np.ndarray:
