@@ -12,27 +12,30 @@ The methods, all given the same inputs (the start and the objects' positions,
 as each can take them):
 
 ==================  ==========================================================
-``ndlfd-ee``        :class:`~ndlfd.KeypointHMM` on the hands' poses: the right
-                    hand as ``position`` and ``orientation`` with the objects'
-                    positions as task frames, the left hand as two plain
-                    groups (``left``, ``left_quat``), the grippers; generated
-                    from the start with the new frames, run through inverse
-                    kinematics (:func:`~ndlfd.sim.run_hands`)
+``ndlfd-ee``        :class:`~ndlfd.KeypointHMM` on the hands' poses: both
+                    hands as pose groups (``left_position``,
+                    ``left_orientation``, ``right_position``,
+                    ``right_orientation``) and the grippers, the objects'
+                    positions as task frames (each hand follows the frame its
+                    demonstrations agree in); generated from the start with
+                    the new frames, run through inverse kinematics
+                    (:func:`~ndlfd.sim.run_hands`)
 ``ndlfd-joint``     :class:`~ndlfd.KeypointHMM` on the 12 joints and the two
-                    grippers, from the start (a model without a position
-                    group cannot take frames today: issue 43)
-``object-mean``     the demonstrations' mean (normalized time), the right
-                    hand's positions shifted by the first object's move (eased
-                    in over the first :data:`EASE_IN` of the motion, so the
-                    path starts at the start) and the left hand's by nothing
-                    (world-fixed)
-``promp``           ProMP (:class:`~ndlfd.baselines.ProMPBaseline`) on the
-                    right hand's positions, conditioned on the start and a via
-                    point at the grasp (the object's new position plus the
-                    demonstrations' mean grasp offset, at their mean grasp
-                    time); every other column the demonstrations' mean
-``nearest``         the demonstration whose object was nearest, replayed, its
-                    right hand shifted by the object's move (eased in as
+                    grippers, from the start, the objects' positions as task
+                    frames (the path moves along a regression on them)
+``object-mean``     the demonstrations' mean (normalized time), each hand's
+                    positions shifted by its object's move (the right hand by
+                    the first object, the left by the second; eased in over
+                    the first :data:`EASE_IN` of the motion, so the path
+                    starts at the start)
+``promp``           ProMP (:class:`~ndlfd.baselines.ProMPBaseline`) on each
+                    hand with an object, on its positions, conditioned on the
+                    start and a via point at its grasp (the object's new
+                    position plus the demonstrations' mean grasp offset, at
+                    their mean grasp time); every other column the
+                    demonstrations' mean
+``nearest``         the demonstration whose objects were nearest, replayed,
+                    each hand shifted by its object's move (eased in as
                     ``object-mean``'s)
 ==================  ==========================================================
 
