@@ -23,19 +23,8 @@ from numba import njit
 __all__ = ["sample_backward", "viterbi_sparse"]
 
 
-@njit(cache=True, nogil=True)
-def _n_candidates(obs, em_indptr, n_seen, has_unseen, emit_all):
-    T = obs.shape[0]
-    off = np.empty(T + 1, dtype=np.int64)
-    off[0] = 0
-    for t in range(T):
-        if emit_all:
-            c = n_seen + (1 if has_unseen else 0)
-        else:
-            o = obs[t]
-            c = em_indptr[o + 1] - em_indptr[o]
-        off[t + 1] = off[t] + c
-    return off
+#: The largest global id: no state's id is above it (the argmax's start).
+_BIG = np.iinfo(np.int64).max
 
 
 @njit(cache=True, nogil=True)
@@ -103,19 +92,36 @@ def viterbi_sparse(
     T = obs.shape[0]
     S = gid.shape[0] - 1
     NEG = -np.inf
-    big = np.iinfo(np.int64).max
-    off = _n_candidates(obs, em_indptr, S, has_unseen, emit_all)
+    big = _BIG
+    # Arrays filled by loops, not np.full or .copy(), and the offsets below
+    # computed here, not by a kernel of their own: each of those compiled
+    # apart on a first run (1.5 -> 1.3 s of CPU for this kernel).
+    # off[t]: where step t's candidates start in the back-pointers
+    off = np.empty(T + 1, dtype=np.int64)
+    off[0] = 0
+    for t in range(T):
+        if emit_all:
+            c = S + (1 if has_unseen else 0)
+        else:
+            c = em_indptr[obs[t] + 1] - em_indptr[obs[t]]
+        off[t + 1] = off[t] + c
     # local candidate indices (< n_seen + 2 < 2**31): 4 bytes each
     bp = np.empty(off[T], dtype=np.int32)
-    prev = np.full(S + 1, NEG)
-    cur = np.full(S + 1, NEG)
+    prev = np.empty(S + 1)
+    cur = np.empty(S + 1)
+    start = np.empty(S + 1)
+    for i in range(S + 1):
+        prev[i] = NEG
+        cur[i] = NEG
+        start[i] = start_base
     path = np.zeros(T, dtype=np.int64)
 
     # emission scratch for emit_all: em_cur[j] = log B[j, o] for the current o
-    em_cur = em_base.copy()
+    em_cur = np.empty(em_base.shape[0])
+    for i in range(em_base.shape[0]):
+        em_cur[i] = em_base[i]
 
     # step 0
-    start = np.full(S + 1, start_base)
     for e in range(start_idx.shape[0]):
         start[start_idx[e]] = start_logp[e]
     o = obs[0]
