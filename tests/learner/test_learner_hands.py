@@ -170,3 +170,14 @@ def test_frame_hands_is_checked(frame_hands, match):
     demos, _ = two_hands(4, seed=1, n_samples=60)
     with pytest.raises(ValidationError, match=match):
         KeypointHMM(frame_hands=frame_hands).fit(demos)
+
+
+def test_two_hands_fit_at_default_levels(handover):
+    """2 poses + 2 velocities + 2 grippers: 10**22+ cells, interned, no levels=."""
+    demos, model = handover
+    levels = np.asarray(model.codebook_.levels, dtype=float)
+    assert model.columns_[:3] == ("left_x", "left_y", "left_z")
+    assert len(model.columns_) == 22  # 2 x (3 + 3 + 4) + 2 grippers
+    assert float(np.prod(levels)) > 2.0**63  # beyond int64's mixed radix
+    assert not model.codebook_.fits_int64
+    assert 0 < model.n_states_used_ <= sum(len(k) for k in model.keypoints_)
