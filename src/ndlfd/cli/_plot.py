@@ -13,6 +13,7 @@ import numpy as np
 from .. import plot
 from .._errors import DataFileError, MissingExtraError, NdlfdError, ValidationError
 from .._fileformat import META_KEY
+from .._pose_groups import hand_group, hand_name, hands, kind
 from .._poses import check_frames
 from ..demonstration import unit_time
 from ..dp import simplify_many
@@ -44,9 +45,13 @@ from ._task_frames import parse_frame_columns, read_framed
 
 __all__ = ["add_plot"]
 
-#: Groups not drawn over time beside a position: the position itself, its
-#: velocity (its rate) and an orientation (quaternions; triads in 3-D).
+#: Groups not drawn over time beside a position: every hand's position, its
+#: velocity (its rate) and its orientation (quaternions; triads in 3-D).
 _NOT_OVER_TIME = ("position", "velocity", "orientation")
+
+
+def _over_time(group: str) -> bool:
+    return kind(group) not in _NOT_OVER_TIME
 
 
 def _sample_bounds(demos, maps) -> tuple[int, str, int, str]:
@@ -191,25 +196,37 @@ def _read_samples(args, files: list[Path], group: str, k: int) -> list:
     return out
 
 
+def _shared_axes(ax, dims: int) -> None:
+    """Label the axes x, y (, z): several hands' positions share them."""
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if dims == 3:
+        ax.set_zlabel("z")
+
+
 def _draw_triads(ax, args, group: str, k: int, path, demos, maps) -> str:
     """Orientation triads along the generated path (else the first demonstration).
 
-    Only for a 3-D position with an orientation; returns the summary's words.
+    Only for a 3-D position with an orientation (a hand's: ``position`` and
+    ``orientation``, ``left_position`` and ``left_orientation``); returns the
+    summary's words.
     """
     source = path if path is not None else demos[0]
+    orient = hand_group(hand_name(group) or "", "orientation")
     if (
         args.triads == 0
-        or group != "position"
+        or kind(group) != "position"
         or k != 3
-        or not source.has_group("orientation")
-        or source.columns_of("orientation").size != 4
+        or not source.has_group(group)
+        or not source.has_group(orient)
+        or source.columns_of(orient).size != 4
     ):
         return ""
     idx = plot.plot_triads(
-        ax, source.get("position"), source.get("orientation"), n_triads=args.triads
+        ax, source.get(group), source.get(orient), n_triads=args.triads
     )
     where = "the generated path" if path is not None else maps[0].source
-    return f", {idx.size} orientation triads on {where}"
+    return f", {idx.size} orientation triads ({orient}) on {where}"
 
 
 def _path_frames(args: argparse.Namespace, dims: int | None = None) -> dict | None:
@@ -307,8 +324,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         route_groups=args.route_groups,
         n_routes=args.routes,
     )
-    position = demos[0].has_group("position")
-    if not position or demos[0].columns_of("position").size == 1:
+    hand_groups = [hand_group(h.name, "position") for h in hands(prepared[0].groups)]
+    if not hand_groups or prepared[0].columns_of(hand_groups[0]).size == 1:
         # joints, a gripper, a position of one column: each channel over time
         if args.path_frame:
             raise ValidationError(
@@ -317,7 +334,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
             )
         return _plot_over_time(args, out, prepared, keypoints, routes, sample_files,
                                demos[0].columns)  # fmt: skip
-    group = "position"
+    group = hand_groups[0]  # the first hand; the others drawn on the same axes
     k = demos[0].columns_of(group).size
     path = S = None
     if args.path is not None:
@@ -343,7 +360,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     # the other learned groups (joints, a gripper, a force) over time, beside
     first = prepared[0]
     others = {c for c, g in zip(first.columns, first.groups, strict=True)
-              if g not in _NOT_OVER_TIME}  # fmt: skip
+              if _over_time(g)}  # fmt: skip
     beside = [c for c in demos[0].columns if c in others]
     beside += [c for c in first.columns if c in others and c not in beside]
     if beside:
@@ -372,16 +389,27 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         max_demos=None,
         routes=routes,
     )
-    if samples:
-        plot.plot_samples(ax, [d.get(group) for d in samples])
-    if path is not None:  # a line (a dense path would drown in dots)
-        plot.plot_path(
-            ax, path.get(group), color=plot.GEN_COLOR, lw=2.0, label="generated"
-        )
-    triads = _draw_triads(ax, args, group, k, path, demos, maps)
+    for more in hand_groups[1:]:  # every other hand on the same axes
+        plot.plot_demos(demos, group=more, keypoints=keypoints, ax=ax,
+                        max_demos=None, routes=routes)  # fmt: skip
+    for g in hand_groups:
+        if samples:
+            plot.plot_samples(ax, [d.get(g) for d in samples if d.has_group(g)])
+        if path is not None and path.has_group(g):  # a line, not dots
+            plot.plot_path(
+                ax, path.get(g), color=plot.GEN_COLOR, lw=2.0,
+                label="generated" if g == group else None,
+            )  # fmt: skip
+    triads = "".join(
+        _draw_triads(ax, args, g, k, path, demos, maps) for g in hand_groups
+    )
     marks = _draw_frames(ax, demos, routes, path_frames)
-    if path is not None or samples or triads or marks:
-        ax.legend(loc="best", fontsize="small")
+    if len(hand_groups) > 1:  # the axes are every hand's, not the last one's
+        _shared_axes(ax, dims)
+    if path is not None or samples or triads or marks or len(hand_groups) > 1:
+        handles, labels = ax.get_legend_handles_labels()
+        once = dict(zip(labels, handles, strict=True))  # one entry per label
+        ax.legend(once.values(), once.keys(), loc="best", fontsize="small")
     if beside:
         plot.plot_channels(prepared, columns=beside, keypoints=keypoints,
                            generated=path, std=S_all, routes=routes,
@@ -406,7 +434,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         also = f" and over time ({', '.join(names)}: {len(beside)} channel(s))"
     say(
         args,
-        f"drew {len(demos)} demonstration(s) in {dims}-D ({group}){also} with"
+        f"drew {len(demos)} demonstration(s) in {dims}-D"
+        f" ({', '.join(hand_groups)}){also} with"
         f" their key points ({counts.min()}-{counts.max()} at {budget}){drawn} ->"
         f" {out}",
     )
