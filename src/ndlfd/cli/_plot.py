@@ -226,7 +226,8 @@ def _draw_triads(ax, args, group: str, k: int, path, demos, maps) -> str:
         ax, source.get(group), source.get(orient), n_triads=args.triads
     )
     where = "the generated path" if path is not None else maps[0].source
-    return f", {idx.size} orientation triads ({orient}) on {where}"
+    named = f" ({orient})" if hand_name(group) else ""  # one of several hands
+    return f", {idx.size} orientation triads{named} on {where}"
 
 
 def _path_frames(args: argparse.Namespace, dims: int | None = None) -> dict | None:
