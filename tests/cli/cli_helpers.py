@@ -138,3 +138,18 @@ def own_name_demos(folder, n_demos=4, seed=0):
         text += [";".join(repr(v) for v in r) for r in rows]
         (folder / f"d{i}.csv").write_text("\n".join(text) + "\n")
     return folder
+
+
+def keep_figures(monkeypatch) -> list:
+    """The figures ``ndlfd plot`` saves, kept for the test (matplotlib needed)."""
+    import ndlfd.plot
+
+    figures = []
+    save = ndlfd.plot.save_figure
+
+    def keep(fig, path, **kw):
+        figures.append(fig)
+        return save(fig, path, **kw)
+
+    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    return figures

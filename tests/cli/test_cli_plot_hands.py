@@ -1,30 +1,16 @@
 """ndlfd plot of two hands: both drawn in space, each with its triads."""
 
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
-from cli_helpers import cli
+from cli_helpers import cli, keep_figures
 
+from hands_data import two_hands
 from ndlfd.io import write_csv
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "learner"))
-from hands_data import two_hands  # noqa: E402
 
 
 def test_plot_draws_every_hand_in_space(tmp_path, capsys, monkeypatch):
     pytest.importorskip("matplotlib")
-    import ndlfd.plot
-
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    figures = keep_figures(monkeypatch)
     demos, _ = two_hands(3, seed=1, n_samples=60)
     folder = tmp_path / "demos"
     folder.mkdir()

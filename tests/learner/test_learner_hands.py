@@ -10,6 +10,8 @@ import warnings
 
 import numpy as np
 import pytest
+from scipy.interpolate import interp1d
+
 from hands_data import (
     GRASP,
     HANDOVER,
@@ -19,8 +21,6 @@ from hands_data import (
     planar_target,
     two_hands,
 )
-from scipy.interpolate import interp1d
-
 from ndlfd import Demonstration, KeypointHMM, NdlfdWarning, ValidationError
 
 
@@ -174,7 +174,7 @@ def test_frame_hands_is_checked(frame_hands, match):
 
 def test_two_hands_fit_at_default_levels(handover):
     """2 poses + 2 velocities + 2 grippers: 10**22+ cells, interned, no levels=."""
-    demos, model = handover
+    _, model = handover
     levels = np.asarray(model.codebook_.levels, dtype=float)
     assert model.columns_[:3] == ("left_x", "left_y", "left_z")
     assert len(model.columns_) == 22  # 2 x (3 + 3 + 4) + 2 grippers

@@ -80,7 +80,7 @@ def quadratic_features(F: np.ndarray, f: np.ndarray) -> tuple:
     A joint-space model's angles are a curved function of a frame's origin
     (the inverse kinematics); a second-order term lets the slopes follow the
     curve where the templates span it. Measured on a planar 2-link arm
-    reaching a target moved +-12 cm (reach 1 m; ``tests/learner/hands_data``,
+    reaching a target moved +-12 cm (reach 1 m; ``tests/hands_data.py``,
     30 demonstrations, 10 new targets): the tip's end error median 6.0 mm,
     largest 8.2 mm with the origins alone; see the test for the quadratic.
     """
