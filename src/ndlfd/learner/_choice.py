@@ -59,6 +59,7 @@ __all__ = [
     "frame_routes",
     "plan_end_shift",
     "prefers_clock",
+    "route_mates",
     "via_frame_mix",
     "via_plan",
 ]
@@ -104,7 +105,9 @@ END_SMOOTH = 0.15
 #: with 1; 0.75, 1.03, 0.92 with 3 (without the leave-one-out test 0.64,
 #: 1.04, 0.88 with 1, but a goal 3 spreads off the arcs of
 #: tests/learner/test_learner_envelope.py then took 2.3 times the
-#: demonstrations' acceleration). One route (``n_routes=1``): 0.79, 0.89, 0.85.
+#: demonstrations' acceleration). One route (``n_routes=1``): 0.79, 0.89, 0.85;
+#: with :func:`route_mates` (a route split off the board's spread read
+#: whole): 0.74, 0.92, 0.84.
 END_SLOPE_RIDGE = 1.0
 
 #: Phases the held-out templates' positions are compared on.
@@ -254,11 +257,7 @@ def frame_ends(est, start, goal) -> tuple:
 
 def _progress(values, taus, weights, grid) -> np.ndarray:
     """How far the templates' weighted mean has gone at each phase (0 to 1)."""
-    w = np.asarray(weights, dtype=np.float64) / np.sum(weights)
-    mean = sum(
-        wj * np.column_stack([np.interp(grid, t, c) for c in v.T])
-        for wj, v, t in zip(w, values, taus, strict=True)
-    )
+    mean = _mean_on(values, taus, weights, grid)
     step = np.sqrt(np.sum(np.diff(mean, axis=0) ** 2, axis=1))
     total = np.r_[0.0, np.cumsum(step)]
     return total / total[-1] if total[-1] > 0 else grid.copy()
@@ -538,11 +537,66 @@ def plan_end_shift(est, plan, rows, ends) -> np.ndarray:
     """:func:`end_frame_shift` of a plan's templates for a start and goal.
 
     ``ends`` is :func:`frame_ends`' ``(start, goal)``; the shift at the
-    phases ``rows``, with :data:`END_FLOOR` and :data:`END_SMOOTH`.
+    phases ``rows``, with :data:`END_FLOOR`, :data:`END_SMOOTH` and
+    :data:`END_SLOPE_RIDGE`. When the plan's route is part of a larger one
+    seen from the ends (:func:`route_mates`: a board's spread split into
+    routes), the shift is that route's templates' (evenly weighted), from the
+    plan's templates' mean: the path the whole route predicts.
     """
-    return end_frame_shift(plan.values, plan.taus, plan.weights, rows,
-                           end_observations(est, *ends), END_FLOOR,
-                           END_SMOOTH, END_SLOPE_RIDGE)  # fmt: skip
+    obs = end_observations(est, *ends)
+    mates = route_mates(est, plan, ends)
+    if mates is None:
+        return end_frame_shift(plan.values, plan.taus, plan.weights, rows, obs,
+                               END_FLOOR, END_SMOOTH, END_SLOPE_RIDGE)  # fmt: skip
+    values = [est.train_values_[j] for j in mates]
+    taus = [est.train_tau_[j] for j in mates]
+    even = np.ones(len(values))
+    grid = np.linspace(0.0, 1.0, CONDITION_GRID)
+    on = end_frame_shift(values, taus, even, grid, obs, END_FLOOR, END_SMOOTH,
+                         END_SLOPE_RIDGE)  # fmt: skip
+    # the route's mean less the plan's, averaged as the shift is
+    gap = _mean_on(values, taus, even, grid) - _mean_on(
+        plan.values, plan.taus, plan.weights, grid
+    )
+    pos = sorted({c for _, cs, _ in obs for c in cs})
+    progress = _progress(values, taus, even, grid)
+    for _ in range(2):
+        gap = _progress_average(gap, progress, END_SMOOTH)
+    on[:, pos] += gap[:, pos]
+    return np.column_stack([np.interp(rows, grid, c) for c in on.T])
+
+
+def _mean_on(values, taus, weights, grid) -> np.ndarray:
+    """The templates' weighted mean at the phases ``grid``, on their own clocks."""
+    w = np.asarray(weights, dtype=np.float64) / np.sum(weights)
+    return sum(
+        wj * np.column_stack([np.interp(grid, t, c) for c in v.T])
+        for wj, v, t in zip(w, values, taus, strict=True)
+    )
+
+
+def route_mates(est, plan, ends):
+    """The templates of the plan's route seen from the ends, when it is larger.
+
+    Returns
+    -------
+    mates : ndarray of int or None
+        Indices into ``est.train_values_`` of every template on the route
+        (:func:`frame_routes`) of the plan's templates, when these are on one
+        such route and it has others; ``None`` otherwise.
+    """
+    if est.routes_.max() == 0:
+        return None
+    key = ("frame routes", ends[0] is not None, ends[1] is not None)
+    cache = getattr(est, "_cache", None)
+    routes = (frame_routes(est, ends) if cache is None
+              else cache.memo(key, lambda: frame_routes(est, ends)))  # fmt: skip
+    index = np.asarray(est.template_indices_)
+    mine = np.unique(routes[index[plan.templates]])
+    if mine.size != 1:
+        return None
+    mates = np.flatnonzero(routes[index] == mine[0])
+    return mates if mates.size > len(plan.templates) else None
 
 
 def via_frame_mix(est, plan, obs_tau, observed):
