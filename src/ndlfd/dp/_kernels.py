@@ -521,13 +521,14 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
         lw = loo_workspace(d)
         ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
-    lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
+    if tree is not None:  # each segment's lop flag: read by the tree's branch only
+        lops = np.empty((b0 - a0) // 2 + 2, np.bool_)
+        lops[0] = lop0
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
     # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
-    lops[0] = lop0
     sp = 1
     work = 0
     while sp > 0:
@@ -572,19 +573,21 @@ def dp_cols(cols, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=False):
             work += b - a - 1
         if q > eps2 * S:
             keep[far] = 1
-            if tree is not None:
+            if tree is not None:  # pruned with the lop flags when tree is None
                 if b - a > tree[7]:
                     tree_split(tree, flags, a, b, far)
-            lop = lopsided(a, b, far)
+                lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
-                lops[sp] = lop
+                if tree is not None:
+                    lops[sp] = lop
                 sp += 1
             if b - far > 1:
                 stack[2 * sp] = far
                 stack[2 * sp + 1] = b
-                lops[sp] = lop
+                if tree is not None:
+                    lops[sp] = lop
                 sp += 1
     return work
 
@@ -642,13 +645,14 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
         lw = loo_workspace(d)
         ws, ts_stack, flags = tree_workspace(tree, d, keep.shape[0])
     stack = np.empty(2 * ((b0 - a0) // 2 + 2), np.int64)
-    lops = np.empty((b0 - a0) // 2 + 2, np.bool_)  # each segment's lop flag
+    if tree is not None:  # each segment's lop flag: read by the tree's branch only
+        lops = np.empty((b0 - a0) // 2 + 2, np.bool_)
+        lops[0] = lop0
     # The explicit-stack loop is written out in each dp_* kernel on purpose:
     # the scans take different arguments, and this way each kernel calls its
     # scan directly, with no dispatch per segment in the hot loop.
     stack[0] = a0
     stack[1] = b0
-    lops[0] = lop0
     sp = 1
     work = 0
     while sp > 0:
@@ -717,18 +721,20 @@ def dp_line(kind, x, y, z, Pt, t, mode, eps2, utol2, keep, a0, b0, tree, lop0=Fa
                 )
         if q > eps2 * S:
             keep[far] = 1
-            if tree is not None:
+            if tree is not None:  # pruned with the lop flags when tree is None
                 if b - a > tree[7]:
                     tree_split(tree, flags, a, b, far)
-            lop = lopsided(a, b, far)
+                lop = lopsided(a, b, far)
             if far - a > 1:
                 stack[2 * sp] = a
                 stack[2 * sp + 1] = far
-                lops[sp] = lop
+                if tree is not None:
+                    lops[sp] = lop
                 sp += 1
             if b - far > 1:
                 stack[2 * sp] = far
                 stack[2 * sp + 1] = b
-                lops[sp] = lop
+                if tree is not None:
+                    lops[sp] = lop
                 sp += 1
     return work
