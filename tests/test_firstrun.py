@@ -246,6 +246,10 @@ def test_the_second_process_says_what_it_compiled_and_is_counted_once():
     assert second.join(out) == 0 and out.getvalue() == ""
     _fake(second, "raise SystemExit(1)").proc.wait()  # failed: compiled here
     assert second.join() == 0
+    proc = _fake(second, "import time; time.sleep(60)").proc  # an error came first
+    second.close()
+    assert proc.returncode is not None and second.proc is None
+    assert second.join() == 0
 
 
 @pytest.mark.parametrize("frozen", [(False, False), (True, False), (False, True)])

@@ -159,6 +159,13 @@ class _SecondProcess:
     def running(self) -> bool:
         return self.proc is not None and self.proc.poll() is None
 
+    def close(self) -> None:
+        """Stop it if it was not joined (its kernels then go uncounted)."""
+        if self.proc is not None:
+            self.proc.kill()
+            self.proc.communicate()
+            self.proc = None
+
     def join(self, progress: TextIO | None = None, timeout: float = 300.0) -> int:
         """Wait for it; how many kernels it compiled (0 if it failed).
 
@@ -272,27 +279,32 @@ def run_demo(
     """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    plotting = _try_plot() if plot else None
-    if plot and plotting is None:
-        echo('(no figures: install matplotlib with pip install "ndlfd[plot]")')
-    jobs = []
-    n_demos = 20 if quick else 100
-    train, test = synth.make_dataset("square", n_demos=n_demos, random_state=0)
-    jobs.append(("square", train, test, DEMO_SETTINGS["square"]))
+    # the generation's kernels on the other core, from now: the data and
+    # matplotlib load meanwhile too
+    second = _SecondProcess()
     try:
-        lasa = load_lasa("Angle")
-        jobs.append(("lasa-Angle", lasa[:-1], lasa[-1], DEMO_SETTINGS["lasa"]))
-    except MissingExtraError:
-        echo('(LASA skipped: install it with pip install "ndlfd[lasa]")')
-    if progress == "terminal":
-        progress = _terminal()
-    second = _SecondProcess()  # the generation's kernels, on the other core
-    warm = {
-        name: _warm_up(tr, te, settings, progress, second)
-        for name, tr, te, settings in jobs
-    }
+        plotting = _try_plot() if plot else None
+        if plot and plotting is None:
+            echo('(no figures: install matplotlib with pip install "ndlfd[plot]")')
+        jobs = []
+        n_demos = 20 if quick else 100
+        train, test = synth.make_dataset("square", n_demos=n_demos, random_state=0)
+        jobs.append(("square", train, test, DEMO_SETTINGS["square"]))
+        try:
+            lasa = load_lasa("Angle")
+            jobs.append(("lasa-Angle", lasa[:-1], lasa[-1], DEMO_SETTINGS["lasa"]))
+        except MissingExtraError:
+            echo('(LASA skipped: install it with pip install "ndlfd[lasa]")')
+        if progress == "terminal":
+            progress = _terminal()
+        warm = {
+            name: _warm_up(tr, te, settings, progress, second)
+            for name, tr, te, settings in jobs
+        }
+        compiled = sum(kernels for _, kernels in warm.values()) + second.join()
+    finally:
+        second.close()  # stopped if an error came before it was joined
     warm_up = {name: seconds for name, (seconds, _) in warm.items()}
-    compiled = sum(kernels for _, kernels in warm.values()) + second.join()
     how = (
         f"{compiled} compiled this time, cached for the next runs"
         if compiled
