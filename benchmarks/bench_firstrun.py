@@ -112,29 +112,77 @@ print(json.dumps({"warm_up": sum(r["warm_up_s"] for r in summary.values()),
 """
 
 
-#: Where it stood, and what is left (measured by this script, 1 repeat, on
-#: the commit before issue 41's first-run changes, 6750a62^).
-BEFORE = """Before (6750a62^, the same command, 1 repeat, load average 3-5): first fit \
-30.1 s wall, 19.6 s CPU, 12 kernels, of which `dp_cols` 14.7 s (it compiled \
-the box tree's and the exact keys' kernels, which no trajectory under 4,097 \
-points uses: now pruned when the kernel gets `tree=None`); first generate \
-10.1 s wall, 6.6 s CPU; `run_demo(quick=True)` warm-up 32.3 s. What is left \
-is numba's own work per kernel (typing and LLVM at -O3; 0.15-0.2 s for the \
-smallest), and in generation `_blend._window_rows` (4-5 s): its `out[r, :] = \
-U[0, :]` and `np.searchsorted(..., side="right")` compile numba's slice \
-assignment and string handling; written as loops and a bisection, its \
-compile took 1.3 s instead of 4.0 (measured on a copy, not run through the \
-identity tests). On an idle 2-core machine the wall times are about the CPU \
-times: a first fit of about 6 s, a demo warm-up of about 13 s; the issue's 5 \
-s and 10 s are not reached. The cache itself works from a fresh install: \
-editable, numba writes it beside the sources (`src/ndlfd/__pycache__`) and a \
-second process compiles nothing; a wheel installed into a read-only \
-site-packages (`pip install --target`, mounted read-only) falls back to \
+#: Where it stood, what changed, and what is left (measured by this script
+#: and by interleaved runs of two checkouts, /tmp/fr/ab.py, described here).
+BEFORE = """**Where it stood.** At 6750a62^ (before issue 41's first-run work; the \
+same command, 1 repeat, load average 3-5): first fit 30.1 s wall, 19.6 s CPU, \
+12 kernels, of which `dp_cols` 14.7 s (the box tree's and the exact keys' \
+kernels, which no trajectory under 4,097 points uses: pruned since when the \
+kernel gets `tree=None`); first generate 10.1 s wall, 6.6 s CPU; \
+`run_demo(quick=True)` warm-up 32.3 s. At 3adf372: fit 5.9-6.6 s CPU, \
+generate 7.6-8.3 s CPU, demo warm-up 21.0-23.9 s wall (load 4).
+
+**This round** (126e76c -> now; the two checkouts run alternately, each run \
+on its own empty cache, 7 rounds in two sets; CPU seconds, min-max; the \
+demo's: its warm-up's in its process + in the second process):
+
+| step | 126e76c | now |
+|---|---:|---:|
+| first fit, load 3-5 (3 rounds) | 4.43-4.47 | 3.53-4.25 |
+| first fit, load 6-8 (4 rounds) | 4.89-6.45 | 4.64-5.42 |
+| first generate, load 3-5 | 5.05-5.18 | 2.87-3.23 |
+| first generate, load 6-8 | 6.00-6.53 | 3.55-4.42 |
+| demo warm-up, load 3-5 | 9.83-10.41 | 3.92-4.89 + 4.40-5.52 |
+| demo warm-up, load 6-8 | 11.44-13.65 | 4.95-5.98 + 5.62-6.66 |
+| demo warm-up wall s (as printed), load 6-8 | 17.6-20.6 | 15.9-18.6 |
+
+What changed, each measured alone (a kernel compiled in a fresh process on \
+an empty cache, min of 3-5 processes): `_blend._window_rows` 4.2-4.6 -> 1.0 \
+s (its one-sample rows copied element by element: the row slice assignment \
+compiled numba's broadcast check and its error message, 1.8 s; \
+`searchsorted(side="right")` as its own bisection, 0.3 s); \
+`_curves._frechet_rows` 0.95 -> 0.44 s (one flat loop into an output its \
+caller makes); `viterbi_sparse` about 1.5 -> 1.3 s (loops, not `np.full` \
+and `.copy()`; its offsets computed in it); `_fit_kernels`' limbs, segments \
+and group sums 0.74 -> 0.43 s (outputs made by the wrappers); `dp_cols` and \
+`dp_line` given `tree=None` compile without the lop flags and `lopsided`; \
+the derivative kernels (`_demo_kernels`) take read-only views, one version \
+instead of up to five. Every result bit-identical (the identity tests; each \
+kernel against the previous one or numpy on random inputs). The demo \
+compiles the generation's three kernels in a second process \
+(`python -m ndlfd.learner._warm`, started before the data load) while its \
+own process compiles the fit's, and loads them from the cache.
+
+**The targets** (first fit <= 5 s, demo warm-up <= 10 s, on 2 cores). The \
+machine here ran other jobs throughout (load average 3-8 on 2 cores), which \
+stretches the wall times by 1.3-2x and the CPU times by up to a fifth; on an \
+idle 2-core machine the wall time is about the CPU time of the longest \
+process: a first fit of 3.5-4.3 s, and a demo warm-up of about 4.5-5.5 s \
+(the second process is the longer, with its own import and numba's \
+start-up, about 1 s). Under the load here neither holds by the wall clock: the fit \
+took 7.0-8.3 s and the warm-up 15.9-18.6 s (the second core was someone \
+else's); without the second process the warm-up would be its CPU time in \
+one process, about 7-8 s idle.
+
+**What is left.** numba's start-up on the first compilation of a process \
+(0.4 s), and its fixed cost per kernel called from Python (0.15-0.2 s for \
+the smallest: typing, its CPython wrapper, LLVM at -O3); `dp_cols` (1.5-1.8 \
+s) compiles the four distance modes' loops because `mode` is a run-time \
+integer: made a literal (`numba.literally`), it compiled in 1.5 s instead \
+of 2.1, but every call then took numba's slow dispatch path (72 instead of \
+15 us per call) and loading it from the cache took 0.56 s: not done; a \
+mode-typed argument from `dp._simplify._line_layout` would do it. The cache \
+itself hits from a fresh install: the cached run compiles 0 kernels (table), \
+and `NUMBA_DEBUG_CACHE=1` shows every kernel's index and data loaded, \
+`dp/` and `_curves._frechet_rows` included. (numba keys the index on the \
+source file's modification time and size: in a shared checkout, any edit of \
+a kernel's module recompiles its kernels on the next run; an installed copy \
+does not change.) Editable, numba writes the cache beside the sources \
+(`src/ndlfd/**/__pycache__`); a wheel installed read-only falls back to \
 `~/.cache/numba` without a warning, and its second run compiles nothing \
 either. Shipping compiled kernels instead (`numba.pycc`, deprecated) would \
 need a compiler at build time, a wheel per platform, and every signature \
-listed ahead (`dp_cols` takes a tuple of one array per dimension, one \
-version per d): not done."""
+listed ahead: not done."""
 
 
 def _run(code: str, cache: Path, *args: str) -> dict:
