@@ -62,7 +62,11 @@ docs: $(STAMP)
 	$(BIN)/python -m sphinx -b html -W --keep-going -q docs docs/_build/html
 	@echo "docs: open docs/_build/html/index.html"
 
+# A first run compiles ndlfd's kernels (numba, cached after) before its timed
+# runs: the fit's here, the generation's in a second process meanwhile; on a
+# terminal it says which while it does (benchmarks/bench_firstrun.py).
 demo: $(STAMP)
+	@echo "make demo: ndlfd demo --out demo-output (a first run compiles the kernels first, about 5 s on 2 idle cores; cached after)"
 	$(BIN)/ndlfd demo --out demo-output
 
 bench: $(STAMP)
