@@ -266,7 +266,10 @@ def run_demo(
         Where the warm-up says which kernels numba is compiling, while it
         does (``compiling the fitting kernels (...; first run only, cached
         after) ... 4.1 s, 10 kernels``): a stream, nothing with None, and
-        standard error when it is a terminal with ``"terminal"``.
+        standard error when it is a terminal with ``"terminal"``. The
+        generation's kernels compile meanwhile in a second process (``python
+        -m ndlfd.learner._warm``, on the other core), which the warm-up waits
+        for on a first run and says so.
 
     Returns
     -------
