@@ -181,24 +181,24 @@ class _SecondProcess:
                 " process ..."
             )
             progress.flush()
-        self.kernels, seconds = 0, time.perf_counter() - self.t0
+        kernels, seconds = 0, time.perf_counter() - self.t0
         try:
             out, _ = self.proc.communicate(timeout=timeout)
             said = json.loads(out.strip().splitlines()[-1])
-            self.kernels, seconds = int(said["kernels"]), float(said["seconds"])
+            kernels, seconds = int(said["kernels"]), float(said["seconds"])
         except (subprocess.TimeoutExpired, ValueError, IndexError, KeyError):
             self.proc.kill()
             self.proc.communicate()
         self.proc = None
-        if progress is not None and (waiting or self.kernels):
-            s = "" if self.kernels == 1 else "s"
+        if progress is not None and (waiting or kernels):
+            s = "" if kernels == 1 else "s"
             head = "" if waiting else (
                 "compiled the generation kernels (decoder, blend) in a second"
                 " process meanwhile:"
             )  # fmt: skip
-            progress.write(f"{head} {seconds:.1f} s, {self.kernels} kernel{s}\n")
+            progress.write(f"{head} {seconds:.1f} s, {kernels} kernel{s}\n")
             progress.flush()
-        return self.kernels
+        return kernels
 
 
 def _warm_up(
