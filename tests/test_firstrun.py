@@ -276,3 +276,12 @@ def test_the_derivative_kernels_compile_one_version_for_any_writability(frozen):
     for kernel, n_read in ((D._gradient, 2), (D._with_room, 1), (D._window_slopes, 2)):
         for sig in kernel.signatures:
             assert not any(a.mutable for a in sig[:n_read]), (kernel, sig)
+
+
+def test_on_one_core_no_second_process_is_started(monkeypatch):
+    """One CPU: the demo compiles the generation's kernels itself, as before."""
+    monkeypatch.setattr(demo, "_cores", lambda: 1)
+    second = demo._SecondProcess()
+    assert second.proc is None and not second.running()
+    assert second.join(io.StringIO()) == 0
+    second.close()

@@ -126,6 +126,14 @@ def _terminal() -> TextIO | None:
     return sys.stderr if sys.stderr.isatty() else None
 
 
+def _cores() -> int:
+    """The CPUs this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
 class _SecondProcess:
     """The generation's kernels compiled in a second process meanwhile.
 
@@ -135,15 +143,19 @@ class _SecondProcess:
     generation here then loads them. It imports this very ``ndlfd`` (its
     folder first on ``PYTHONPATH``) with the same environment, so the same
     cache. Where it cannot start or fails, this process compiles them
-    itself, as it would without it.
+    itself, as it would without it; and on one core it is not started (it
+    would only add its own start-up, about 1 s of CPU).
     """
 
     def __init__(self):
+        self.proc = None
+        self.t0 = time.perf_counter()
+        if _cores() < 2:
+            return
         package = Path(__file__).resolve().parents[2]  # the folder holding ndlfd
         path = os.pathsep.join(
             filter(None, [str(package), os.environ.get("PYTHONPATH")])
         )
-        self.t0 = time.perf_counter()
         try:
             self.proc = subprocess.Popen(
                 [sys.executable, "-m", "ndlfd.learner._warm"],
@@ -154,7 +166,7 @@ class _SecondProcess:
                 text=True,
             )
         except OSError:  # no second process: compiled here when needed
-            self.proc = None
+            pass
 
     def running(self) -> bool:
         return self.proc is not None and self.proc.poll() is None
