@@ -19,8 +19,12 @@ residuals regressed on the ends (``_choice.end_slopes``, where leaving
 each template out says it helps) 0.74x, 1.02x, 0.87x; and a route split
 off the board's spread read whole (``_choice.route_mates``: the fit split
 it in 20 of 60 folds of 6, following 2 or 3 templates) 0.74x, 0.92x,
-0.84x. Start+first contact+goal (via points as frames,
-``_choice.via_frame_mix``) 0.80x, 0.81x, 0.83x throughout.
+0.84x; and a start or goal a few spreads out still a frame
+(``_choice.END_SPREAD`` 1 % of the range, ``END_FAR``) 0.74x, 0.82x,
+0.82x (boards 10 to 19, the settings chosen on 0 to 9: 0.80x, 0.90x,
+0.87x). Start+first contact+goal (via points as frames,
+``_choice.via_frame_mix``) 0.80x, 0.81x, 0.83x throughout (boards 10 to
+19: 0.77x, 0.75x, 0.84x).
 """
 
 from __future__ import annotations

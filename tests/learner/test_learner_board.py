@@ -18,6 +18,7 @@ from hypothesis import strategies as st
 from ndlfd import KeypointHMM, synth
 from ndlfd.learner import _choice, _generation
 from ndlfd.learner._choice import (
+    END_FAR,
     END_FLOOR,
     END_SLOPE_RIDGE,
     end_frame_shift,
@@ -25,6 +26,7 @@ from ndlfd.learner._choice import (
     frame_ends,
     frame_routes,
 )
+from ndlfd.learner._extrapolation import FAR_SPREADS
 from ndlfd.metrics import dtw_distance
 
 
@@ -71,6 +73,21 @@ def test_a_goal_far_outside_the_demonstrations_is_not_a_frame():
     assert frame_ends(model, None, far) == (None, None)
     start = {"position": demos[0].get("position")[0]}
     assert frame_ends(model, start, near)[0] is not None
+
+
+def test_a_goal_a_few_spreads_out_is_still_a_frame():
+    # the goal with the largest x moved further along x by c of the goals'
+    # spread there: c spreads from its nearest (it), a frame up to
+    # END_FAR * FAR_SPREADS (6)
+    demos, _ = synth.task_board(6, random_state=3)
+    model = KeypointHMM().fit(demos)
+    goals = np.array([d.get("position")[-1] for d in demos])
+    k = int(np.argmax(goals[:, 0]))
+    limit = END_FAR * FAR_SPREADS
+    for c, frame in ((0.9 * limit, True), (1.1 * limit, False)):
+        goal = goals[k] + [c * goals[:, 0].std(), 0.0, 0.0]
+        got = frame_ends(model, None, {"position": goal})[1]
+        assert (got is not None) == frame, c
 
 
 @settings(max_examples=40, deadline=None)
