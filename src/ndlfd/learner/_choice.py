@@ -23,6 +23,15 @@ offsets left at the observations are faded linearly between them (as the
 path's own fades reach them), and the reading whose predictions of its
 position over the whole motion are closer (weighted by the templates'
 weights) is followed.
+
+A start and a goal among the demonstrations' (:func:`frame_ends`) are frames
+the templates move with (:func:`end_frame_shift`): each phase follows the
+view (the world, seen from the start, seen from the goal) in which the
+templates agree; what the views leave of each template is regressed on its
+ends where leaving each out says it helps (:func:`end_slopes`: a board's
+turn, as far as its goal's place tells it); and a route split off a spread
+that is one route seen from the ends is read whole (:func:`frame_routes`,
+:func:`route_mates`).
 """
 
 from __future__ import annotations
