@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from cli_helpers import (
     cli,
+    keep_figures,
     square_demos,
     write_obstacle,
     write_reach,
@@ -16,16 +17,8 @@ from ndlfd.learner import KeypointHMM
 
 def test_plot_draws_demos_keypoints_path_and_band(tmp_path, capsys, monkeypatch):
     pytest.importorskip("matplotlib")
-    import ndlfd.plot
 
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    figures = keep_figures(monkeypatch)
     folder = square_demos(tmp_path / "demos", n_demos=4)
     model, gen, std = tmp_path / "m.ndlfd", tmp_path / "g.csv", tmp_path / "s.csv"
     assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
@@ -103,7 +96,7 @@ def test_plot_uses_the_groups_of_fit_by_default(tmp_path, capsys):
 def test_plot_bad_rows_and_files(tmp_path, capsys, monkeypatch):
     """--bad-rows drop / --bad-files skip draw what fit would learn from."""
     pytest.importorskip("matplotlib")
-    figures = _keep_figures(monkeypatch)
+    figures = keep_figures(monkeypatch)
     folder = square_demos(tmp_path / "demos", n_demos=3)
     good = [read_csv(p) for p in sorted(folder.glob("*.csv"))]
     second = sorted(folder.glob("*.csv"))[1]
@@ -133,24 +126,11 @@ def test_plot_bad_rows_and_files(tmp_path, capsys, monkeypatch):
     assert rc == 0 and err == []
 
 
-def _keep_figures(monkeypatch):
-    import ndlfd.plot
-
-    figures = []
-    save = ndlfd.plot.save_figure
-    monkeypatch.setattr(
-        ndlfd.plot,
-        "save_figure",
-        lambda fig, path, **kw: (figures.append(fig), save(fig, path, **kw))[1],
-    )
-    return figures
-
-
 def test_plot_draws_a_folder_of_samples_as_thin_lines(tmp_path, capsys, monkeypatch):
     pytest.importorskip("matplotlib")
     from ndlfd.plot import GEN_COLOR
 
-    figures = _keep_figures(monkeypatch)
+    figures = keep_figures(monkeypatch)
     folder = square_demos(tmp_path / "demos", n_demos=4)
     model = tmp_path / "m.ndlfd"
     assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
@@ -182,7 +162,7 @@ def test_plot_draws_orientation_triads_along_a_3d_path(tmp_path, capsys, monkeyp
     pytest.importorskip("matplotlib")
     from ndlfd.plot import TRIAD_COLORS, triad_indices
 
-    figures = _keep_figures(monkeypatch)
+    figures = keep_figures(monkeypatch)
     folder = write_reach(tmp_path / "reach")  # 3-D with orientation
     model = tmp_path / "m.ndlfd"
     assert main(["fit", str(folder), "-o", str(model), "-q"]) == 0
@@ -242,18 +222,10 @@ def test_plot_joint_data_draws_each_channel_over_time(tmp_path, capsys, monkeypa
     # before: three joints in a 3-D projection, no time axis
     pytest.importorskip("matplotlib")
     pytest.importorskip("pyarrow")
-    import ndlfd.plot
     from lerobot_writer import SO101_MOTORS, write_so101
     from ndlfd.io import read_lerobot
 
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    figures = keep_figures(monkeypatch)
     root, _ = write_so101(tmp_path / "so101", n_demos=4)
     model, gen, std = tmp_path / "m.ndlfd", tmp_path / "g.csv", tmp_path / "s.csv"
     assert main(["fit", str(root), "-o", str(model), "-q"]) == 0
@@ -304,16 +276,8 @@ def test_plot_joint_data_draws_each_channel_over_time(tmp_path, capsys, monkeypa
 def test_plot_a_position_of_one_column_over_time(tmp_path, capsys, monkeypatch):
     # before: drawn over time at equal aspect, a sliver when x spans little
     pytest.importorskip("matplotlib")
-    import ndlfd.plot
 
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    figures = keep_figures(monkeypatch)
     folder = tmp_path / "d"
     folder.mkdir()
     t = np.linspace(0.0, 30.0, 60)
@@ -340,16 +304,8 @@ def test_plot_position_with_joints_draws_the_joints_over_time_beside(
 ):
     # before: only the position was drawn; the joints and gripper not at all
     pytest.importorskip("matplotlib")
-    import ndlfd.plot
 
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
+    figures = keep_figures(monkeypatch)
     folder = tmp_path / "d"
     folder.mkdir()
     header = ["t", "x", "y", "z", "shoulder_pan.pos", "elbow_flex.pos", "gripper"]

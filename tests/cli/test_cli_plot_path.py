@@ -9,7 +9,7 @@ import shutil
 
 import numpy as np
 import pytest
-from cli_helpers import cli
+from cli_helpers import cli, keep_figures
 
 from ndlfd.cli import main
 
@@ -36,20 +36,6 @@ def write_log(folder, n_demos=4, seed=0, position=False):
         lines = [head] + [",".join(repr(float(v)) for v in r) for r in rows]
         (folder / f"log{i}.csv").write_text("\n".join(lines) + "\n")
     return folder
-
-
-def keep_figures(monkeypatch):
-    import ndlfd.plot
-
-    figures = []
-    save = ndlfd.plot.save_figure
-
-    def keep(fig, path, **kw):
-        figures.append(fig)
-        return save(fig, path, **kw)
-
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
-    return figures
 
 
 def loadcsv(path):

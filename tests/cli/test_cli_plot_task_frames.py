@@ -5,7 +5,7 @@ import pytest
 
 pytest.importorskip("matplotlib")
 
-from cli_helpers import cli
+from cli_helpers import cli, keep_figures
 from test_cli_task_frames import (
     FRAME_FLAGS,
     NEW_OBJECT,
@@ -44,10 +44,7 @@ def fitted(tmp_path_factory):
 @pytest.fixture
 def figures(monkeypatch):
     """The figures ``ndlfd plot`` saves, kept."""
-    kept, save = [], ndlfd.plot.save_figure
-    keep = lambda fig, path, **kw: (kept.append(fig), save(fig, path, **kw))[1]  # noqa: E731
-    monkeypatch.setattr(ndlfd.plot, "save_figure", keep)
-    return kept
+    return keep_figures(monkeypatch)
 
 
 def _marks(ax, marker, color=None):
