@@ -27,7 +27,10 @@ from ._errors import ValidationError
 __all__ = [
     "Hand",
     "default_columns",
+    "frame_hands_problem",
     "hand_group",
+    "hand_label",
+    "hand_labels",
     "hand_name",
     "hands",
     "is_orientation",
@@ -240,3 +243,48 @@ def default_columns(group: str, k: int) -> tuple[str, ...]:
             return tuple(short + a for a in axes[:k])
         return tuple(f"{long}{i}" for i in range(k))
     return tuple(f"{group}{i}" for i in range(k))
+
+
+def hand_label(name: str) -> str:
+    """A hand as ``frame_hands`` names it: ``left`` (``left_position``), ``position``.
+
+    Examples
+    --------
+    >>> hand_label("left_position"), hand_label("left"), hand_label("")
+    ('left', 'left', 'position')
+    """
+    if name in ("", "position"):
+        return "position"
+    return name.removesuffix("_position")
+
+
+def hand_labels(groups) -> list[str]:
+    """Every hand of ``groups`` as ``frame_hands`` names it (:func:`hand_label`)."""
+    return [hand_label(h.name) for h in hands(groups)]
+
+
+def frame_hands_problem(frame_hands, frames, groups) -> tuple | None:
+    """The first entry of ``frame_hands`` that names what is not there.
+
+    Returns
+    -------
+    problem : tuple or None
+        ``(frame, None)``: a frame not among ``frames``; ``(frame, hand)``: a
+        hand (as given) not among the hands of ``groups``; ``None``: neither.
+
+    Examples
+    --------
+    >>> g = ("left_position",) * 3
+    >>> frame_hands_problem({"cube": ["left_position"]}, ["cube"], g) is None
+    True
+    >>> frame_hands_problem({"cube": ["right"]}, ["cube"], g)
+    ('cube', 'right')
+    """
+    labels = hand_labels(groups)
+    for frame, named in (frame_hands or {}).items():
+        if frame not in frames:
+            return frame, None
+        for h in named:
+            if not h or hand_label(h) not in labels:  # "" names no hand
+                return frame, h
+    return None

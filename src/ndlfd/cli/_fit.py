@@ -11,7 +11,13 @@ from dataclasses import replace
 import numpy as np
 
 from .._errors import MissingExtraError, NdlfdWarning, ValidationError
-from .._pose_groups import hand_group, hand_name, hands, kind
+from .._pose_groups import (
+    frame_hands_problem,
+    hand_group,
+    hand_labels,
+    hand_name,
+    kind,
+)
 from .._repairs import collecting_repairs
 from ..dp import DISTANCES
 from ..io import CLI_HINTS, demo_files
@@ -114,28 +120,24 @@ def check_frame_hands(frame_hands: dict | None, frames, groups) -> None:
     ...
     ndlfd._errors.ValidationError: --frame-hands cube names the hand 'arm'; ...
     """
-    if not frame_hands:
-        return
     frames = list(frames)
-    labels = [h.name or "position" for h in hands(list(groups))]
-    for name, named in frame_hands.items():
-        if name not in frames:
-            given = (
-                ", ".join(frames) if frames else "none (give them with --task-frame)"
-            )
-            raise ValidationError(
-                f"--frame-hands names the frame {name!r}, which the"
-                f" demonstrations do not carry; their task frames: {given}"
-            )
-        for h in named:
-            hand = h if h == "position" else h.removesuffix("_position")
-            if hand not in labels:
-                have = ", ".join(map(repr, labels)) if labels else "none"
-                raise ValidationError(
-                    f"--frame-hands {name} names the hand {h!r}; the learned"
-                    f" hands are {have} (a hand is a position group: position or"
-                    " <hand>_position, e.g. left_position)"
-                )
+    problem = frame_hands_problem(frame_hands, frames, list(groups))
+    if problem is None:
+        return
+    name, h = problem
+    if h is None:
+        given = ", ".join(frames) if frames else "none (give them with --task-frame)"
+        raise ValidationError(
+            f"--frame-hands names the frame {name!r}, which the"
+            f" demonstrations do not carry; their task frames: {given}"
+        )
+    labels = hand_labels(list(groups))
+    have = ", ".join(map(repr, labels)) if labels else "none"
+    raise ValidationError(
+        f"--frame-hands {name} names the hand {h!r}; the learned"
+        f" hands are {have} (a hand is a position group: position or"
+        " <hand>_position, e.g. left_position)"
+    )
 
 
 def _connect(address: str | None):

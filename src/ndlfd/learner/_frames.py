@@ -47,7 +47,14 @@ from collections.abc import Mapping
 import numpy as np
 
 from .._errors import NdlfdWarning, ValidationError
-from .._pose_groups import hands, pose_dims, position_columns
+from .._pose_groups import (
+    frame_hands_problem,
+    hand_label,
+    hand_labels,
+    hands,
+    pose_dims,
+    position_columns,
+)
 from .._poses import check_frames, frame_maps
 from ._blend import warped
 from ._discrete import DISCRETE_GROUPS
@@ -154,10 +161,6 @@ def check_learned_frames(est) -> None:
             )
 
 
-def _hand_label(name: str) -> str:
-    return name or "position"
-
-
 def check_frame_hands(est) -> None:
     """Check ``frame_hands`` against the learned frames and hands (after fit).
 
@@ -166,25 +169,23 @@ def check_frame_hands(est) -> None:
     ValidationError
         A frame the demonstrations did not carry, or a hand the model has not.
     """
-    fh = getattr(est, "frame_hands", None)
-    if not fh:
-        return
     frames = est.task_frames_
-    labels = [_hand_label(h.name) for h in hands(est.column_groups_)]
-    for name, named in fh.items():
-        if name not in frames:
-            raise ValidationError(
-                f"frame_hands names the frame {name!r}, which the demonstrations"
-                f" did not carry; their frames: {', '.join(frames) or 'none'}"
-            )
-        for h in named:
-            h = h.removesuffix("_position") if h != "position" else h
-            if h not in labels:
-                raise ValidationError(
-                    f"frame_hands[{name!r}] names the hand {h!r}; this model's"
-                    f" hands are {', '.join(map(repr, labels)) or 'none'}"
-                    " (a hand is a position group: position, <hand>_position)"
-                )
+    problem = frame_hands_problem(getattr(est, "frame_hands", None), frames,
+                                  est.column_groups_)  # fmt: skip
+    if problem is None:
+        return
+    name, hand = problem
+    if hand is None:
+        raise ValidationError(
+            f"frame_hands names the frame {name!r}, which the demonstrations"
+            f" did not carry; their frames: {', '.join(frames) or 'none'}"
+        )
+    labels = hand_labels(est.column_groups_)
+    raise ValidationError(
+        f"frame_hands[{name!r}] names the hand {hand_label(hand)!r}; this model's"
+        f" hands are {', '.join(map(repr, labels)) or 'none'}"
+        " (a hand is a position group: position, <hand>_position)"
+    )
 
 
 def _allowed(est, frame: str, hand: str) -> bool:
@@ -192,8 +193,7 @@ def _allowed(est, frame: str, hand: str) -> bool:
     fh = getattr(est, "frame_hands", None)
     if not fh or frame not in fh:
         return True
-    named = {h if h == "position" else h.removesuffix("_position") for h in fh[frame]}
-    return _hand_label(hand) in named
+    return hand_label(hand) in {hand_label(h) for h in fh[frame]}
 
 
 def check_new_frames(est, frames) -> dict | None:
