@@ -66,10 +66,10 @@ from pathlib import Path
 import numpy as np
 
 from .._errors import DataFileError, MissingExtraError, ValidationError
+from .._pose_groups import pose_dims
 from ..demonstration import Demonstration
 from ._frame_poses import check_frame_sources, feature_frame_poses, frame_flag
 from ._mapping import LIBRARY_HINTS, TIME_NAMES, ColumnMapping, map_arrays
-from ._names import group_kind
 
 __all__ = [
     "BOOKKEEPING",
@@ -584,23 +584,9 @@ def read_episode_mapped(
         item, arrays, how=how, layout=layout, source=str(item), **mapping
     )
     if sources:  # each constant over the episode
-        dims = _position_dims(demo.groups)
+        dims = pose_dims(demo.groups)
         demo = demo.with_frames(feature_frame_poses(item, table, sources, dims, how))
     return [(demo, m)]
-
-
-def _position_dims(groups) -> int:
-    """The columns of the first hand's position (``position``, ``left_position``).
-
-    Examples
-    --------
-    >>> _position_dims(("left_position",) * 3 + ("gripper", "right_position"))
-    3
-    >>> _position_dims(("joints",) * 6)
-    0
-    """
-    first = next((g for g in groups if group_kind(g) == "position"), None)
-    return 0 if first is None else groups.count(first)
 
 
 def read_lerobot(

@@ -60,6 +60,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._errors import DataFileError, ValidationError
+from .._pose_groups import hand_name
+from .._pose_groups import kind as group_kind
 from .._repairs import repaired
 from ..demonstration import Demonstration, default_columns
 from ..orientation import (
@@ -67,7 +69,7 @@ from ..orientation import (
     check_euler,
     check_representation,
 )
-from ._names import group_hand, group_kind, lab_groups, names_error, ready_line
+from ._names import lab_groups, names_error, ready_line
 from ._rotations import (
     EULER_NAMES,
     euler_columns,
@@ -613,7 +615,7 @@ def map_arrays(
                 p, ks, block, cols, rep, quaternion_order, g in lab.quaternions, how, g
             )
             from_euler = _one_representation(p, from_euler, given, g, mapped)
-        elif group_hand(g) and group_kind(g) == "position" and block.shape[1] != 3:
+        elif hand_name(g) and group_kind(g) == "position" and block.shape[1] != 3:
             flat.append((g, ks))
         blocks.append(block)
         names.extend(cols)
@@ -668,7 +670,7 @@ def _one_representation(p, before, given, group, mapped):
 
 def _hand_position_error(p, flat, how) -> DataFileError:
     """Hands' positions (``left_position``) of other than 3 columns."""
-    plain = {f"{group_hand(g)}_{'xyz'[: len(ks)]}": list(ks) for g, ks in flat}
+    plain = {f"{hand_name(g)}_{'xyz'[: len(ks)]}": list(ks) for g, ks in flat}
     line = ready_line(how["groups"].startswith("--"), plain)
     got = "; ".join(f"{g} {len(ks)} ({', '.join(ks)})" for g, ks in flat)
     return DataFileError(

@@ -49,6 +49,8 @@ import re
 from dataclasses import dataclass, field
 
 from .._errors import DataFileError
+from .._pose_groups import hand_name
+from .._pose_groups import kind as group_kind
 
 __all__ = [
     "ALOHA_JOINTS",
@@ -61,8 +63,6 @@ __all__ = [
     "LabGroups",
     "aloha_groups",
     "bare_name",
-    "group_hand",
-    "group_kind",
     "lab_groups",
     "lab_name",
     "names_error",
@@ -112,9 +112,6 @@ ALOHA_NAMES = tuple(
     for m in (*(j for j in ALOHA_JOINTS if not j.endswith("_shadow")), "gripper")
 )
 _KINDS = ("position", "velocity", "orientation")
-_HAND_GROUP = re.compile(
-    r"^([a-z][a-z0-9]*(?:_[a-z0-9]+)*)_(position|velocity|orientation)$"
-)
 _HAND_NAME = re.compile(rf"^({'|'.join(HANDS)})_(.+)$", re.IGNORECASE)
 _HAND_WORD = re.compile(rf"^({'|'.join(HAND_WORDS)})[_.](.+)$", re.IGNORECASE)
 _XYZ = ("x", "y", "z")
@@ -246,40 +243,6 @@ def _role(prefix: str) -> str:
     if words & set(MEASURED):
         return "measured"
     return "neutral"
-
-
-def group_kind(group: str) -> str:
-    """``"position"``, ``"velocity"`` or ``"orientation"`` for a hand's group.
-
-    ``position`` and ``left_position`` are positions; any other group is
-    its own kind (``joints``, ``gripper``, ``left_joints``).
-
-    Examples
-    --------
-    >>> group_kind("right_orientation"), group_kind("position")
-    ('orientation', 'position')
-    >>> group_kind("left_joints"), group_kind("joints_position")
-    ('left_joints', 'joints_position')
-    """
-    return _split_group(group)[1]
-
-
-def group_hand(group: str) -> str:
-    """The hand of a hand's group (``"left"``), ``""`` for any other group.
-
-    Examples
-    --------
-    >>> group_hand("left_orientation"), group_hand("orientation")
-    ('left', '')
-    """
-    return _split_group(group)[0]
-
-
-def _split_group(group: str) -> tuple[str, str]:
-    m = _HAND_GROUP.match(group)
-    if m is None or m[1] in ("joint", "joints"):
-        return "", group
-    return m[1], m[2]
 
 
 def bare_name(name: str, hand: str) -> str:
@@ -623,7 +586,7 @@ def names_error(p, layout_of, placed, dropped, lab: LabGroups, how, noun):
         for s in sets[1:]:
             prefix = lab.prefixes.get(s[0], "")
             prefix = re.sub(r"[^A-Za-z0-9_]+", "_", prefix).strip("_") or "other"
-            name = f"{g}_{prefix}" if group_hand(g) else f"{prefix}_{g}"
+            name = f"{g}_{prefix}" if hand_name(g) else f"{prefix}_{g}"
             if g == "position" and len(s) != 3:  # a hand's position is 3-D
                 name = f"{prefix}_{'xyz'[: len(s)] if len(s) <= 3 else 'p'}"
             groups.setdefault(name, s)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._errors import DataFileError
+from .._pose_groups import hand_name, kind
 from ..demonstration import default_columns
 from ..orientation import (
     QUATERNION_ORDERS,
@@ -21,7 +22,7 @@ from ..orientation import (
     representation_size,
     to_quaternions,
 )
-from ._names import bare_name, group_hand, group_kind, ready_line
+from ._names import bare_name, ready_line
 
 __all__ = [
     "EULER_NAMES",
@@ -49,7 +50,7 @@ def orientation_representation(
     ``explicit`` whether the group was mapped by hand, ``group`` the
     orientation group (``orientation``, a hand's ``left_orientation``).
     """
-    hand = group_hand(group)
+    hand = hand_name(group) or ""
     what = "orientation" if not hand else group
     if representation is not None:
         if representation_size(representation) != block.shape[1]:
@@ -93,7 +94,7 @@ def quaternion_columns(group: str) -> list[str]:
     >>> quaternion_columns("orientation"), quaternion_columns("left_orientation")[0]
     (['qw', 'qx', 'qy', 'qz'], 'left_qw')
     """
-    hand = group_hand(group)
+    hand = hand_name(group) or ""
     return [f"{hand}_{c}" if hand else c for c in default_columns("orientation", 4)]
 
 
@@ -116,7 +117,7 @@ def orientation_block(
         return ks, Q, quaternion_columns(group), "rotvec"
     # four named columns qw, qx, qy, qz (or a lab's w, x, y, z) say their
     # order; else the representation or the option
-    low = [bare_name(c, group_hand(group)).casefold() for c in ks]
+    low = [bare_name(c, (hand_name(group) or "")).casefold() for c in ks]
     if named:
         order = [0, 1, 2, 3]
     elif len(ks) == 4 and sorted(low) == sorted(QUAT_NAMES):
@@ -146,7 +147,7 @@ def _euler_block(p, ks, block, seq, how, group="orientation"):
     angles about x, y and z and are put in the convention's order; other
     names are taken as listed.
     """
-    low = [bare_name(k, group_hand(group)).casefold() for k in ks]
+    low = [bare_name(k, (hand_name(group) or "")).casefold() for k in ks]
     if sorted(low) == sorted(EULER_NAMES):
         axes = seq.lower()
         if len(set(axes)) != 3:
@@ -216,7 +217,7 @@ def euler_columns(demo, mapping) -> tuple[list[str], list[str], np.ndarray]:
     for g in dict.fromkeys(groups):
         idx = [j for j, h in enumerate(groups) if h == g]
         names = names_of.get(g, ())
-        if group_kind(g) != "orientation" or len(names) != 3 or len(idx) != 4:
+        if kind(g) != "orientation" or len(names) != 3 or len(idx) != 4:
             continue
         angles = from_quaternions(X[:, idx], mapping.representation)
         keep = [j for j in range(len(columns)) if j not in idx]
