@@ -58,7 +58,7 @@ from .._pose_groups import (
 from .._poses import check_frames, frame_maps
 from ._blend import warped
 from ._discrete import DISCRETE_GROUPS
-from ._frame_slopes import frame_features, frame_slopes
+from ._frame_slopes import frame_features, frame_slopes, quadratic_features
 
 __all__ = [
     "FRAME_FLOOR",
@@ -377,7 +377,8 @@ def _gauss(C: np.ndarray, w: np.ndarray, floor: float):
     """
     mu = np.tensordot(w, C, axes=1)  # (n_out, k)
     D = C - mu[None]
-    S = np.einsum("j,jta,jtb->tab", w, D, D)
+    Dt = D.transpose(1, 0, 2)  # (n_out, n_templates, k)
+    S = np.matmul(Dt.transpose(0, 2, 1) * w, Dt)  # sum_j w_j D_j D_j^T per row
     S = shrunk_covariance(S, 1.0 / float(np.sum(w * w)))
     S += floor * np.eye(C.shape[2])[None]
     return np.linalg.inv(S)
@@ -387,7 +388,7 @@ def _angular_precision(Q: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray
     """Inverse weighted mean squared angle of the quaternions to their mean."""
     m = np.tensordot(w, Q, axes=1)
     m /= np.maximum(np.linalg.norm(m, axis=-1, keepdims=True), 1e-300)
-    dots = np.clip(np.abs(np.einsum("jtc,tc->jt", Q, m)), 0.0, 1.0)
+    dots = np.clip(np.abs(np.sum(Q * m[None], axis=-1)), 0.0, 1.0)
     ang2 = (2.0 * np.arccos(dots)) ** 2
     return 1.0 / (np.tensordot(w, ang2, axes=1) + floor)
 
@@ -493,8 +494,9 @@ def _frame_views(X, maps, pos, vel, quat):
     for frame in maps:
         seen = []
         for A, b, dq in frame:
-            Pf = np.einsum("jab,jtb->jta", A, P) + b[:, None, :]
-            Vf = np.einsum("jab,jtb->jta", A, X[:, :, vel]) if vel else None
+            At = A.transpose(0, 2, 1)  # row vectors: P A^T is A applied to each
+            Pf = P @ At + b[:, None, :]
+            Vf = X[:, :, vel] @ At if vel else None
             Qf = None
             if quat:
                 Qf = X[:, :, quat]
@@ -531,7 +533,9 @@ def _mixed(M: list, V: list) -> np.ndarray:
     """``sum_f M[f] @ V[f]`` row by row: ``(n_out, k, k)`` on ``(n, n_out, k)``.
 
     The same sums as ``np.einsum("tab,jtb->jta", ...)`` added over the views
-    (up to rounding), a column at a time: twice as fast for 3-D positions.
+    (up to rounding), as one batched product per row of the views side by
+    side: ``[V_1 ... V_F] [M_1 ... M_F]^T`` (three times faster than a column
+    at a time for 3-D positions and three views).
 
     Examples
     --------
@@ -539,11 +543,9 @@ def _mixed(M: list, V: list) -> np.ndarray:
     >>> _mixed(M, [np.ones((1, 1, 2))])
     array([[[2., 2.]]])
     """
-    out = np.zeros(V[0].shape)
-    for m, v in zip(M, V, strict=True):
-        for b in range(v.shape[2]):
-            out += m[None, :, :, b] * v[:, :, None, b]
-    return out
+    Va = np.concatenate(V, axis=2).transpose(1, 0, 2)  # (n_out, n, F k)
+    Ma = np.concatenate(M, axis=2)  # (n_out, k, F k)
+    return np.matmul(Va, Ma.transpose(0, 2, 1)).transpose(1, 0, 2)
 
 
 def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
@@ -696,8 +698,10 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
     Cg = combined(Xg, grid)
     slopes = []  # (columns, dz, B) of each regression
     for moved, scored, own in _slope_parts(est, groups, found, frames):
-        candidates = frame_features(est, demos, own, unit, quadratic=not found)
-        dz, B = frame_slopes(Cg[:, :, moved], wg, candidates, scored)
+        candidates = frame_features(est, demos, own, unit)
+        # a model without a hand: its features' squares (a curved IK)
+        curved = None if found else quadratic_features(*candidates[0])
+        dz, B = frame_slopes(Cg[:, :, moved], wg, candidates, scored, curved=curved)
         if B is not None:
             slopes.append((moved, dz, _smooth_along(B, half)))
     if not slopes and not found:
@@ -716,7 +720,7 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
         out = combined(physical(W), tq)
         for moved, dz, B in slopes:
             Bq = np.moveaxis(_interp(tq, grid, np.moveaxis(B, 1, 0)), 0, 1)
-            out[:, :, moved] -= np.einsum("jp,ptc->jtc", dz, Bq)
+            out[:, :, moved] -= np.tensordot(dz, Bq, axes=1)
         for quat in quats:
             Q = out[:, :, quat]
             Q /= np.maximum(np.linalg.norm(Q, axis=-1, keepdims=True), 1e-300)
