@@ -426,7 +426,9 @@ def window_half(tau: np.ndarray, step: float) -> float:
     """
     if tau.size < 2:
         return 0.0
-    spacing = float(np.median(np.diff(tau)))
+    gaps = np.sort(np.diff(tau))  # their median, as np.median (without its cost)
+    m = gaps.size // 2
+    spacing = float(gaps[m] if gaps.size % 2 else (gaps[m - 1] + gaps[m]) / 2)
     return spacing * min(TEMPLATE_WINDOW, max(0.0, 2.0 * (1.0 - step / spacing)))
 
 
@@ -568,13 +570,14 @@ def smooth_warp(tq, knots, at, half: float = WARP_SMOOTH) -> np.ndarray:
         Output times (any order).
     knots : ndarray of shape (n_knots,)
         Non-decreasing.
-    at : ndarray of shape (n_knots,)
-        The warp's value at each knot.
+    at : ndarray of shape (n_knots,) or (n_warps, n_knots)
+        The warp's value at each knot (a row per warp: several warps on the
+        same knots at once, each as if alone).
     half : float, default=:data:`WARP_SMOOTH`
 
     Returns
     -------
-    warp : ndarray of shape (n_out,)
+    warp : ndarray of shape (n_out,) or (n_warps, n_out)
 
     Examples
     --------
@@ -585,21 +588,29 @@ def smooth_warp(tq, knots, at, half: float = WARP_SMOOTH) -> np.ndarray:
     array([0.  , 0.  , 0.05, 0.2 , 1.  ])
     """
     tq = np.asarray(tq, dtype=np.float64)
+    at = np.asarray(at, dtype=np.float64)
+    A = at.reshape(-1, at.shape[-1])
     if knots.size < 2 or half <= 0:
-        return np.interp(tq, knots, at)
-    area = np.concatenate([[0.0], np.cumsum(np.diff(knots) * (at[1:] + at[:-1]) / 2)])
-
-    def integral(x):  # of the warp from knots[0] to x
-        i = np.clip(np.searchsorted(knots, x, side="right") - 1, 0, knots.size - 2)
-        return area[i] + (x - knots[i]) * (at[i] + np.interp(x, knots, at)) / 2
-
+        out = np.array([np.interp(tq, knots, a) for a in A])
+        return out.reshape(at.shape[:-1] + tq.shape)
+    # the window's ends depend on the knots and times only: shared by every row
     x = np.clip(tq, knots[0], knots[-1])
     h = np.minimum(half, np.minimum(x - knots[0], knots[-1] - x))
-    out = np.interp(x, knots, at)
     wide = h > 1e-12
-    xw, hw = x[wide], h[wide]
-    out[wide] = (integral(xw + hw) - integral(xw - hw)) / (2.0 * hw)
-    return out
+    lo, hi = x[wide] - h[wide], x[wide] + h[wide]
+    last = knots.size - 2
+    i_lo = np.clip(np.searchsorted(knots, lo, side="right") - 1, 0, last)
+    i_hi = np.clip(np.searchsorted(knots, hi, side="right") - 1, 0, last)
+    dk = np.diff(knots)
+    out = np.empty((A.shape[0], tq.size))
+    for r, a in enumerate(A):
+        area = np.concatenate([[0.0], np.cumsum(dk * (a[1:] + a[:-1]) / 2)])
+        # the warp's integral from knots[0] to each end
+        up = area[i_hi] + (hi - knots[i_hi]) * (a[i_hi] + np.interp(hi, knots, a)) / 2
+        down = area[i_lo] + (lo - knots[i_lo]) * (a[i_lo] + np.interp(lo, knots, a)) / 2
+        out[r] = np.interp(x, knots, a)
+        out[r, wide] = (up - down) / (2.0 * h[wide])
+    return out.reshape(at.shape[:-1] + tq.shape)
 
 
 def warped(
@@ -631,23 +642,22 @@ def warped(
     if step is None:
         step = output_step(np.asarray(tq, dtype=np.float64))
 
-    def read(U, tau, idx):
-        at = smooth_warp(tq, knots, tau[idx])
-        return _window_rows(U, tau, at, window_half(tau, step))
-
+    # every template's warp at once (the same knots)
+    ats = smooth_warp(
+        tq, knots, np.array([t[i] for t, i in zip(tau_list, index_list, strict=True)])
+    )
     W = np.stack(
         [
-            read(U, tau, i)
-            for tau, i, U in zip(tau_list, index_list, U_list, strict=True)
+            _window_rows(U, tau, at, window_half(tau, step))
+            for tau, at, U in zip(tau_list, ats, U_list, strict=True)
         ]
     )  # (n_demos, n_out, n_dims)
     quats = [] if quat_cols is None or len(quat_cols) % 4 else quat_cols
     for b in range(0, len(quats), 4):  # each orientation group's 4 columns
         cols = list(quats[b : b + 4])
-        ref = W[int(np.argmax(w))][:, cols]
-        for j in range(W.shape[0]):
-            flip = np.sum(W[j][:, cols] * ref, axis=1) < 0
-            W[j][np.ix_(flip, cols)] *= -1.0
+        Q = W[:, :, cols]
+        flip = np.sum(Q * Q[int(np.argmax(w))][None], axis=2) < 0  # (n_demos, n_out)
+        W[:, :, cols] = np.where(flip[:, :, None], -Q, Q)
     if mix is not None:
         W = mix(W, w, np.asarray(tq, dtype=np.float64))
     return W, w

@@ -487,23 +487,32 @@ def _smooth_along(B: np.ndarray, half: int) -> np.ndarray:
     return np.moveaxis(_smooth(np.moveaxis(B, 1, 0), half), 0, 1)
 
 
-def _frame_views(X, maps, pos, vel, quat):
-    """Every frame's views of templates in physical units: lists of (P, V, Q)."""
+def _frame_views(X, maps, pos, vel, quat, Q=None):
+    """Every frame's views of templates in physical units: lists of (P, V, Q).
+
+    A view that only moves (a frame given as a position: ``A`` the identity
+    for every template) adds its move, and one that does not turn keeps the
+    orientation ``Q`` (by default ``X``'s) as it is, the same array: the same
+    values as the general map, without it.
+    """
     P = X[:, :, pos]
+    if quat and Q is None:
+        Q = X[:, :, quat]
     out = []
     for frame in maps:
         seen = []
         for A, b, dq in frame:
-            At = A.transpose(0, 2, 1)  # row vectors: P A^T is A applied to each
-            Pf = P @ At + b[:, None, :]
-            Vf = X[:, :, vel] @ At if vel else None
-            Qf = None
-            if quat:
-                Qf = X[:, :, quat]
-                if dq is not None:
-                    Qf = quat_multiply(dq[:, None, :], Qf)
-                flip = np.sum(Qf * X[:, :, quat], -1, keepdims=True) < 0
-                Qf = np.where(flip, -Qf, Qf)
+            if np.array_equal(A, np.broadcast_to(np.eye(A.shape[-1]), A.shape)):
+                Pf = P + b[:, None, :]
+                Vf = X[:, :, vel] if vel else None
+            else:
+                At = A.transpose(0, 2, 1)  # row vectors: P A^T is A applied to each
+                Pf = P @ At + b[:, None, :]
+                Vf = X[:, :, vel] @ At if vel else None
+            Qf = Q
+            if quat and dq is not None:
+                Qf = quat_multiply(dq[:, None, :], Q)
+                Qf = np.where(np.sum(Qf * Q, -1, keepdims=True) < 0, -Qf, Qf)
             seen.append((Pf, Vf, Qf))
         out.append(seen)
     return out
@@ -559,9 +568,10 @@ def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
         ``tq`` into ``out``.
     """
     pos, vel, quat = hand.position, hand.velocity, hand.orientation
-    seen_g = _frame_views(Xg, maps, pos, vel, quat)
+    Qg = Xg[:, :, quat] if quat else None
+    seen_g = _frame_views(Xg, maps, pos, vel, quat, Qg)
     picks = [_smooth(_pick_weight(seen, wg, floor), half) for seen in seen_g]
-    views_g = [(Xg[:, :, pos], None, Xg[:, :, quat] if quat else None)]
+    views_g = [(Xg[:, :, pos], None, Qg)]
     views_g += [
         _merged(seen, a[None, :, None]) for seen, a in zip(seen_g, picks, strict=True)
     ]
@@ -569,7 +579,11 @@ def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
     mixes_g = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
     shares_g = None
     if quat:
-        a = np.array([_angular_precision(v[2], wg, FRAME_FLOOR**2) for v in views_g])
+        known = {}  # views that do not turn share the templates' own array
+        for v in views_g:
+            if id(v[2]) not in known:
+                known[id(v[2])] = _angular_precision(v[2], wg, FRAME_FLOOR**2)
+        a = np.array([known[id(v[2])] for v in views_g])
         shares_g = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
 
     def combine(X, out, tq):
