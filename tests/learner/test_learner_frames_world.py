@@ -21,7 +21,7 @@ from scipy.spatial.transform import Rotation
 
 from frames_obstacle import OBJECT, clearance, grasp_error, pick_around
 from ndlfd import Demonstration, KeypointHMM
-from ndlfd.learner._frames import shrunk_covariance
+from ndlfd.learner._frame_mix import shrunk_covariance
 
 
 def _oas_reference(S, n):

@@ -4,7 +4,7 @@ A ridge regression of every value of the templates on their frames'
 origins (and turns; for a joint-space model also their squares), the
 candidate features chosen by exact leave-one-out (a joint-space model's
 squares by the templates' number): what
-:func:`~ndlfd.learner._frames.frame_mixer` moves each combined template
+:func:`~ndlfd.learner._frame_mix.frame_mixer` moves each combined template
 along, so that a part of the motion between two frames moves with both,
 and a model without a hand moves with its frames at all.
 """

@@ -52,7 +52,8 @@ from ._choice import (
 from ._conditioning import log_weights_for, orient_condition, pin
 from ._decoding import decode_states
 from ._discrete import snap_physical, snap_two_valued, two_valued_columns
-from ._frames import check_new_frames, clock_aligned, frame_parts
+from ._frame_mix import frame_parts
+from ._frames import check_new_frames, clock_aligned
 from ._hands import derive_velocity, quat_columns, renormalized
 from ._phase import warp_for
 from ._prefix_route import route_prior
