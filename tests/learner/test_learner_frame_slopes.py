@@ -12,9 +12,9 @@ from ndlfd.learner._frame_slopes import (
 )
 
 
-def _moved(Y, dz, B):
+def _moved(Y, fit, f_new):
     """Every template moved to the new frames (what the mixer does)."""
-    return Y - np.tensordot(dz, B, axes=1)
+    return Y - np.tensordot(fit.dz(f_new), fit.B, axes=1)
 
 
 def _data(n, curve, seed=0):
@@ -34,10 +34,10 @@ def test_an_exact_linear_relation_is_recovered():
     F, Y, value = _data(10, curve=0.0)
     f_new = np.array([0.4, -0.7])
     w = np.full(10, 0.1)
-    dz, B, loo = fit_slopes(Y, w, F, f_new, [0, 1])
+    fit, loo = fit_slopes(Y, w, F, [0, 1])
     # every template moved lands on the value at the new frames
-    np.testing.assert_allclose(_moved(Y, dz, B), np.broadcast_to(value(f_new), Y.shape),
-                               rtol=5e-3)  # fmt: skip
+    want = np.broadcast_to(value(f_new), Y.shape)
+    np.testing.assert_allclose(_moved(Y, fit, f_new), want, rtol=5e-3)
     assert loo < 1e-3
 
 
@@ -47,10 +47,10 @@ def test_few_templates_shrink_a_hand_not_a_joint_space_model():
     f_new = np.array([0.9, 0.9])
     w = np.full(4, 0.25)
     want = value(f_new)
-    dz, B, _ = fit_slopes(Y, w, F, f_new, [0, 1], few=1)
-    np.testing.assert_allclose(_moved(Y, dz, B)[0], want, atol=2e-2)
-    dz, B, _ = fit_slopes(Y, w, F, f_new, [0, 1])  # a hand's rule: ridge 1
-    assert np.abs(_moved(Y, dz, B)[0] - want).max() > 0.1
+    fit, _ = fit_slopes(Y, w, F, [0, 1], few=1)
+    np.testing.assert_allclose(_moved(Y, fit, f_new)[0], want, atol=2e-2)
+    fit, _ = fit_slopes(Y, w, F, [0, 1])  # a hand's rule: ridge 1
+    assert np.abs(_moved(Y, fit, f_new)[0] - want).max() > 0.1
 
 
 @pytest.mark.parametrize("n, exact", [(12, True), (11, False)])
@@ -59,10 +59,11 @@ def test_a_curved_relation_is_taken_with_enough_templates(n, exact):
     F, Y, value = _data(n, curve=1.5, seed=5)
     f_new = np.array([0.8, -0.8])
     w = np.full(n, 1.0 / n)
-    dz, B = frame_slopes(
-        Y, w, [(F, f_new)], [0, 1], curved=quadratic_features(F, f_new)
-    )
-    err = np.abs(_moved(Y, dz, B) - value(f_new)).max()
+    F2, f2 = quadratic_features(F, f_new)
+    fit = frame_slopes(Y, w, [F], [0, 1], curved=F2)
+    assert (fit.which == -1) == exact  # the squares, or the only candidate
+    f = f2 if fit.which == -1 else f_new
+    err = np.abs(_moved(Y, fit, f) - value(f_new)).max()
     assert (err < 2e-2) == exact
 
 

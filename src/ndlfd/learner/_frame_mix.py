@@ -298,15 +298,17 @@ def _mixed(M: list, V: list) -> np.ndarray:
     return np.matmul(Va, Ma.transpose(0, 2, 1)).transpose(1, 0, 2)
 
 
-def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
-    """One hand's product of its frame views (see :func:`frame_mixer`).
+def _hand_stats(hand, maps, Xg, wg, half, floor):
+    """One hand's weights of its frame views on the grid (see :func:`frame_mixer`).
 
     Returns
     -------
-    combine : callable
-        ``combine(X, out, tq)``: writes the hand's combined position,
-        velocity and orientation of the physical templates ``X`` at phases
-        ``tq`` into ``out``.
+    picks : list of ndarray of shape (n_grid,)
+        Per frame, the weight of its first view against its second.
+    mixes : ndarray of shape (n_views, n_grid, k, k)
+        Each view's share of the product (its precision over their sum).
+    shares : ndarray of shape (n_grid, n_views) or None
+        Each view's share of the orientation (``None``: the hand has none).
     """
     pos, vel, quat = hand.position, hand.velocity, hand.orientation
     Qg = Xg[:, :, quat] if quat else None
@@ -317,30 +319,45 @@ def _hand_mixer(hand, maps, Xg, wg, grid, half, floor):
         _merged(seen, a[None, :, None]) for seen, a in zip(seen_g, picks, strict=True)
     ]
     prec = np.array([_smooth(_gauss(v[0], wg, floor), half) for v in views_g])
-    mixes_g = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
-    shares_g = None
+    mixes = np.linalg.inv(prec.sum(axis=0))[None] @ prec  # (n_views, G, k, k)
+    shares = None
     if quat:
         known = {}  # views that do not turn share the templates' own array
         for v in views_g:
             if id(v[2]) not in known:
                 known[id(v[2])] = _angular_precision(v[2], wg, FRAME_FLOOR**2)
         a = np.array([known[id(v[2])] for v in views_g])
-        shares_g = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
+        shares = _smooth((a / a.sum(axis=0, keepdims=True)).T, half)  # (G, n_views)
+    return picks, mixes, shares
+
+
+def _hand_combine(hand, maps, stats, grid):
+    """One hand's product of its frame views at its frames' poses ``maps``.
+
+    Returns
+    -------
+    combine : callable
+        ``combine(X, out, tq)``: writes the hand's combined position,
+        velocity and orientation of the physical templates ``X`` at phases
+        ``tq`` into ``out``.
+    """
+    pos, vel, quat = hand.position, hand.velocity, hand.orientation
+    picks, mixes, shares = stats
 
     def combine(X, out, tq):
-        seen = _frame_views(X, maps, pos, vel, quat)
-        views = [(X[:, :, pos], X[:, :, vel] if vel else None,
-                  X[:, :, quat] if quat else None)]  # fmt: skip
+        Q = X[:, :, quat] if quat else None
+        seen = _frame_views(X, maps, pos, vel, quat, Q)
+        views = [(X[:, :, pos], X[:, :, vel] if vel else None, Q)]
         views += [
             _merged(v, np.interp(tq, grid, a)[None, :, None])
             for v, a in zip(seen, picks, strict=True)
         ]
-        M = [_interp(tq, grid, m) for m in mixes_g]  # (n_out, k, k) each
+        M = [_interp(tq, grid, m) for m in mixes]  # (n_out, k, k) each
         out[:, :, pos] = _mixed(M, [v[0] for v in views])
         if vel:
             out[:, :, vel] = _mixed(M, [v[1] for v in views])
         if quat:
-            a = _interp(tq, grid, shares_g)  # (n_out, n_views)
+            a = _interp(tq, grid, shares)  # (n_out, n_views)
             out[:, :, quat] = sum(
                 a[None, :, f, None] * v[2] for f, v in enumerate(views)
             )
@@ -367,7 +384,80 @@ def _slope_parts(est, groups, found, frames) -> list:
     return out
 
 
-def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=None):
+def _features(est, demos, own, unit, curved: bool) -> tuple:
+    """The candidates' features of the templates and at the new poses ``own``.
+
+    Returns
+    -------
+    candidates : list of (ndarray of shape (n_templates, p), ndarray of shape (p,))
+        As :func:`~ndlfd.learner._frame_slopes.frame_features`.
+    squares : tuple of (ndarray, ndarray) or None
+        The first candidate's squares and products (``curved``: a model
+        without a hand, whose joints are a curved function of the frames).
+    """
+    candidates = frame_features(est, demos, own, unit)
+    return candidates, quadratic_features(*candidates[0]) if curved else None
+
+
+def _canonical(est, demos, frames) -> dict:
+    """The poses the frames' statistics are computed at (see :func:`frame_mixer`)."""
+    return {
+        name: pose if pose.size == 7 else est.task_frames_[name][demos].mean(axis=0)
+        for name, pose in frames.items()
+    }
+
+
+def _statistics(est, demos, frames, found, k, unit, physical, grid_warp):
+    """What :func:`frame_mixer` learns on the grid: per hand and per regression.
+
+    Returns
+    -------
+    stats : tuple of (list, list)
+        Per hand :func:`_hand_stats`; per regression ``(part, slopes)``: its
+        index in :func:`_slope_parts` and its
+        :class:`~ndlfd.learner._frame_slopes.Slopes`, smoothed along the grid.
+    """
+    grid = np.linspace(0.0, 1.0, _GRID)
+    half = round(FRAME_SMOOTH * (_GRID - 1))
+    Wg, wg = grid_warp()
+    # the frames' statistics from every template alike: a sample's random
+    # blend weights (or a condition's) weigh the blend, not what the frames say
+    wg = np.full(wg.size, 1.0 / wg.size)
+    Xg = physical(Wg)
+    maps = _views(est, demos, frames, k, unit) if found else []
+    per_hand, combines = [], []
+    for h in found:  # each hand from the views of the frames that may move it
+        own = [
+            m
+            for m, f in zip(maps, frames, strict=True)
+            if frame_allowed(est, f, h.name)
+        ]
+        per_hand.append(_hand_stats(h, own, Xg, wg, half, FRAME_FLOOR**2))
+        combines.append(_hand_combine(h, own, per_hand[-1], grid))
+    # the slopes on the origins, on the grid, smoothed: per row they carry the
+    # templates' noise, amplified where the new origins lie far out
+    Cg = Xg.copy()
+    for combine in combines:
+        combine(Xg, Cg, grid)
+    regressions = []
+    parts = _slope_parts(est, est.column_groups_, found, frames)
+    for i, (moved, scored, own) in enumerate(parts):
+        candidates, squares = _features(est, demos, own, unit, not found)
+        fit = frame_slopes(
+            Cg[:, :, moved],
+            wg,
+            [F for F, _ in candidates],
+            scored,
+            curved=None if squares is None else squares[0],
+        )
+        if fit is not None:
+            regressions.append((i, fit._replace(B=_smooth_along(fit.B, half))))
+    return per_hand, regressions
+
+
+def frame_mixer(
+    est, templates: np.ndarray, frames: Mapping, warp, grid_warp=None, memo=None
+):
     """The step that combines the templates' frame views (see the module).
 
     Each hand (a position group, with its velocity and orientation:
@@ -382,6 +472,14 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
     share of the product) are computed on a fixed phase grid of
     :data:`_GRID` points and smoothed along it (:data:`FRAME_SMOOTH`), so
     they change gently with the phase and the same at any set of rows.
+    Neither they nor the slopes depend on where a frame without an
+    orientation moved to: its view of template ``j`` is ``x_j + (new -
+    old_j)``, whose spread about the templates' mean is the same for any
+    ``new``, and the combined templates' deviations from their mean, which
+    the slopes regress, likewise. So they are computed at the templates'
+    mean pose of such a frame (the same numbers whatever pose comes first)
+    and kept by ``memo`` for every new pose of it; a frame with an
+    orientation turns its views, and its pose is part of them.
 
     Parameters
     ----------
@@ -391,13 +489,16 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
         The blended templates (indices into ``est.template_indices_``), in
         the blend's order.
     frames : mapping of str to ndarray
-        Checked new poses (:func:`check_new_frames`).
+        Checked new poses (:func:`~ndlfd.learner._frames.check_new_frames`).
     warp : callable
         ``warp(tq) -> (W, w)``: the templates time-warped to phases ``tq``
         and their weights (:func:`~ndlfd.learner._blend.warped`).
     grid_warp : callable, optional
         ``grid_warp() -> (W, w)``: ``warp`` on the phase grid (the same for
         any frames: a replanning robot's plan pays it once).
+    memo : callable, optional
+        ``memo(build) -> stats``: keeps the grid's statistics (``build()``)
+        for the frames' key (:func:`frame_parts`).
 
     Returns
     -------
@@ -418,8 +519,6 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
     if pos:
         unit = float(np.max(scaler.data_max_[pos] - scaler.data_min_[pos]))
         unit = unit if np.isfinite(unit) and unit > 0 else 1.0
-    maps = _views(est, demos, frames, k, unit) if found else []
-    floor = FRAME_FLOOR**2
 
     def physical(W):
         n_t, n_out, d = W.shape
@@ -428,41 +527,35 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
         X[:, :, pos] /= unit
         return X
 
-    # the weights, on the grid, smoothed
     grid = np.linspace(0.0, 1.0, _GRID)
-    half = round(FRAME_SMOOTH * (_GRID - 1))
-    Wg, wg = grid_warp() if grid_warp is not None else warp(grid)
-    # the frames' statistics from every template alike: a sample's random
-    # blend weights (or a condition's) weigh the blend, not what the frames say
-    wg = np.full(wg.size, 1.0 / wg.size)
-    Xg = physical(Wg)
-    mixers = []
-    for h in found:  # each hand from the views of the frames that may move it
-        own = [
-            m
-            for m, f in zip(maps, frames, strict=True)
-            if frame_allowed(est, f, h.name)
-        ]
-        mixers.append(_hand_mixer(h, own, Xg, wg, grid, half, floor))
 
-    def combined(X, tq):
-        """The templates (physical) with their views combined, at phases ``tq``."""
-        out = X.copy()
-        for combine in mixers:
-            combine(X, out, tq)
-        return out
+    def build():
+        at = _canonical(est, demos, frames)
+        gw = grid_warp if grid_warp is not None else (lambda: warp(grid))
+        return _statistics(est, demos, at, found, k, unit, physical, gw)
 
-    # the slopes on the origins, on the grid, smoothed: per row they carry the
-    # templates' noise, amplified where the new origins lie far out
-    Cg = combined(Xg, grid)
-    slopes = []  # (columns, dz, B) of each regression
-    for moved, scored, own in _slope_parts(est, groups, found, frames):
-        candidates = frame_features(est, demos, own, unit)
-        # a model without a hand: its features' squares (a curved IK)
-        curved = None if found else quadratic_features(*candidates[0])
-        dz, B = frame_slopes(Cg[:, :, moved], wg, candidates, scored, curved=curved)
-        if B is not None:
-            slopes.append((moved, dz, _smooth_along(B, half)))
+    per_hand, regressions = build() if memo is None else memo(build)
+    maps = _views(est, demos, frames, k, unit) if found else []
+    mixers = [
+        _hand_combine(
+            h,
+            [
+                m
+                for m, f in zip(maps, frames, strict=True)
+                if frame_allowed(est, f, h.name)
+            ],
+            stats,
+            grid,
+        )
+        for h, stats in zip(found, per_hand, strict=True)
+    ]
+    slopes = []  # (columns, dz, B) of each regression, at the new poses
+    parts = _slope_parts(est, groups, found, frames)
+    for i, fit in regressions:
+        moved, _, own = parts[i]
+        candidates, squares = _features(est, demos, own, unit, not found)
+        f_new = squares[1] if fit.which < 0 else candidates[fit.which][1]
+        slopes.append((moved, fit.dz(f_new), fit.B))
     if not slopes and not found:
         warnings.warn(
             f"this model learned no relation between its task frames"
@@ -476,7 +569,10 @@ def frame_mixer(est, templates: np.ndarray, frames: Mapping, warp, grid_warp=Non
 
     def mix(W: np.ndarray, w: np.ndarray, tq: np.ndarray) -> np.ndarray:
         tq = np.asarray(tq, dtype=np.float64)
-        out = combined(physical(W), tq)
+        X = physical(W)
+        out = X.copy()
+        for combine in mixers:
+            combine(X, out, tq)
         for moved, dz, B in slopes:
             Bq = np.moveaxis(_interp(tq, grid, np.moveaxis(B, 1, 0)), 0, 1)
             out[:, :, moved] -= np.tensordot(dz, Bq, axes=1)
@@ -495,10 +591,13 @@ def frame_parts(est, plan, frames, quat_cols, cache):
     """The templates' alignment and the frames' step of a plan's blend.
 
     Without frames, the plan's own alignment and no step. With frames, the
-    templates on their own clocks (:func:`clock_aligned`) and
-    :func:`frame_mixer`'s step, kept in the model's cache for a decoded plan
-    (a replanning robot with the same frames pays it once per route; a
-    sample's drawn plan, of log-probability NaN, is not kept).
+    templates on their own clocks
+    (:func:`~ndlfd.learner._frames.clock_aligned`) and :func:`frame_mixer`'s
+    step, kept in the model's cache for a decoded plan (a replanning robot
+    with the same frames pays it once per route; a sample's drawn plan, of
+    log-probability NaN, is not kept), and its statistics kept for every new
+    pose of a frame without an orientation (a new object each call pays
+    the combination only).
 
     Returns
     -------
@@ -521,8 +620,15 @@ def frame_parts(est, plan, frames, quat_cols, cache):
         grid = np.linspace(0.0, 1.0, _GRID)
         return cache.memo(("frame grid", *plan_key), lambda: warp(grid))
 
+    # the statistics' key: a turning frame's pose is part of them (see
+    # frame_mixer), a moving one's is not
+    turning = tuple((k, v.tobytes() if v.size == 7 else b"") for k, v in frames.items())
+
+    def memo(build):
+        return cache.memo(("frame stats", *plan_key, turning), build)
+
     def make():
-        return frame_mixer(est, plan.templates, frames, warp, grid_warp)
+        return frame_mixer(est, plan.templates, frames, warp, grid_warp, memo)
 
     key = ("frames", *plan_key, tuple((k, v.tobytes()) for k, v in frames.items()))
     return index, cache.memo(key, make)

@@ -11,10 +11,13 @@ and a model without a hand moves with its frames at all.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 __all__ = [
     "FRAME_RIDGE",
+    "Slopes",
     "fit_slopes",
     "frame_features",
     "frame_slopes",
@@ -106,21 +109,57 @@ def quadratic_features(F: np.ndarray, f: np.ndarray) -> tuple:
     return np.hstack([F, D[:, i] * D[:, j]]), np.concatenate([f, d[i] * d[j]])
 
 
-def fit_slopes(Y, w, F, f_new, scored, *, few: int = _FEW):
+class Slopes(NamedTuple):
+    """A regression of the templates' values on their frames' features.
+
+    Attributes
+    ----------
+    Z : ndarray of shape (n_templates, p)
+        The templates' standardized features (those that vary).
+    B : ndarray of shape (p, n_out, c)
+        The slopes.
+    mean, scale : ndarray of shape (n_features,)
+        The standardization (weighted mean and spread of each feature).
+    keep : ndarray of shape (n_features,), dtype bool
+        The features that vary.
+    which : int
+        The candidate chosen (its index; -1 for the curved features).
+    """
+
+    Z: np.ndarray
+    B: np.ndarray
+    mean: np.ndarray
+    scale: np.ndarray
+    keep: np.ndarray
+    which: int
+
+    def dz(self, f_new: np.ndarray) -> np.ndarray:
+        """Each template's standardized features minus the new ones ``(n, p)``."""
+        k = self.keep
+        return self.Z - (f_new[k] - self.mean[k]) / self.scale[k]
+
+
+def fit_slopes(Y, w, F, scored, *, few: int = _FEW, which: int = 0):
     """One candidate's regression (:func:`frame_slopes`) and its leave-one-out error.
 
     The error is over the columns ``scored`` of ``Y`` only (one unit: the
     position), each template's residual divided by ``1 - h_jj`` (the exact
     leave-one-out residual of a linear smoother), weighted by ``w``. With
     fewer than ``few`` templates per varying feature (plus two) the ridge is
-    1 (:data:`_FEW`), else :data:`FRAME_RIDGE`.
+    1 (:data:`_FEW`), else :data:`FRAME_RIDGE`. Nothing here depends on the
+    frames' new poses: :meth:`Slopes.dz` takes them.
+
+    Returns
+    -------
+    slopes : Slopes or None
+        ``None``: no feature varies, or fewer than 3 templates.
+    loo : float
     """
     mf, sd, keep = _varying(F, w)
     n_t = Y.shape[0]
     if not keep.any() or n_t < 3:
-        return None, None, np.inf
+        return None, np.inf
     Z = (F[:, keep] - mf[keep]) / sd[keep]
-    z_new = (f_new[keep] - mf[keep]) / sd[keep]
     G = (Z.T * w) @ Z
     ridge = FRAME_RIDGE if n_t >= few * Z.shape[1] + 2 else 1.0
     G += ridge * np.eye(G.shape[0])
@@ -130,23 +169,22 @@ def fit_slopes(Y, w, F, f_new, scored, *, few: int = _FEW):
     h = w * np.einsum("jp,pq,jq->j", Z, np.linalg.inv(G), Z)
     E = (D - Z @ B).reshape(Y.shape)[:, :, scored]
     loo = E / np.maximum(1.0 - h, 1e-6)[:, None, None]
-    return (
-        Z - z_new,
-        B.reshape(-1, *Y.shape[1:]),
-        float(w @ np.sum(loo**2, axis=(1, 2))),
-    )
+    slopes = Slopes(Z, B.reshape(-1, *Y.shape[1:]), mf, sd, keep, which)
+    return slopes, float(w @ np.sum(loo**2, axis=(1, 2)))
 
 
-def frame_slopes(Y, w, candidates, scored, *, curved=None):
-    """How the templates' values move with their frames, and each one's move.
+def frame_slopes(Y, w, features, scored, *, curved=None):
+    """How the templates' values move with their frames.
 
     The weighted ridge regression of every value of ``Y`` (n_templates,
     n_out, c) on standardized features, one slope per row and column, with
-    the candidate features (:func:`frame_features`) of least leave-one-out error
-    on the columns ``scored``. Moving template ``j`` by ``-(z_j - z_new) B``
-    gives what its values would be had its frames been the new ones, as far
-    as they vary linearly with them (a part of the motion between two frames
-    moves with both, which no single frame's view gives).
+    the candidate features (``features``: each candidate's features of the
+    templates, :func:`frame_features`) of least leave-one-out error on the
+    columns ``scored``. Moving template ``j`` by ``-dz_j B``
+    (:meth:`Slopes.dz` at the new frames' features) gives what its values
+    would be had its frames been the new ones, as far as they vary linearly
+    with them (a part of the motion between two frames moves with both,
+    which no single frame's view gives).
 
     A model without a hand (joint space) passes its features' squares and
     products as ``curved`` (:func:`quadratic_features`): taken whenever there
@@ -165,17 +203,15 @@ def frame_slopes(Y, w, candidates, scored, *, curved=None):
 
     Returns
     -------
-    dz : ndarray of shape (n_templates, p) or None
-        Each template's standardized features minus the new ones (``None``:
-        no feature varies, or fewer than 3 templates).
-    B : ndarray of shape (p, n_out, c) or None
+    slopes : Slopes or None
+        ``None``: no feature varies, or fewer than 3 templates.
     """
     if curved is not None:
-        _, _, keep = _varying(curved[0], w)
+        _, _, keep = _varying(curved, w)
         if Y.shape[0] >= _FEW * int(keep.sum()) + 2:
-            dz, B, _ = fit_slopes(Y, w, *curved, scored, few=1)
-            return dz, B
+            return fit_slopes(Y, w, curved, scored, few=1, which=-1)[0]
     few = _FEW if curved is None else 1
-    fits = [fit_slopes(Y, w, F, f, scored, few=few) for F, f in candidates]
-    dz, B, _ = min(fits, key=lambda fit: fit[2])
-    return dz, B
+    fits = [
+        fit_slopes(Y, w, F, scored, few=few, which=i) for i, F in enumerate(features)
+    ]
+    return min(fits, key=lambda fit: fit[1])[0]
