@@ -37,6 +37,14 @@ as each can take them):
 ``nearest``         the demonstration whose objects were nearest, replayed,
                     each hand shifted by its object's move (eased in as
                     ``object-mean``'s)
+``promp-joint``     contextual ProMP (Paraschos et al. 2013;
+                    ``ContextualProMP`` in :mod:`ndlfd.jobs._task_peers`) on
+                    the 12 joints and the two grippers (normalized time, 25
+                    basis functions each): the weights' mean conditioned on
+                    the objects' positions (those that vary across the
+                    demonstrations); the start is in every demonstration
+``nearest-joint``   the demonstration whose objects were nearest, its joint
+                    commands replayed (no shift is possible in joint space)
 ==================  ==========================================================
 
 Reported per task, method and N: success rate, the joint commands' peak
@@ -62,7 +70,15 @@ from .._errors import ValidationError
 __all__ = ["EASE_IN", "TASK_METHODS", "TaskResult", "TaskRow", "evaluate_tasks"]
 
 #: The methods compared, in the report's order.
-TASK_METHODS = ("ndlfd-ee", "ndlfd-joint", "object-mean", "promp", "nearest")
+TASK_METHODS = (
+    "ndlfd-ee",
+    "ndlfd-joint",
+    "object-mean",
+    "promp",
+    "nearest",
+    "promp-joint",
+    "nearest-joint",
+)
 #: Each hand's position columns in the end-effector rows and the object it
 #: takes (Transfer Cube: the right hand the cube; Insertion: the right hand
 #: the peg, the left the socket).
@@ -201,8 +217,21 @@ def _fit(method: str, recs: Sequence, spec, times: np.ndarray) -> Callable:
             )
 
         return gen
-    mean = np.mean([_unit_resample(r.ee_action, n) for r in recs], axis=0)
     placed = np.array([np.ravel(r.objects) for r in recs])
+    if method == "promp-joint":
+        from ._task_peers import ContextualProMP
+
+        joints = [_unit_resample(r.joint_action, n) for r in recs]
+        cpromp = ContextualProMP().fit(joints, placed)
+        return lambda objects: ("joint", cpromp.generate(objects, n))
+    if method == "nearest-joint":
+
+        def gen(objects):
+            k = int(np.argmin(np.linalg.norm(placed - np.ravel(objects), axis=1)))
+            return "joint", _unit_resample(recs[k].joint_action, n)
+
+        return gen
+    mean = np.mean([_unit_resample(r.ee_action, n) for r in recs], axis=0)
     hands = _HANDS[: len(spec.objects)]  # (columns of the hand, its object)
     # the shift eased in (minimum jerk) over the first EASE_IN of the motion:
     # shifted from its first sample the path would jump away from the start

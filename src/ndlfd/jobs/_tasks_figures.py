@@ -4,7 +4,20 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["failures_top_view", "success_curve"]
+__all__ = ["METHOD_STYLES", "failures_top_view", "success_curve"]
+
+#: Each method's line in the success curve: end-effector methods solid, their
+#: joint-space counterparts dashed in the same colour (ndlfd-joint with
+#: ndlfd-ee, promp-joint with promp, nearest-joint with nearest).
+METHOD_STYLES = {
+    "ndlfd-ee": {"color": "C0", "ls": "-", "marker": "o"},
+    "ndlfd-joint": {"color": "C0", "ls": "--", "marker": "s"},
+    "object-mean": {"color": "C2", "ls": "-", "marker": "o"},
+    "promp": {"color": "C3", "ls": "-", "marker": "o"},
+    "nearest": {"color": "C4", "ls": "-", "marker": "o"},
+    "promp-joint": {"color": "C3", "ls": "--", "marker": "s"},
+    "nearest-joint": {"color": "C4", "ls": "--", "marker": "s"},
+}
 
 
 def success_curve(result, path) -> None:
@@ -35,7 +48,8 @@ def success_curve(result, path) -> None:
             if method == "expert":
                 ax.axhline(pts[0][1], color="k", ls=":", label="expert (closed loop)")
                 continue
-            ax.plot(*zip(*pts, strict=True), marker="o", label=method)
+            style = METHOD_STYLES.get(method, {"marker": "o"})
+            ax.plot(*zip(*pts, strict=True), label=method, **style)
         ax.set_xscale("log")
         ax.minorticks_off()
         ns = sorted({s["n_demos"] for s in rows if s["n_demos"]})
@@ -45,7 +59,7 @@ def success_curve(result, path) -> None:
         ax.set_ylabel("success (held-out object poses)")
         ax.set_title(task)
         ax.grid(alpha=0.3)
-    axes[0][-1].legend(fontsize=8, loc="best")
+    axes[0][-1].legend(fontsize=7, loc="best")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -69,9 +83,13 @@ def failures_top_view(result, task: str, path, *, per_method: int = 12) -> None:
         return
     n = max(r.n_demos for r in rows)
     methods = list(dict.fromkeys(r.method for r in rows))
-    fig, axes = plt.subplots(1, len(methods), figsize=(3.6 * len(methods), 3.8),
+    cols = min(len(methods), 4)
+    grid = (-(-len(methods) // cols), cols)
+    fig, axes = plt.subplots(*grid, figsize=(3.6 * cols, 2.8 * grid[0] + 0.6),
                              squeeze=False, sharey=True)  # fmt: skip
-    for ax, method in zip(axes[0], methods, strict=True):
+    for ax in axes.flat[len(methods) :]:
+        ax.set_visible(False)
+    for ax, method in zip(axes.flat, methods, strict=False):
         failed = [
             r for r in rows if r.method == method and r.n_demos == n and not r.success
         ]
@@ -89,7 +107,8 @@ def failures_top_view(result, task: str, path, *, per_method: int = 12) -> None:
         ax.set_ylim(0.3, 0.7)
         ax.set_aspect("equal")
         ax.grid(alpha=0.3)
-    axes[0][0].set_ylabel("y (m)")
+    for row in axes:
+        row[0].set_ylabel("y (m)")
     fig.suptitle(f"{task}: failed episodes from above (right hand solid, left dashed)",
                  fontsize=10)  # fmt: skip
     fig.tight_layout()
