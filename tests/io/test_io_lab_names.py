@@ -153,3 +153,117 @@ def test_names_without_prefix_and_the_convention_together(tmp_path):
     assert d.columns == ("x", "y", "z", "q1", "q2")
     assert d.group_names == ("position", "joints")
     assert franka_arrays(3).shape == (3, 27)
+
+
+# l_/r_: the short hands of some bimanual logs (ndlfd.io._names' rule)
+
+
+def _write(path, names, X):
+    lines = [",".join(names)] + [",".join(repr(float(v)) for v in row) for row in X]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def _short_log(n=8, seed=0):
+    """Per hand x, y, z, a unit quaternion w, x, y, z, 3 joints, the gripper."""
+    rng = np.random.default_rng(seed)
+    per_hand = ["x", "y", "z", "qw", "qx", "qy", "qz", "joint1", "joint2",
+                "joint3", "gripper"]  # fmt: skip
+    names = ["t"] + [f"{h}_{c}" for h in "lr" for c in per_hand]
+    X = rng.normal(size=(n, len(names)))
+    X[:, 0] = np.arange(n) * 0.1
+    for q in (slice(4, 8), slice(15, 19)):  # w > 0.5: no sign flip to undo
+        X[:, q] = np.column_stack([np.full(n, 2.0), X[:, q][:, 1:] * 0.5])
+        X[:, q] /= np.linalg.norm(X[:, q], axis=1, keepdims=True)
+    return names, X
+
+
+def test_short_hands_read_as_left_and_right(tmp_path):
+    names, X = _short_log()
+    p = _write(tmp_path / "bimanual.csv", names, X)
+    (d,), (m,) = read_demos(p, return_mappings=True)
+    col = {c: j for j, c in enumerate(names)}
+    want = {  # worked out by hand from the header
+        "left_position": ["l_x", "l_y", "l_z"],
+        "left_orientation": ["l_qw", "l_qx", "l_qy", "l_qz"],
+        "left_joints": ["l_joint1", "l_joint2", "l_joint3"],
+        "gripper": ["l_gripper", "r_gripper"],
+        "right_position": ["r_x", "r_y", "r_z"],
+        "right_orientation": ["r_qw", "r_qx", "r_qy", "r_qz"],
+        "right_joints": ["r_joint1", "r_joint2", "r_joint3"],
+    }
+    assert dict((g, list(c)) for g, c in m.groups) == want
+    assert str(m) == "time=t; " + "; ".join(
+        f"{g}={','.join(c)}" for g, c in want.items()
+    )
+    for group, cols in want.items():
+        np.testing.assert_allclose(
+            d.get(group), X[:, [col[c] for c in cols]], rtol=0, atol=1e-15
+        )
+    # the same log spelt left_/right_ reads into the same groups and values
+    long = [c.replace("l_", "left_", 1).replace("r_", "right_", 1) for c in names]
+    e = read_csv(_write(tmp_path / "long.csv", long, X))
+    assert e.groups == d.groups and np.array_equal(e.X, d.X)
+
+
+def test_short_hand_rule_edge_cases():
+    from ndlfd.io._names import bare_name, lab_groups
+
+    def lab(names):
+        return lab_groups(names, group_of_column, group_of_column)
+
+    hands = ["l_x", "l_y", "l_z", "r_x", "r_y", "r_z"]
+    # a name whose rest says no group is nobody's hand: unknown, not swallowed
+    found = lab([*hands, "r_squared", "l_time"])
+    assert found.unknown == ["r_squared", "l_time"]
+    assert found.groups == {"left_position": hands[:3], "right_position": hands[3:]}
+    # r_x, r_y, r_z beside x, y, z: no l_ set like them, so no hands; r is a
+    # rotation's stem, three orientation columns that need a representation
+    found = lab(["x", "y", "z", "r_x", "r_y", "r_z"])
+    assert found.groups == {"position": ["x", "y", "z"]}
+    assert found.unsure == [("orientation", ["r_x", "r_y", "r_z"])]
+    # l_ and r_ that say no group in common are not two hands
+    assert lab(["l_x", "l_y", "l_z", "r_gripper"]).unknown == [
+        "l_x", "l_y", "l_z", "r_gripper"
+    ]  # fmt: skip
+    # mirrored by any group in common: the joints here
+    assert lab(["L_Joint1", "r_joint1", "r_gripper"]).groups == {
+        "left_joints": ["L_Joint1"],
+        "right_joints": ["r_joint1"],
+        "gripper": ["r_gripper"],
+    }
+    # one hand spelt two ways: two sets of its group, never merged
+    found = lab([*hands, "left_x", "left_y", "left_z"])
+    assert found.ambiguous == [("left_position", [hands[:3], ["left_x", "left_y",
+                                                             "left_z"]])]  # fmt: skip
+    # a commanded set of a short hand is left out beside its measured one
+    found = lab(["l_cur_pos_x", "l_goal_pos_x", "r_pos_x"])
+    assert found.groups == {"left_position": ["l_cur_pos_x"],
+                            "right_position": ["r_pos_x"]}  # fmt: skip
+    assert found.left_out == ["l_goal_pos_x"]
+    # Euler angles of a short hand, and bare names
+    found = lab(["l_roll", "l_pitch", "l_yaw", "r_roll", "r_pitch", "r_yaw"])
+    assert found.representation == {
+        "left_orientation": "euler-xyz",
+        "right_orientation": "euler-xyz",
+    }
+    assert bare_name("l_yaw", "left") == "yaw"
+    assert bare_name("r_squared", "left") == "r_squared"
+    # single names keep what lab_name said before
+    assert lab_name("r_x") == ("orientation", "", "x")
+    assert lab_name("l_x") is None
+
+
+def test_a_column_that_only_starts_like_a_hand_is_reported(tmp_path):
+    names, X = _short_log()
+    names = [*names, "r_squared"]
+    X = np.column_stack([X, np.linspace(0, 1, len(X))])
+    p = _write(tmp_path / "fit.csv", names, X)
+    with pytest.raises(DataFileError) as err:
+        read_csv(p)
+    msg = str(err.value)
+    assert "cannot tell the group of column(s) ['r_squared']" in msg
+    assert msg.endswith("drop=['r_squared']")
+    d = read_csv(p, drop=["r_squared"])
+    assert "r_squared" not in d.columns
+    assert d.group_names[:2] == ("left_position", "left_orientation")

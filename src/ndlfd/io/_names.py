@@ -41,6 +41,20 @@ header as a whole:
   between the hand and the values (:data:`HAND_WORDS`: ``ee``, ``arm``,
   ``tcp`` ...) is a set's prefix, as ``current_`` is. Names of one hand alone
   are read as one arm's (``right_pos_x`` is ``position``), as before.
+* **Short hands** (:data:`SHORT_HANDS`): ``l_`` and ``r_`` (any case), as
+  some bimanual logs write them (``l_x, l_y, l_z, l_qw, ..., r_x, ...``,
+  ``l_joint1``, ``r_gripper``), are the ``left`` and ``right`` hands, read
+  into the same groups (``left_position`` ...), by this rule: a name
+  ``l_REST`` is the left hand's when ``REST`` alone (or after a word of
+  :data:`HAND_WORDS`) says a group as above, and the short names are hands
+  only when ``l_`` and ``r_`` names say at least one group in common
+  (mirrored: ``l_x`` and ``r_x``, ``l_joint1`` and ``r_joint1``). So a name
+  whose rest says no group (``r_squared``, ``l_time``) is never a hand's (it
+  is an unknown name, as any other), and ``r_x, r_y, r_z`` beside ``x, y, z``
+  (no ``l_`` set like them) keep their meaning without hands (``r`` is a
+  rotation's stem: three orientation columns). The short spelling is part of
+  a set's prefix: a hand spelt both ways (``l_x`` and ``left_x``) is two sets
+  of one group, an error with a mapping to paste.
 """
 
 from __future__ import annotations
@@ -60,6 +74,7 @@ __all__ = [
     "HAND_WORDS",
     "LAB_KINDS",
     "MEASURED",
+    "SHORT_HANDS",
     "LabGroups",
     "aloha_groups",
     "bare_name",
@@ -88,6 +103,8 @@ COMMANDED = (
 
 #: The prefixes that name a hand (an arm) in a log of two arms.
 HANDS = ("left", "right")
+#: The short prefixes of the hands (``l_x``, ``r_gripper``): hand -> prefix.
+SHORT_HANDS = {"left": "l", "right": "r"}
 #: Words between a hand and its values that name no group (``right_ee_x``,
 #: ``left_arm_joint_1``): read as a set's prefix.
 HAND_WORDS = ("arm", "ee", "eef", "tcp", "tool", "hand")
@@ -113,6 +130,8 @@ ALOHA_NAMES = tuple(
 )
 _KINDS = ("position", "velocity", "orientation")
 _HAND_NAME = re.compile(rf"^({'|'.join(HANDS)})_(.+)$", re.IGNORECASE)
+_SHORT_HAND = re.compile(rf"^({'|'.join(SHORT_HANDS.values())})_(.+)$", re.IGNORECASE)
+_LONG_HAND = {v: k for k, v in SHORT_HANDS.items()}
 _HAND_WORD = re.compile(rf"^({'|'.join(HAND_WORDS)})[_.](.+)$", re.IGNORECASE)
 _XYZ = ("x", "y", "z")
 _WXYZ = ("w", "x", "y", "z")
@@ -252,9 +271,12 @@ def bare_name(name: str, hand: str) -> str:
     --------
     >>> bare_name("Left_Roll", "left"), bare_name("roll", "")
     ('Roll', 'roll')
+    >>> bare_name("l_yaw", "left"), bare_name("r_squared", "left")
+    ('yaw', 'r_squared')
     """
-    if hand and name.casefold().startswith(hand + "_"):
-        return name[len(hand) + 1 :]
+    for prefix in (hand, SHORT_HANDS.get(hand)):
+        if prefix and name.casefold().startswith(prefix + "_"):
+            return name[len(prefix) + 1 :]
     return name
 
 
@@ -291,33 +313,65 @@ def _rest_part(name, rest, rule, prefix="") -> _Part | None:
     return _Part(name, part.group, joined, part.comp, part.representation)
 
 
-def _hand_part(name, rule) -> tuple[str, _Part] | None:
-    """The hand of a name (``left_x``) and the part of its hand's group, or None."""
-    m = _HAND_NAME.match(name)
+def _hand_part(name, rule, short=False) -> tuple[str, _Part] | None:
+    """The hand of a name (``left_x``) and the part of its hand's group, or None.
+
+    With ``short``, the hand spelt ``l_``/``r_`` (:data:`SHORT_HANDS`); the
+    spelling joins the set's prefix (``l_goal_pos_x``: ``l_goal``).
+    """
+    m = (_SHORT_HAND if short else _HAND_NAME).match(name)
     full = rule(name)
     if m is None or (full is not None and full[0] == name.split(".", 1)[0]):
         return None  # no hand, or a group.column name (left_joints.left_waist)
     hand, rest = m[1].casefold(), m[2]
-    part = _rest_part(name, rest, rule)
+    spelt = hand if short else ""
+    hand = _LONG_HAND[hand] if short else hand
+    part = _rest_part(name, rest, rule, spelt)
     if part is None:
         w = _HAND_WORD.match(rest)
         if w is None:
             return None
-        part = _rest_part(name, w[2], rule, w[1].casefold())
+        word = "_".join(p for p in (spelt, w[1].casefold()) if p)
+        part = _rest_part(name, w[2], rule, word)
         if part is None:
             return None
+    prefix = part.prefix
+    if part.group == "gripper" and spelt:  # both hands' group: no spelling
+        prefix = prefix[len(spelt) :].lstrip("_")
     group = "gripper" if part.group == "gripper" else f"{hand}_{part.group}"
-    return hand, _Part(name, group, part.prefix, part.comp, part.representation)
+    return hand, _Part(name, group, prefix, part.comp, part.representation)
 
 
 def _hand_parts(names, rule) -> dict[str, _Part]:
-    """The parts of the names of two or more hands (empty for one hand or none)."""
+    """The parts of the names of two or more hands (empty for one hand or none).
+
+    Short names (``l_x``) count only when both hands' short names say a
+    group in common (the module's rule); the long ones as before.
+    """
     if rule is None:
         return {}
     found = {n: hit for n in names if (hit := _hand_part(n, rule)) is not None}
+    short = {
+        n: hit
+        for n in names
+        if n not in found and (hit := _hand_part(n, rule, short=True)) is not None
+    }
+    said = {
+        h: {_bare_group(p.group) for g, p in short.values() if g == h} for h in HANDS
+    }
+    if set.intersection(*said.values()):
+        found.update(short)
     if len({hand for hand, _ in found.values()}) < 2:
         return {}
     return {n: part for n, (_, part) in found.items()}
+
+
+def _bare_group(group: str) -> str:
+    """A hand's group without its hand (``left_position`` -> ``position``)."""
+    for hand in HANDS:
+        if group.startswith(hand + "_"):
+            return group[len(hand) + 1 :]
+    return group
 
 
 def aloha_groups(names) -> dict[str, list[str]]:
