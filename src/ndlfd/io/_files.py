@@ -28,6 +28,7 @@ from ._mapping import (
     MAPPING_DEFAULTS,
     TIME_NAMES,
     ColumnMapping,
+    RateMapping,
     check_bad_rows,
 )
 from ._npy import NPY_OPTIONS, read_npy_mapped
@@ -161,6 +162,7 @@ READER_OPTIONS = {
     read_bag_mapped: BAG_OPTIONS,
     read_episode_mapped: {"frames": None},
     read_npy_mapped: NPY_OPTIONS,
+    read_hdf5_mapped: {"feature": None},  # an ALOHA episode's (given, not default)
 }
 
 #: Mapping options that readers with a fixed signature (a bag's) do not take:
@@ -179,26 +181,6 @@ READ_DEFAULTS = {"bad_files": "error"}
 #: The option of files without time stamps: their sample rate in Hz (the
 #: time of row ``k`` is ``k / rate``); given to no reader.
 RATE_OPTIONS = {"rate": None}
-
-
-@dataclass(frozen=True)
-class RateMapping(ColumnMapping):
-    """The mapping of a file read at a fixed rate: time is row / ``rate``.
-
-    Attributes
-    ----------
-    rate : float
-        The sample rate in Hz.
-    """
-
-    rate: float = 1.0
-
-    def __str__(self) -> str:
-        return (
-            super()
-            .__str__()
-            .replace("time=(row number)", f"time=(row number) / {self.rate:g} Hz", 1)
-        )
 
 
 def _rate_flag(how) -> str:
@@ -390,7 +372,9 @@ def read_demos(source, *, return_mappings: bool = False, **kwargs):
     time=t; position=x,y
     """
     dataset = {k: kwargs.pop(k) for k in DATASET_DEFAULTS if k in kwargs}
-    mapping = _checked_mapping("read_demos", kwargs, "or return_mappings")
+    mapping = _with_feature(
+        _checked_mapping("read_demos", kwargs, "or return_mappings"), dataset
+    )
     items = _expand(source, _checked_dataset("read_demos", dataset))
     pairs, records = [], []
     for p in items:
@@ -435,6 +419,17 @@ def _checked_mapping(who: str, kwargs: dict, more: str = "") -> dict:
         )
     check_bad_rows(kwargs.get("bad_rows", "error"))
     return {**MAPPING_DEFAULTS, **READ_DEFAULTS, **RATE_OPTIONS, **kwargs}
+
+
+def _with_feature(mapping: dict, dataset: dict) -> dict:
+    """``mapping`` with the ``feature`` given: an ALOHA HDF5 episode's too.
+
+    A LeRobot dataset's default (``observation.state``) is not passed on: an
+    ALOHA episode file gives its action unless a feature is named.
+    """
+    if dataset.get("feature") is not None:
+        return {**mapping, "feature": dataset["feature"]}
+    return mapping
 
 
 @dataclass(frozen=True)
@@ -505,7 +500,7 @@ class DemoFiles(Sequence):
 
     def __init__(self, source, **mapping) -> None:
         dataset = {k: mapping.pop(k) for k in DATASET_DEFAULTS if k in mapping}
-        self._mapping = _checked_mapping("DemoFiles", mapping)
+        self._mapping = _with_feature(_checked_mapping("DemoFiles", mapping), dataset)
         self.hints = "library"
         self.paths = tuple(_expand(source, _checked_dataset("DemoFiles", dataset)))
 

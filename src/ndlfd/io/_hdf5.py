@@ -1,4 +1,9 @@
-"""Demonstrations in HDF5 files: one HDF5 group per episode (needs h5py)."""
+"""Demonstrations in HDF5 files: one HDF5 group per episode (needs h5py).
+
+A file laid out as an ALOHA / ACT episode (``/action`` beside
+``/observations/qpos``) is one demonstration of two arms: see
+:mod:`ndlfd.io._aloha`.
+"""
 
 from __future__ import annotations
 
@@ -11,6 +16,7 @@ import numpy as np
 
 from .._errors import DataFileError, MissingExtraError
 from ..demonstration import Demonstration
+from ._aloha import is_aloha_episode, read_aloha_episode
 from ._mapping import LIBRARY_HINTS, TIME_NAMES, ColumnMapping, map_arrays
 
 __all__ = ["HDF5_SUFFIXES", "read_hdf5", "read_hdf5_mapped"]
@@ -34,12 +40,14 @@ def _natural_key(name: str):
 
 
 def read_hdf5_mapped(
-    p: Path, how, **mapping
+    p: Path, how, feature=None, **mapping
 ) -> list[tuple[Demonstration, ColumnMapping]]:
     """Every episode of the HDF5 file ``p`` with the mapping used.
 
     Each episode is mapped by ``mapping`` (errors naming the settings by
-    ``how`` and the episode as ``file:/episode``).
+    ``how`` and the episode as ``file:/episode``). An ALOHA episode file is
+    one demonstration of ``feature`` (:mod:`ndlfd.io._aloha`; ``None``:
+    ``/action``), which other files ignore.
     """
     if not p.is_file():
         raise DataFileError(f"{p}: no such file")
@@ -52,6 +60,8 @@ def read_hdf5_mapped(
         ) from None
     out = []
     with fh:
+        if is_aloha_episode(fh):
+            return read_aloha_episode(p, fh, how, feature, **mapping)
         datasets = [k for k in fh if isinstance(fh[k], h5py.Dataset)]
         if datasets:
             episodes = [("/", fh)]
@@ -92,6 +102,7 @@ def read_hdf5(
     drop: Sequence[str] = (),
     euler: str = "xyz",
     bad_rows: str = "error",
+    feature: str | None = None,
 ) -> list[Demonstration]:
     """Read demonstrations from an HDF5 file: one HDF5 group per episode.
 
@@ -99,7 +110,12 @@ def read_hdf5(
     ``ep2`` before ``ep10``); its datasets (those of its sub-groups as
     ``sub/name``) are mapped like the arrays of a plain ``.npz`` file (see
     :func:`read_npz`). A file with datasets at the root is one episode.
-    Needs the ``hdf5`` extra (``pip install "ndlfd[hdf5]"``).
+    An ALOHA / ACT episode file (``/action`` and ``/observations/qpos`` of
+    14 values, as their ``record_episodes.py`` write it) is one
+    demonstration of two arms, ``left_joints``, ``gripper`` and
+    ``right_joints``, at 50 Hz, its images never read (see
+    :mod:`ndlfd.io._aloha`). Needs the ``hdf5`` extra
+    (``pip install "ndlfd[hdf5]"``).
 
     Parameters
     ----------
@@ -112,6 +128,10 @@ def read_hdf5(
         with one :class:`~ndlfd.NdlfdWarning`, as in :func:`~ndlfd.io.read_csv`;
         at least 2 rows must remain in
         each episode.
+    feature : str, optional
+        What an ALOHA episode gives: the commanded ``"action"`` (the
+        default) or the measured ``"observations/qpos"`` (also ``"qpos"``,
+        or LeRobot's ``"observation.state"``); other files ignore it.
 
     Returns
     -------
@@ -121,7 +141,8 @@ def read_hdf5(
     ------
     DataFileError
         A missing or unreadable file, or an episode that cannot be mapped (the
-        message names ``file:/episode``).
+        message names ``file:/episode``); an ALOHA episode whose ``qpos`` or
+        ``action`` is not 14 wide, whose lengths differ, or that is empty.
     MissingExtraError
         h5py is not installed.
     """
@@ -136,5 +157,6 @@ def read_hdf5(
             drop=drop,
             euler=euler,
             bad_rows=bad_rows,
+            feature=feature,
         )
     ]

@@ -91,6 +91,7 @@ __all__ = [
     "SO_ARM_JOINTS",
     "TIME_NAMES",
     "ColumnMapping",
+    "RateMapping",
     "check_bad_rows",
     "euler_columns",
     "group_of_column",
@@ -366,6 +367,26 @@ class ColumnMapping:
     def group_names(self) -> tuple[str, ...]:
         """The groups read, in column order."""
         return tuple(g for g, _ in self.groups)
+
+
+@dataclass(frozen=True)
+class RateMapping(ColumnMapping):
+    """The mapping of a file read at a fixed rate: time is row / ``rate``.
+
+    Attributes
+    ----------
+    rate : float
+        The sample rate in Hz.
+    """
+
+    rate: float = 1.0
+
+    def __str__(self) -> str:
+        return (
+            super()
+            .__str__()
+            .replace("time=(row number)", f"time=(row number) / {self.rate:g} Hz", 1)
+        )
 
 
 def _three_angles(group: str, cols) -> bool:
