@@ -41,14 +41,16 @@ def test_an_exact_linear_relation_is_recovered():
     assert loo < 1e-3
 
 
-def test_few_templates_shrink_a_hand_not_a_joint_space_model():
-    """4 templates, 2 features: below 2 per feature (plus 2), at 1 per feature."""
-    F, Y, value = _data(4, curve=0.0, seed=3)
+@pytest.mark.parametrize("n", [3, 4])
+def test_few_templates_shrink_a_hand_not_a_joint_space_model(n):
+    """2 features: a hand's rule shrinks below 2 * 2 + 2 = 6 templates, a
+    joint-space model's (1 per feature plus the intercept) from 3 on fits."""
+    F, Y, value = _data(n, curve=0.0, seed=3)
     f_new = np.array([0.9, 0.9])
-    w = np.full(4, 0.25)
+    w = np.full(n, 1.0 / n)
     want = value(f_new)
-    fit, _ = fit_slopes(Y, w, F, [0, 1], few=1)
-    np.testing.assert_allclose(_moved(Y, fit, f_new)[0], want, atol=2e-2)
+    fit, _ = fit_slopes(Y, w, F, [0, 1], few=1, spare=1)
+    np.testing.assert_allclose(_moved(Y, fit, f_new)[0], want, rtol=2e-2)
     fit, _ = fit_slopes(Y, w, F, [0, 1])  # a hand's rule: ridge 1
     assert np.abs(_moved(Y, fit, f_new)[0] - want).max() > 0.1
 

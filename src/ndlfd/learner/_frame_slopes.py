@@ -33,9 +33,9 @@ FRAME_RIDGE = 1e-3
 
 #: With fewer templates than this many per feature (plus two), the
 #: regression is shrunk hard (ridge 1): it would otherwise fit their noise.
-#: A model without a hand is shrunk only below one per feature (plus two),
-#: and takes its features' squares from this many per feature on (see
-#: :func:`frame_slopes`).
+#: A model without a hand is shrunk only below one per feature (plus one:
+#: the intercept), and takes its features' squares from this many per
+#: feature on (see :func:`frame_slopes`).
 _FEW = 2
 
 
@@ -139,14 +139,14 @@ class Slopes(NamedTuple):
         return self.Z - (f_new[k] - self.mean[k]) / self.scale[k]
 
 
-def fit_slopes(Y, w, F, scored, *, few: int = _FEW, which: int = 0):
+def fit_slopes(Y, w, F, scored, *, few: int = _FEW, spare: int = 2, which: int = 0):
     """One candidate's regression (:func:`frame_slopes`) and its leave-one-out error.
 
     The error is over the columns ``scored`` of ``Y`` only (one unit: the
     position), each template's residual divided by ``1 - h_jj`` (the exact
     leave-one-out residual of a linear smoother), weighted by ``w``. With
-    fewer than ``few`` templates per varying feature (plus two) the ridge is
-    1 (:data:`_FEW`), else :data:`FRAME_RIDGE`. Nothing here depends on the
+    fewer than ``few`` templates per varying feature plus ``spare`` the ridge
+    is 1 (:data:`_FEW`), else :data:`FRAME_RIDGE`. Nothing here depends on the
     frames' new poses: :meth:`Slopes.dz` takes them.
 
     Returns
@@ -161,7 +161,7 @@ def fit_slopes(Y, w, F, scored, *, few: int = _FEW, which: int = 0):
         return None, np.inf
     Z = (F[:, keep] - mf[keep]) / sd[keep]
     G = (Z.T * w) @ Z
-    ridge = FRAME_RIDGE if n_t >= few * Z.shape[1] + 2 else 1.0
+    ridge = FRAME_RIDGE if n_t >= few * Z.shape[1] + spare else 1.0
     G += ridge * np.eye(G.shape[0])
     flat = Y.reshape(n_t, -1)
     D = flat - w @ flat
@@ -189,7 +189,8 @@ def frame_slopes(Y, w, features, scored, *, curved=None):
     A model without a hand (joint space) passes its features' squares and
     products as ``curved`` (:func:`quadratic_features`): taken whenever there
     are :data:`_FEW` templates per varying feature (plus two), over the
-    candidates, and the candidates shrunk only below one per feature. Its
+    candidates, and the candidates shrunk only below one per feature (plus
+    one, the intercept: the fewest that determine the slopes). Its
     angles are a curved function of the frames (the inverse kinematics),
     and leave-one-out over the whole path does not see where that matters:
     its error is the templates' timing, the same for any features, while a
@@ -198,8 +199,11 @@ def frame_slopes(Y, w, features, scored, *, curved=None):
     transfer-cube``, 200 held-out poses, N = 5 / 10 / 20 / 50
     demonstrations): success 0.14 / 0.15 / 0.87 / 0.86 chosen by
     leave-one-out and shrunk below two per feature, 0.65 / 0.85 / 1.00 / 1.00
-    so; Insertion (two objects) 0.02 / 0.03 / 0.64 / 0.68 and 0.07 / 0.34 /
-    0.64 / 0.81.
+    so; Insertion (two objects) 0.02 / 0.03 / 0.64 / 0.68 and 0.30 / 0.34 /
+    0.64 / 0.81 (0.07 at N = 5 shrunk below one per feature plus two). Each
+    arm moved on its own object only, chosen per joint by leave-one-out:
+    0.07 / 0.18 / 0.38 / 0.29 (an arm's meeting pose depends on both held
+    objects).
 
     Returns
     -------
@@ -209,9 +213,10 @@ def frame_slopes(Y, w, features, scored, *, curved=None):
     if curved is not None:
         _, _, keep = _varying(curved, w)
         if Y.shape[0] >= _FEW * int(keep.sum()) + 2:
-            return fit_slopes(Y, w, curved, scored, few=1, which=-1)[0]
-    few = _FEW if curved is None else 1
+            return fit_slopes(Y, w, curved, scored, few=1, spare=1, which=-1)[0]
+    few, spare = (_FEW, 2) if curved is None else (1, 1)
     fits = [
-        fit_slopes(Y, w, F, scored, few=few, which=i) for i, F in enumerate(features)
+        fit_slopes(Y, w, F, scored, few=few, spare=spare, which=i)
+        for i, F in enumerate(features)
     ]
     return min(fits, key=lambda fit: fit[1])[0]
