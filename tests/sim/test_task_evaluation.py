@@ -135,3 +135,14 @@ def test_evaluate_tasks_joint_space_peers_run():
     table = result.to_markdown()
     assert "| transfer-cube | promp-joint | 2 | 1 |" in table
     assert "| transfer-cube | nearest-joint | 2 | 1 |" in table
+
+
+@needs_sim
+def test_a_tasks_episodes_do_not_depend_on_the_tasks_beside_it():
+    kw = {"demos": [1], "episodes": 1, "methods": ["nearest"]}
+    alone = evaluate_tasks(["insertion"], **kw).rows
+    both = [r for r in evaluate_tasks(["transfer-cube", "insertion"], **kw).rows
+            if r.task == "insertion"]  # fmt: skip
+    assert [(r.method, r.objects, r.max_reward) for r in alone] == [
+        (r.method, r.objects, r.max_reward) for r in both
+    ]

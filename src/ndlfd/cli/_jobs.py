@@ -174,7 +174,7 @@ def add_evaluate(sub) -> None:
     p.add_argument(
         "--methods",
         help="with --tasks: comma-separated methods: ndlfd-ee, ndlfd-joint,"
-        " object-mean, promp, nearest (default: all)",
+        " object-mean, promp, nearest, promp-joint, nearest-joint (default: all)",
     )
     p.add_argument(
         "--seed", type=int, default=0, help="with --tasks: the seed streams' root (0)"

@@ -460,7 +460,8 @@ def evaluate_tasks(
         From :data:`TASK_METHODS` (default: all).
     seed : int, default=0
         Demonstrations come from seed stream ``(seed, 1, task)``, held-out
-        poses from ``(seed, 2, task)``: deterministic.
+        poses from ``(seed, 2, task)``: deterministic, and a task's own
+        (its place in :data:`ndlfd.sim.TASKS`) whichever tasks run beside it.
     echo : callable, optional
         Progress lines (e.g. ``print``).
 
@@ -499,8 +500,10 @@ def evaluate_tasks(
         )
     t0 = time.perf_counter()
     rows, kept = [], {}
-    for ti, task in enumerate(tasks):
+    for task in tasks:
         spec = TASKS.get(task)
+        # the task's own seed streams, whichever tasks run beside it
+        ti = list(TASKS).index(task)
         scene = Scene(task, "joint")
         say(f"{task}: recording {demos[-1]} expert demonstrations")
         recs, tried = _record(
