@@ -39,7 +39,8 @@ so a crash never leaves a partial file behind.
 :class:`ColumnMapping`, Euler angles), ``_names`` (the names labs export, a
 mapping to paste), ``_rotations`` (orientation columns to quaternions),
 ``_csv`` (delimited text), ``_npz``, ``_npy``,
-``_hdf5``, ``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra;
+``_hdf5`` (with ``_aloha``: ALOHA / ACT episode files, two arms),
+``_bag`` and ``_bagout`` (ROS 2 bags in and out, the ``ros`` extra;
 ``_tf`` their tf trees, ``_bag_frames`` their task frames), ``_frame_poses``
 (a task frame's samples checked still and averaged),
 ``_lerobot`` (LeRobot dataset folders: one :class:`LeRobotEpisode` item per
