@@ -222,6 +222,27 @@ def test_a_folder_of_episodes_reads_and_fits_through_the_command_line(tmp_path, 
     }
 
 
+def test_the_command_line_reads_the_measured_joints_on_request(tmp_path, capsys):
+    folder = tmp_path / "episodes"
+    folder.mkdir()
+    datas = [episode_data(n=30 + i, seed=i) for i in range(3)]
+    for i, data in enumerate(datas):
+        write_episode(folder / f"episode_{i}.hdf5", data)
+    out = tmp_path / "m.ndlfd"
+    capsys.readouterr()
+    argv = ["fit", str(folder), "-o", str(out), "--feature", "observations/qpos"]
+    assert main(argv) == 0
+    said = capsys.readouterr().err.splitlines()
+    assert said[0].endswith("(ALOHA HDF5, observations/qpos)"), said[0]
+    # what a CSV source cannot take is still refused
+    csv = tmp_path / "a.csv"
+    csv.write_text("t,x,y\n0,0,0\n1,1,1\n2,2,0\n")
+    assert main(["fit", str(csv), "-o", str(out), "--feature", "action"]) == 2
+    assert "or ALOHA episode files (.hdf5)" in capsys.readouterr().err
+    assert main(["fit", str(folder), "-o", str(out), "--episodes", "0:2"]) == 2
+    assert "--episodes selects from a LeRobot dataset" in capsys.readouterr().err
+
+
 def test_the_clock_the_file_gives_and_the_row_number(tmp_path):
     data = episode_data(n=10)
     p = write_episode(tmp_path / "episode_0.hdf5", data)

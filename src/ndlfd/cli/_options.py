@@ -40,6 +40,7 @@ from ..io import (
     read_file,
     read_or_skip,
 )
+from ..io._hdf5 import HDF5_SUFFIXES
 from ..orientation import QUATERNION_ORDERS, check_euler, check_representation
 from ._news import noting, quiet_news, tell
 from ._parsing import (
@@ -285,14 +286,23 @@ def dataset_options(args: argparse.Namespace) -> dict:
 
 
 def check_datasets(args: argparse.Namespace, items) -> None:
-    """Refuse ``--feature/--episodes`` when no source is a LeRobot dataset."""
+    """Refuse ``--feature/--episodes`` when no source is a LeRobot dataset.
+
+    ``--feature`` also picks what ALOHA / ACT episode files (``.hdf5``) give
+    (``/action`` or ``observations/qpos``), so an HDF5 source allows it.
+    """
     given = [f"--{f}" for f in ("feature", "episodes")
              if getattr(args, f, None) is not None]  # fmt: skip
-    if given and not any(isinstance(p, LeRobotEpisode) for p in items):
-        raise ValidationError(
-            f"{given[0]} selects from a LeRobot dataset (a folder with"
-            " meta/info.json); none of the sources is one"
-        )
+    if not given or any(isinstance(p, LeRobotEpisode) for p in items):
+        return
+    hdf5 = any(Path(str(p)).suffix.lower() in HDF5_SUFFIXES for p in items)
+    if given == ["--feature"] and hdf5:
+        return
+    where = " or ALOHA episode files (.hdf5)" if given[0] == "--feature" else ""
+    raise ValidationError(
+        f"{given[0]} selects from a LeRobot dataset (a folder with"
+        f" meta/info.json){where}; none of the sources is one"
+    )
 
 
 def column_options(args: argparse.Namespace) -> dict:
@@ -346,6 +356,8 @@ def column_options(args: argparse.Namespace) -> dict:
     }
     if representation is not None:
         options["representation"] = representation
+    if getattr(args, "feature", None) is not None:  # an ALOHA episode file's
+        options["feature"] = args.feature.strip()
     columns = split_names(getattr(args, "columns", None), "--columns")
     if columns is not None:
         options["columns"] = columns
