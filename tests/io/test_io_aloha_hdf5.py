@@ -196,12 +196,18 @@ def test_images_are_never_read(tmp_path, monkeypatch):
     assert peak < 2_000_000, peak
 
 
-def test_a_folder_of_episodes_reads_and_fits_through_the_command_line(tmp_path, capsys):
-    folder = tmp_path / "sim_transfer_cube_scripted"
+def episode_folder(folder, n=3):
+    """``n`` episode files of 30, 31, ... rows in ``folder``, and their data."""
     folder.mkdir()
-    datas = [episode_data(n=30 + i, seed=i) for i in range(3)]
+    datas = [episode_data(n=30 + i, seed=i) for i in range(n)]
     for i, data in enumerate(datas):
         write_episode(folder / f"episode_{i}.hdf5", data)
+    return datas
+
+
+def test_a_folder_of_episodes_reads_and_fits_through_the_command_line(tmp_path, capsys):
+    folder = tmp_path / "sim_transfer_cube_scripted"
+    datas = episode_folder(folder)
     demos = read_demos(folder)
     for d, data in zip(demos, datas, strict=True):
         expect_arms(d, data["/action"])
@@ -224,10 +230,7 @@ def test_a_folder_of_episodes_reads_and_fits_through_the_command_line(tmp_path, 
 
 def test_the_command_line_reads_the_measured_joints_on_request(tmp_path, capsys):
     folder = tmp_path / "episodes"
-    folder.mkdir()
-    datas = [episode_data(n=30 + i, seed=i) for i in range(3)]
-    for i, data in enumerate(datas):
-        write_episode(folder / f"episode_{i}.hdf5", data)
+    episode_folder(folder)
     out = tmp_path / "m.ndlfd"
     capsys.readouterr()
     argv = ["fit", str(folder), "-o", str(out), "--feature", "observations/qpos"]
