@@ -356,22 +356,13 @@ def _hand_parts(names, rule) -> dict[str, _Part]:
         for n in names
         if n not in found and (hit := _hand_part(n, rule, short=True)) is not None
     }
-    said = {
-        h: {_bare_group(p.group) for g, p in short.values() if g == h} for h in HANDS
-    }
+    said = {h: {bare_name(p.group, h) for g, p in short.values() if g == h}
+            for h in HANDS}  # fmt: skip
     if set.intersection(*said.values()):
         found.update(short)
     if len({hand for hand, _ in found.values()}) < 2:
         return {}
     return {n: part for n, (_, part) in found.items()}
-
-
-def _bare_group(group: str) -> str:
-    """A hand's group without its hand (``left_position`` -> ``position``)."""
-    for hand in HANDS:
-        if group.startswith(hand + "_"):
-            return group[len(hand) + 1 :]
-    return group
 
 
 def aloha_groups(names) -> dict[str, list[str]]:
